@@ -1,0 +1,99 @@
+# Code generation: which link counts are built, where their sources come from, and the
+# targets that regenerate and check the committed ones.
+#
+# Link counts in NPEND_COMMITTED_LINKS are compiled from the committed generated/ folder;
+# any other count in NPEND_LINKS is generated into the build tree by npend-gen at build time.
+
+set(NPEND_COMMITTED_LINKS 1 2 3 4 5 6)
+set(NPEND_GENERATED_BUILD_DIR "${PROJECT_BINARY_DIR}/generated")
+
+function(_npend_join out)
+  list(JOIN ARGN "," joined)
+  set(${out} "${joined}" PARENT_SCOPE)
+endfunction()
+
+# npend_generated_library(<target> <links>...): a static library with the kernels of the
+# given link counts and the index the runtime looks them up in.
+function(npend_generated_library target)
+  set(links ${ARGN})
+  list(REMOVE_DUPLICATES links)
+  list(SORT links COMPARE NATURAL)
+  set(sources)
+  set(headers)
+  set(generated_in_build FALSE)
+  foreach(n IN LISTS links)
+    if(NOT n MATCHES "^[1-9][0-9]*$")
+      message(FATAL_ERROR "NPEND_LINKS: '${n}' is not a positive link count")
+    endif()
+    if(n IN_LIST NPEND_COMMITTED_LINKS)
+      list(APPEND sources "${PROJECT_SOURCE_DIR}/generated/chain_${n}.cpp")
+      list(APPEND headers "${PROJECT_SOURCE_DIR}/generated/chain_${n}.hpp")
+    else()
+      if(NOT TARGET npend-gen)
+        message(FATAL_ERROR "NPEND_LINKS asks for ${n} links, which are not committed in "
+                            "generated/; building them needs the generator "
+                            "(-DNPEND_BUILD_GENERATOR=ON, with GiNaC installed).")
+      endif()
+      set(out "${NPEND_GENERATED_BUILD_DIR}/chain_${n}")
+      add_custom_command(
+        OUTPUT "${out}.hpp" "${out}.cpp"
+        COMMAND npend-gen --links ${n} --out "${NPEND_GENERATED_BUILD_DIR}"
+        DEPENDS npend-gen
+        COMMENT "npend-gen: deriving the ${n}-link chain"
+        VERBATIM)
+      list(APPEND sources "${out}.cpp")
+      list(APPEND headers "${out}.hpp")
+      set(generated_in_build TRUE)
+    endif()
+  endforeach()
+
+  set(committed ${NPEND_COMMITTED_LINKS})
+  if(links STREQUAL committed)
+    list(APPEND sources "${PROJECT_SOURCE_DIR}/generated/chain_index.cpp")
+    list(APPEND headers "${PROJECT_SOURCE_DIR}/generated/chain_index.hpp")
+  else()
+    if(NOT TARGET npend-gen)
+      message(FATAL_ERROR "A link-count list other than the committed one needs the generator "
+                          "for its index (-DNPEND_BUILD_GENERATOR=ON).")
+    endif()
+    _npend_join(list_arg ${links})
+    set(index "${NPEND_GENERATED_BUILD_DIR}/index/chain_index")
+    add_custom_command(
+      OUTPUT "${index}.hpp" "${index}.cpp"
+      COMMAND npend-gen --index ${list_arg} --out "${NPEND_GENERATED_BUILD_DIR}/index"
+      DEPENDS npend-gen
+      COMMENT "npend-gen: index of link counts ${list_arg}"
+      VERBATIM)
+    list(APPEND sources "${index}.cpp")
+    list(APPEND headers "${index}.hpp")
+    set(generated_in_build TRUE)
+  endif()
+  # The headers to install with the library (cmake/npend_install.cmake).
+  set_property(GLOBAL PROPERTY NPEND_GENERATED_HEADERS ${headers})
+
+  add_library(${target} STATIC ${sources})
+  add_library(npend::generated ALIAS ${target})
+  # The build-tree index must shadow the committed one, so it comes first.
+  if(generated_in_build)
+    target_include_directories(${target} PUBLIC
+      "$<BUILD_INTERFACE:${NPEND_GENERATED_BUILD_DIR}/index>"
+      "$<BUILD_INTERFACE:${NPEND_GENERATED_BUILD_DIR}>")
+  endif()
+  target_include_directories(${target} PUBLIC
+    "$<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/generated>"
+    "$<INSTALL_INTERFACE:include/npend/generated>")
+  target_compile_features(${target} PUBLIC cxx_std_20)
+  set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+endfunction()
+
+# npend_regenerate: rewrite the committed generated/ from the generator (files whose
+# content is unchanged are left alone, so nothing rebuilds needlessly).
+function(npend_add_regenerate_target)
+  _npend_join(list_arg ${NPEND_COMMITTED_LINKS})
+  add_custom_target(npend_regenerate
+    COMMAND npend-gen --links ${list_arg} --index ${list_arg}
+            --out "${PROJECT_SOURCE_DIR}/generated"
+    DEPENDS npend-gen
+    COMMENT "npend-gen: regenerating generated/ for link counts ${list_arg}"
+    VERBATIM)
+endfunction()

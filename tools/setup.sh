@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Installs everything npend needs to build, test and run on Debian bookworm (also on a bare
+# `debian:bookworm` container: compilers, CMake and Python included). Idempotent: when all
+# packages are present it does nothing, so it needs neither root nor the network then.
+#   bash tools/setup.sh           what building, testing and running need
+#   bash tools/setup.sh --fuzz    also clang and its libFuzzer runtime (tools/fuzz.sh)
+set -euo pipefail
+
+packages=(
+  # toolchain
+  g++ make cmake pkg-config ca-certificates
+  # the generator: GiNaC on CLN
+  libginac-dev libcln-dev
+  # runtime and command line
+  libeigen3-dev libboost-dev libfmt-dev libcli11-dev nlohmann-json3-dev
+  # time-series analysis: FFTs, k-d trees for neighbour searches, and the plots
+  libfftw3-dev libnanoflann-dev gnuplot-nox
+  # tests
+  doctest-dev
+  # benchmarks (bench/run) and their checks in the tests: Google Benchmark, the SymPy peer
+  libbenchmark-dev python3-sympy
+)
+if [ "${1:-}" = "--fuzz" ]; then
+  packages+=(clang libclang-rt-14-dev)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#packages[@]} packages are installed"
+  exit 0
+fi
+
+echo "setup: installing ${missing[*]}"
+if [ "$(id -u)" -eq 0 ]; then
+  as_root=()
+elif command -v sudo >/dev/null 2>&1; then
+  as_root=(sudo)
+else
+  echo "setup: need root (or sudo) to install: ${missing[*]}" >&2
+  exit 1
+fi
+export DEBIAN_FRONTEND=noninteractive
+"${as_root[@]}" apt-get update -qq
+"${as_root[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "setup: done"
