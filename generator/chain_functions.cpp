@@ -1,0 +1,244 @@
+#include "chain_functions.hpp"
+
+#include "polynomial.hpp"
+#include "tension_form.hpp"
+
+#include <string>
+
+namespace npend::gen {
+
+namespace {
+
+std::size_t u(int i) { return static_cast<std::size_t>(i); }
+
+emitted_function make(std::string name, argument_layout layout, std::vector<std::string> doc,
+                      std::string output_name = {}) {
+  emitted_function f;
+  f.name = std::move(name);
+  f.layout = layout;
+  f.doc = std::move(doc);
+  f.returns_scalar = output_name.empty();
+  f.output_name = std::move(output_name);
+  f.graph = std::make_unique<expr_graph>();
+  return f;
+}
+
+std::vector<sx> inputs(expr_graph& g, input_kind kind, int n) {
+  std::vector<sx> out;
+  for (int i = 0; i < n; ++i) out.push_back(g.input(kind, i));
+  return out;
+}
+
+// A function whose outputs are GiNaC expressions, emitted through canonical polynomials.
+emitted_function from_expressions(const polynomial_space& space, std::string name,
+                                  argument_layout layout, std::vector<std::string> doc,
+                                  const std::vector<GiNaC::ex>& values,
+                                  std::string output_name = {}) {
+  emitted_function f = make(std::move(name), layout, std::move(doc), std::move(output_name));
+  const std::vector<sx> vars = variable_nodes(space, *f.graph);
+  for (const auto& v : values) f.outputs.push_back(to_graph(space.canonical(v), vars, *f.graph));
+  return f;
+}
+
+std::vector<GiNaC::ex> entries(const GiNaC::matrix& m) {
+  std::vector<GiNaC::ex> out;
+  for (unsigned i = 0; i < m.rows(); ++i)
+    for (unsigned j = 0; j < m.cols(); ++j) out.push_back(m(i, j));
+  return out;
+}
+
+// −∂V/∂φ_i from the derived potential, as nodes of `graph`.
+std::vector<sx> potential_force(const polynomial_space& space, const chain_mechanics& mech,
+                                expr_graph& graph) {
+  const std::vector<sx> vars = variable_nodes(space, graph);
+  std::vector<sx> out;
+  for (const auto& dv : mech.grad_potential) out.push_back(-to_graph(space.canonical(dv), vars, graph));
+  return out;
+}
+
+emitted_function rhs_function(int n, const polynomial_space& space, const chain_mechanics& mech) {
+  emitted_function f = make(
+      "rhs", argument_layout::state,
+      {"Hamilton's equations f(x): dxdt = [dphi/dt (dim n), dp/dt (dim n)].",
+       "phi' = A^-1 p through the rods' tensions (one tridiagonal solve), p' = -dH/dphi."},
+      "dxdt");
+  expr_graph& g = *f.graph;
+  const tension_form form(n, g);
+  const auto flow = form.solve(inputs(g, input_kind::p, n));
+  const auto force = potential_force(space, mech, g);
+  for (int i = 0; i < n; ++i) f.outputs.push_back(flow.omega[u(i)] * form.inv_length[u(i)]);
+  for (int i = 0; i < n; ++i)
+    f.outputs.push_back(flow.omega[u(i)] * flow.tau[u(i)] + force[u(i)]);
+  return f;
+}
+
+emitted_function jacobian_function(int n, const polynomial_space& space,
+                                   const chain_mechanics& mech) {
+  emitted_function f = make(
+      "jacobian", argument_layout::state,
+      {"Exact Jacobian J = df/dx of rhs, row-major (2n x 2n): J[i*2n + j] = df_i/dx_j.",
+       "Hamiltonian structure: J = [[B, A^-1], [C, -B^T]] with C symmetric."},
+      "jac");
+  expr_graph& g = *f.graph;
+  const tension_form form(n, g);
+  const auto flow = form.solve(inputs(g, input_kind::p, n));
+  const auto& tau = flow.tau;
+  const auto& omega = flow.omega;
+  const auto M = form.z_inverse();
+  auto m_at = [&](int i, int k) { return M[u(i * n + k)]; };
+
+  // X̂ = M Q̂ᵀ: column k of Q̂ᵀ has Q̂_{k,k+1} = q_off_k at row k+1, −q_off_{k−1} at row k−1.
+  std::vector<sx> X(u(n * n));
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < n; ++k) {
+      sx x = g.constant(0);
+      if (k + 1 < n) x = x + m_at(i, k + 1) * form.q_off[u(k)];
+      if (k > 0) x = x - m_at(i, k - 1) * form.q_off[u(k - 1)];
+      X[u(i * n + k)] = x;
+    }
+  auto x_at = [&](int i, int k) { return X[u(i * n + k)]; };
+
+  // Ŵ = Ẑ − Q̂ X̂ (symmetric; = diag(l) A⁻¹ diag(l)).
+  std::vector<sx> W(u(n * n));
+  for (int i = 0; i < n; ++i)
+    for (int k = i; k < n; ++k) {
+      sx z = g.constant(0);
+      if (k == i) z = form.z_diag[u(i)];
+      if (k == i + 1) z = form.z_off[u(i)];
+      sx qx = g.constant(0);
+      if (i > 0) qx = qx - form.q_off[u(i - 1)] * x_at(i - 1, k);
+      if (i + 1 < n) qx = qx + form.q_off[u(i)] * x_at(i + 1, k);
+      W[u(i * n + k)] = W[u(k * n + i)] = z - qx;
+    }
+  auto w_at = [&](int i, int k) { return W[u(i * n + k)]; };
+
+  const std::vector<sx> vars = variable_nodes(space, g);
+  const int dim = 2 * n;
+  f.outputs.assign(u(dim * dim), sx{});
+  auto out = [&](int row, int col) -> sx& { return f.outputs[u(row * dim + col)]; };
+
+  // β_ik = X̂_ki ω_k + Ŵ_ik τ_k, so that B_ik = −β_ik / l_i.
+  std::vector<sx> beta(u(n * n));
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < n; ++k) beta[u(i * n + k)] = x_at(k, i) * omega[u(k)] + w_at(i, k) * tau[u(k)];
+
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < n; ++k) {
+      const sx b = -(beta[u(i * n + k)] * form.inv_length[u(i)]);
+      out(i, k) = b;
+      out(n + k, n + i) = -b;
+    }
+  for (int i = 0; i < n; ++i)
+    for (int k = i; k < n; ++k)
+      out(i, n + k) = out(k, n + i) =
+          w_at(i, k) * (form.inv_length[u(i)] * form.inv_length[u(k)]);
+  for (int i = 0; i < n; ++i)
+    for (int k = i; k < n; ++k) {
+      sx cik = omega[u(i)] * (m_at(i, k) * omega[u(k)] - x_at(i, k) * tau[u(k)]) -
+               tau[u(i)] * beta[u(i * n + k)];
+      if (i == k) cik = cik - omega[u(i)] * flow.q[u(i)];
+      const auto hess = space.canonical(mech.hess_potential(u(i), u(k)));
+      if (!hess.empty()) cik = cik - to_graph(hess, vars, g);
+      out(n + i, k) = out(n + k, i) = cik;
+    }
+  return f;
+}
+
+emitted_function hamiltonian_function(int n, const polynomial_space& space,
+                                      const chain_mechanics& mech) {
+  emitted_function f = make("hamiltonian", argument_layout::state,
+                            {"Hamiltonian H(phi, p) = 1/2 p^T A^-1 p + V (total energy)."});
+  expr_graph& g = *f.graph;
+  const tension_form form(n, g);
+  const auto flow = form.solve(inputs(g, input_kind::p, n));
+  // ½ pᵀ φ̇ = ½ Σ q_i ω_i, since p_i φ̇_i = (p_i / l_i)(l_i φ̇_i).
+  sx twice_t = g.constant(0);
+  for (int i = 0; i < n; ++i) twice_t = twice_t + flow.q[u(i)] * flow.omega[u(i)];
+  const std::vector<sx> vars = variable_nodes(space, g);
+  f.outputs.push_back(g.constant(GiNaC::numeric(1, 2)) * twice_t +
+                      to_graph(space.canonical(mech.potential), vars, g));
+  return f;
+}
+
+emitted_function velocities_function(int n) {
+  emitted_function f = make("velocities", argument_layout::phi_p,
+                            {"Inverse Legendre transform: dphi = A^-1 p (dim n)."}, "dphi");
+  expr_graph& g = *f.graph;
+  const tension_form form(n, g);
+  const auto flow = form.solve(inputs(g, input_kind::p, n));
+  for (int i = 0; i < n; ++i) f.outputs.push_back(flow.omega[u(i)] * form.inv_length[u(i)]);
+  return f;
+}
+
+emitted_function det_function(int n) {
+  emitted_function f = make("det_mass_matrix", argument_layout::phi,
+                            {"det A(phi) = (prod m_i)^2 (prod l_i)^2 det Z (Z the scaled "
+                             "tension matrix)."});
+  expr_graph& g = *f.graph;
+  const tension_form form(n, g);
+  sx scale = g.constant(1);
+  for (int i = 0; i < n; ++i)
+    scale = scale * g.input(input_kind::mass, i) * g.input(input_kind::length, i);
+  f.outputs.push_back(scale * scale * form.z_determinant());
+  return f;
+}
+
+emitted_function closed_form_function(const chain_symbols& sym, const polynomial_space& space,
+                                      const chain_mechanics& mech) {
+  emitted_function f = make(
+      "hamiltonian_closed_form", argument_layout::state,
+      {"Closed-form Hamiltonian p^T adj(A) p / (2 det A) + V, as printed by npend-gen --latex.",
+       "For checking against the paper; hamiltonian() is the faster way to the same value."});
+  const auto closed = derive_closed_form_hamiltonian(sym, mech);
+  expr_graph& g = *f.graph;
+  const std::vector<sx> vars = variable_nodes(space, g);
+  const sx num = to_graph(space.canonical(closed.numerator), vars, g);
+  const sx det = to_graph(space.canonical(closed.det), vars, g);
+  f.outputs.push_back(num / (g.constant(2) * det) +
+                      to_graph(space.canonical(closed.potential), vars, g));
+  return f;
+}
+
+}  // namespace
+
+std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
+                                                    const chain_mechanics& mech) {
+  const int n = sym.n;
+  const polynomial_space space(sym);
+  std::vector<emitted_function> out;
+  out.push_back(rhs_function(n, space, mech));
+  out.push_back(jacobian_function(n, space, mech));
+  out.push_back(hamiltonian_function(n, space, mech));
+  out.push_back(velocities_function(n));
+  out.push_back(from_expressions(space, "momenta", argument_layout::phi_dphi,
+                                 {"Legendre transform: p = dL/d(dphi) = A dphi (dim n)."},
+                                 mech.momenta, "p"));
+  out.push_back(from_expressions(space, "lagrangian", argument_layout::phi_dphi,
+                                 {"Lagrangian L = T - V."}, {mech.lagrangian}));
+  out.push_back(from_expressions(space, "kinetic_energy", argument_layout::phi_dphi,
+                                 {"Kinetic energy T = sum m_k/2 |dr_k/dt|^2."}, {mech.kinetic}));
+  out.push_back(from_expressions(space, "potential_energy", argument_layout::phi,
+                                 {"Potential energy V, zero at the hanging rest position."},
+                                 {mech.potential}));
+  out.push_back(from_expressions(space, "mass_matrix", argument_layout::phi,
+                                 {"Mass matrix A = d^2T/d(dphi)^2, row-major (n x n)."},
+                                 entries(mech.mass_matrix), "A"));
+  out.push_back(det_function(n));
+  out.push_back(from_expressions(space, "potential_gradient", argument_layout::phi,
+                                 {"Gradient dV/dphi (dim n)."}, mech.grad_potential, "grad"));
+  out.push_back(from_expressions(space, "potential_hessian", argument_layout::phi,
+                                 {"Hessian d^2V/dphi^2, row-major (n x n)."},
+                                 entries(mech.hess_potential), "hess"));
+  std::vector<GiNaC::ex> xy;
+  for (int k = 0; k < n; ++k) {
+    xy.push_back(mech.x[u(k)]);
+    xy.push_back(mech.y[u(k)]);
+  }
+  out.push_back(from_expressions(space, "positions", argument_layout::phi,
+                                 {"Bob positions [x_1, y_1, ..., x_n, y_n] (dim 2n), y down."},
+                                 xy, "xy"));
+  if (n <= closed_form_max_links) out.push_back(closed_form_function(sym, space, mech));
+  return out;
+}
+
+}  // namespace npend::gen

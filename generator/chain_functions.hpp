@@ -1,0 +1,41 @@
+// The functions emitted for one link count: each one a small expression graph with its
+// outputs, built from the GiNaC derivation (energies, momenta, mass matrix, positions,
+// potential derivatives, closed-form H) or from the tension formulation (Hamilton's
+// equations, their Jacobian, velocities, H, det A).
+#pragma once
+
+#include "chain_model.hpp"
+#include "expr_graph.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace npend::gen {
+
+/// How the angle/rate/momentum inputs of a function are passed.
+enum class argument_layout {
+  state,     ///< (const double* x, ...) with x = [φ_1..φ_n, p_1..p_n]
+  phi_dphi,  ///< (const double* phi, const double* dphi, ...)
+  phi_p,     ///< (const double* phi, const double* p, ...)
+  phi,       ///< (const double* phi, ...)
+};
+
+struct emitted_function {
+  std::string name;
+  std::vector<std::string> doc;  ///< lines of the /// comment
+  argument_layout layout = argument_layout::state;
+  bool returns_scalar = false;   ///< `double f(...)`; otherwise `void f(..., double* out)`
+  std::string output_name;       ///< name of the output array of a void function
+  std::unique_ptr<expr_graph> graph;
+  std::vector<sx> outputs;
+};
+
+/// Every emitted function of the n-link chain, in the order they are written.
+std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
+                                                    const chain_mechanics& mech);
+
+/// Largest link count for which the closed-form Hamiltonian is emitted and printed.
+inline constexpr int closed_form_max_links = 3;
+
+}  // namespace npend::gen

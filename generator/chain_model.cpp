@@ -1,0 +1,143 @@
+#include "chain_model.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace npend::gen {
+
+namespace {
+
+std::vector<GiNaC::realsymbol> indexed_symbols(const std::string& stem, int n) {
+  std::vector<GiNaC::realsymbol> out;
+  out.reserve(static_cast<std::size_t>(n));
+  for (int i = 1; i <= n; ++i) out.emplace_back(stem + std::to_string(i));
+  return out;
+}
+
+std::size_t u(int i) { return static_cast<std::size_t>(i); }
+
+}  // namespace
+
+chain_symbols::chain_symbols(int links)
+    : n(links),
+      phi(indexed_symbols("phi", links)),
+      dphi(indexed_symbols("dphi", links)),
+      ddphi(indexed_symbols("ddphi", links)),
+      p(indexed_symbols("p", links)),
+      mass(indexed_symbols("m", links)),
+      length(indexed_symbols("l", links)),
+      mu(indexed_symbols("mu", links)),
+      g("g"),
+      s(indexed_symbols("s", links)),
+      c(indexed_symbols("c", links)) {
+  if (links < 1) throw std::invalid_argument("chain_symbols: links must be >= 1");
+}
+
+GiNaC::ex time_derivative(const chain_symbols& sym, const GiNaC::ex& e) {
+  GiNaC::ex d = 0;
+  for (int i = 0; i < sym.n; ++i) {
+    d += e.diff(sym.phi[u(i)]) * sym.dphi[u(i)];
+    d += e.diff(sym.dphi[u(i)]) * sym.ddphi[u(i)];
+  }
+  return d;
+}
+
+chain_mechanics derive_mechanics(const chain_symbols& sym) {
+  const int n = sym.n;
+  chain_mechanics mech;
+
+  // Kinematics (eq. 6.1): each rod adds l_i (sin φ_i, cos φ_i) to the previous bob.
+  GiNaC::ex x = 0, y = 0;
+  for (int k = 0; k < n; ++k) {
+    x += sym.length[u(k)] * GiNaC::sin(sym.phi[u(k)]);
+    y += sym.length[u(k)] * GiNaC::cos(sym.phi[u(k)]);
+    mech.x.push_back(x);
+    mech.y.push_back(y);
+  }
+
+  // Energies of point masses: T = Σ m_k/2 |ṙ_k|², V = Σ m_k g (rest height − height).
+  GiNaC::ex T = 0, V = 0, rest_depth = 0;
+  for (int k = 0; k < n; ++k) {
+    const GiNaC::ex vx = time_derivative(sym, mech.x[u(k)]);
+    const GiNaC::ex vy = time_derivative(sym, mech.y[u(k)]);
+    T += sym.mass[u(k)] / 2 * (vx * vx + vy * vy);
+    rest_depth += sym.length[u(k)];
+    V += sym.mass[u(k)] * sym.g * (rest_depth - mech.y[u(k)]);
+  }
+  mech.kinetic = T.expand();
+  mech.potential = V.expand();
+  mech.lagrangian = mech.kinetic - mech.potential;
+
+  // Legendre transform: momenta and the mass matrix as derivatives of L.
+  mech.mass_matrix = GiNaC::matrix(u(n), u(n));
+  mech.hess_potential = GiNaC::matrix(u(n), u(n));
+  for (int i = 0; i < n; ++i) {
+    mech.momenta.push_back(mech.lagrangian.diff(sym.dphi[u(i)]));
+    mech.dL_dphi.push_back(mech.lagrangian.diff(sym.phi[u(i)]));
+    mech.grad_potential.push_back(mech.potential.diff(sym.phi[u(i)]));
+  }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      mech.mass_matrix(u(i), u(j)) = mech.momenta[u(i)].diff(sym.dphi[u(j)]);
+      mech.hess_potential(u(i), u(j)) = mech.grad_potential[u(i)].diff(sym.phi[u(j)]);
+    }
+  return mech;
+}
+
+std::vector<GiNaC::matrix> mass_matrix_derivatives(const chain_symbols& sym,
+                                                   const chain_mechanics& mech) {
+  std::vector<GiNaC::matrix> out;
+  const auto n = u(sym.n);
+  for (std::size_t k = 0; k < n; ++k) {
+    GiNaC::matrix d(n, n);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < n; ++j) d(i, j) = mech.mass_matrix(i, j).diff(sym.phi[k]);
+    out.push_back(d);
+  }
+  return out;
+}
+
+lagrangian_hessians derive_lagrangian_hessians(const chain_symbols& sym,
+                                               const chain_mechanics& mech) {
+  const auto n = u(sym.n);
+  lagrangian_hessians h{GiNaC::matrix(n, n), GiNaC::matrix(n, n)};
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) {
+      h.phi_phi(i, j) = mech.dL_dphi[i].diff(sym.phi[j]);
+      h.phi_dphi(i, j) = mech.dL_dphi[i].diff(sym.dphi[j]);
+    }
+  return h;
+}
+
+closed_form_hamiltonian derive_closed_form_hamiltonian(const chain_symbols& sym,
+                                                       const chain_mechanics& mech) {
+  const auto n = u(sym.n);
+  // adj(A)_ij = (−1)^{i+j} M_ji with M the minors; for small n a cofactor expansion of the
+  // (already polynomial) entries is cheap, and it avoids normal() on a rational inverse.
+  GiNaC::matrix adj(n, n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) {
+      if (n == 1) {
+        adj(i, j) = 1;
+        continue;
+      }
+      GiNaC::matrix minor(n - 1, n - 1);
+      for (std::size_t r = 0, rr = 0; r < n; ++r) {
+        if (r == j) continue;
+        for (std::size_t col = 0, cc = 0; col < n; ++col) {
+          if (col == i) continue;
+          minor(rr, cc++) = mech.mass_matrix(r, col);
+        }
+        ++rr;
+      }
+      const int sign = ((i + j) % 2 == 0) ? 1 : -1;
+      adj(i, j) = sign * minor.determinant(GiNaC::determinant_algo::laplace);
+    }
+  GiNaC::ex numerator = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) numerator += sym.p[i] * adj(i, j) * sym.p[j];
+  return {numerator.expand(), mech.mass_matrix.determinant(GiNaC::determinant_algo::laplace),
+          mech.potential};
+}
+
+}  // namespace npend::gen

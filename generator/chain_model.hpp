@@ -1,0 +1,71 @@
+// The planar n-link pendulum as GiNaC sees it: symbols, kinematics, energies, and the
+// Lagrangian mechanics derived from them (paper §6.2–6.3, PAPER-NOTES.md "Conventions").
+//
+// Everything here is *derived*: positions from the chain's geometry (eq. 6.1), T and V from
+// the positions, L = T − V, p = ∂L/∂φ̇ (the Legendre transform), A = ∂p/∂φ̇. Nothing is
+// typed in from the known closed form of the mass matrix. Point masses on massless rods
+// under gravity are the paper's model; rigid links, joint springs and generalised forces
+// enter as further terms of T, V and Q in derive_mechanics.
+#pragma once
+
+#include <ginac/ginac.h>
+
+#include <string>
+#include <vector>
+
+namespace npend::gen {
+
+/// The GiNaC symbols of an n-link chain. Vectors are indexed 0..n-1; printed names are
+/// 1-based as in the paper (phi1, m1, ...).
+struct chain_symbols {
+  explicit chain_symbols(int links);
+
+  int n;
+  std::vector<GiNaC::realsymbol> phi, dphi, ddphi, p;  ///< angles, their rates, momenta
+  std::vector<GiNaC::realsymbol> mass, length;         ///< run-time parameters m_i, l_i
+  std::vector<GiNaC::realsymbol> mu;  ///< μ_j = m_j + … + m_n, the mass at and below joint j
+  GiNaC::realsymbol g;
+  std::vector<GiNaC::realsymbol> s, c;  ///< stand-ins for sin φ_i, cos φ_i in polynomials
+};
+
+/// The Lagrangian mechanics of the chain.
+struct chain_mechanics {
+  std::vector<GiNaC::ex> x, y;  ///< bob positions, y pointing down (eq. 6.1)
+  GiNaC::ex kinetic;            ///< T(φ, φ̇)
+  GiNaC::ex potential;          ///< V(φ), zero at the hanging rest position (eq. 6.12)
+  GiNaC::ex lagrangian;         ///< L = T − V
+  std::vector<GiNaC::ex> momenta;        ///< p_i = ∂L/∂φ̇_i
+  GiNaC::matrix mass_matrix;             ///< A_ij = ∂p_i/∂φ̇_j (n × n)
+  std::vector<GiNaC::ex> dL_dphi;        ///< ∂L/∂φ_i at fixed φ̇; equals ṗ_i on the flow
+  std::vector<GiNaC::ex> grad_potential;  ///< ∂V/∂φ_i
+  GiNaC::matrix hess_potential;           ///< ∂²V/∂φ_i∂φ_j (n × n)
+};
+
+/// Derives the mechanics of the n-link chain with point masses m_i on massless rods l_i.
+chain_mechanics derive_mechanics(const chain_symbols& sym);
+
+/// ∂/∂φ_k of every entry of the mass matrix, k = 0..n-1 (used to check the Jacobian).
+std::vector<GiNaC::matrix> mass_matrix_derivatives(const chain_symbols& sym,
+                                                   const chain_mechanics& mech);
+
+/// Hessian blocks of L: ∂²L/∂φ_i∂φ_j and ∂²L/∂φ_i∂φ̇_j (both n × n).
+struct lagrangian_hessians {
+  GiNaC::matrix phi_phi, phi_dphi;
+};
+lagrangian_hessians derive_lagrangian_hessians(const chain_symbols& sym,
+                                               const chain_mechanics& mech);
+
+/// The closed-form Hamiltonian H = numerator / (2 det A) + V with numerator = pᵀ adj(A) p.
+/// Only sensible for small n: the adjugate grows factorially.
+struct closed_form_hamiltonian {
+  GiNaC::ex numerator;  ///< pᵀ adj(A) p
+  GiNaC::ex det;        ///< det A
+  GiNaC::ex potential;  ///< V
+};
+closed_form_hamiltonian derive_closed_form_hamiltonian(const chain_symbols& sym,
+                                                       const chain_mechanics& mech);
+
+/// The total time derivative d/dt of an expression in φ, φ̇ (φ̈ appears as ddphi).
+GiNaC::ex time_derivative(const chain_symbols& sym, const GiNaC::ex& e);
+
+}  // namespace npend::gen

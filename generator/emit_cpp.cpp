@@ -1,0 +1,311 @@
+#include "emit_cpp.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+namespace npend::gen {
+
+namespace {
+
+std::size_t u(int i) { return static_cast<std::size_t>(i); }
+
+// Expressions longer than this become named temporaries even when used once, so that
+// lines stay readable and no expression nests without bound.
+constexpr std::size_t max_inline_length = 64;
+
+enum precedence : int { additive = 1, multiplicative = 2, unary = 3, atom = 4 };
+
+struct printed {
+  std::string text;
+  int prec = atom;
+};
+
+std::string literal(const GiNaC::numeric& value) {
+  const double d = value.to_double();
+  if (!std::isfinite(d)) throw std::logic_error("emit: non-finite constant");
+  if (d == std::floor(d) && std::fabs(d) < 9007199254740992.0) return fmt::format("{:.1f}", d);
+  return fmt::format("{:.17g}", d);
+}
+
+std::vector<int> postorder(const expr_graph& g, const std::vector<sx>& outputs) {
+  std::vector<int> order;
+  std::vector<char> seen(u(g.size()), 0);
+  // Iterative DFS: graphs for n = 20 are deep enough to make recursion a risk.
+  for (const sx out : outputs) {
+    std::vector<std::pair<int, int>> stack{{out.id, 0}};
+    while (!stack.empty()) {
+      auto& [id, stage] = stack.back();
+      if (seen[u(id)]) {
+        stack.pop_back();
+        continue;
+      }
+      const node& n = g.at(id);
+      if (stage == 0) {
+        stage = 1;
+        if (n.lhs >= 0 && !seen[u(n.lhs)]) stack.emplace_back(n.lhs, 0);
+        continue;
+      }
+      if (stage == 1) {
+        stage = 2;
+        if (n.rhs >= 0 && !seen[u(n.rhs)]) stack.emplace_back(n.rhs, 0);
+        continue;
+      }
+      seen[u(id)] = 1;
+      order.push_back(id);
+      stack.pop_back();
+    }
+  }
+  return order;
+}
+
+std::string input_text(argument_layout layout, int n, const node& in) {
+  switch (in.input) {
+    case input_kind::phi:
+      return fmt::format("{}[{}]", layout == argument_layout::state ? "x" : "phi", in.index);
+    case input_kind::p:
+      if (layout == argument_layout::state) return fmt::format("x[{}]", n + in.index);
+      return fmt::format("p[{}]", in.index);
+    case input_kind::dphi: return fmt::format("dphi[{}]", in.index);
+    case input_kind::mass: return fmt::format("params[{}]", in.index);
+    case input_kind::length: return fmt::format("params[{}]", n + in.index);
+    case input_kind::gravity: return fmt::format("params[{}]", 2 * n);
+  }
+  throw std::logic_error("emit: unknown input");
+}
+
+bool layout_has(argument_layout layout, input_kind kind) {
+  switch (kind) {
+    case input_kind::phi: return true;
+    case input_kind::p:
+      return layout == argument_layout::state || layout == argument_layout::phi_p;
+    case input_kind::dphi: return layout == argument_layout::phi_dphi;
+    default: return true;
+  }
+}
+
+std::string wrap(const printed& p, int min_prec) {
+  return p.prec < min_prec ? "(" + p.text + ")" : p.text;
+}
+
+std::string signature(const emitted_function& f) {
+  std::string args;
+  switch (f.layout) {
+    case argument_layout::state: args = "const double* x"; break;
+    case argument_layout::phi_dphi: args = "const double* phi, const double* dphi"; break;
+    case argument_layout::phi_p: args = "const double* phi, const double* p"; break;
+    case argument_layout::phi: args = "const double* phi"; break;
+  }
+  args += ", const double* params";
+  if (!f.returns_scalar) args += ", double* " + f.output_name;
+  return fmt::format("{} {}({}) noexcept", f.returns_scalar ? "double" : "void", f.name, args);
+}
+
+std::string body(int n, const emitted_function& f) {
+  const expr_graph& g = *f.graph;
+  const std::vector<int> order = postorder(g, f.outputs);
+  std::vector<int> uses(u(g.size()), 0);
+  for (const int id : order) {
+    const node& nd = g.at(id);
+    if (nd.lhs >= 0) ++uses[u(nd.lhs)];
+    if (nd.rhs >= 0) ++uses[u(nd.rhs)];
+  }
+  for (const sx out : f.outputs) ++uses[u(out.id)];
+
+  std::string text;
+  std::map<int, printed> done;
+  int temporaries = 0;
+  for (const int id : order) {
+    const node& nd = g.at(id);
+    printed p;
+    auto child = [&](int c) -> const printed& { return done.at(c); };
+    switch (nd.kind) {
+      case op::constant:
+        p = {literal(nd.value), nd.value < 0 ? int{unary} : int{atom}};
+        break;
+      case op::input:
+        if (!layout_has(f.layout, nd.input))
+          throw std::logic_error("emit: " + f.name + " uses an input it does not take");
+        p = {input_text(f.layout, n, nd), atom};
+        break;
+      case op::neg: p = {"-" + wrap(child(nd.lhs), unary), unary}; break;
+      case op::add:
+      case op::sub: {
+        // The right operand is bracketed at equal precedence: a + (b + c) must not be
+        // re-associated, or the rounding would differ from the graph's.
+        const char* sym = nd.kind == op::add ? " + " : " - ";
+        p = {wrap(child(nd.lhs), additive) + sym + wrap(child(nd.rhs), additive + 1), additive};
+        break;
+      }
+      case op::mul:
+      case op::div: {
+        const char* sym = nd.kind == op::mul ? " * " : " / ";
+        p = {wrap(child(nd.lhs), multiplicative) + sym + wrap(child(nd.rhs), multiplicative + 1),
+             multiplicative};
+        break;
+      }
+      case op::sin: p = {"std::sin(" + child(nd.lhs).text + ")", atom}; break;
+      case op::cos: p = {"std::cos(" + child(nd.lhs).text + ")", atom}; break;
+    }
+    const bool leaf = nd.kind == op::constant || nd.kind == op::input;
+    const bool trig = nd.kind == op::sin || nd.kind == op::cos;
+    if (!leaf && (uses[u(id)] > 1 || trig || p.text.size() > max_inline_length)) {
+      const std::string name = fmt::format("t{}", temporaries++);
+      text += fmt::format("  const double {} = {};\n", name, p.text);
+      p = {name, atom};
+    }
+    done[id] = p;
+  }
+  if (f.returns_scalar) {
+    text += fmt::format("  return {};\n", done.at(f.outputs.at(0).id).text);
+  } else {
+    for (std::size_t i = 0; i < f.outputs.size(); ++i)
+      text += fmt::format("  {}[{}] = {};\n", f.output_name, i, done.at(f.outputs[i].id).text);
+  }
+  return text;
+}
+
+std::string doc_comment(const emitted_function& f) {
+  std::string out;
+  for (const auto& line : f.doc) out += "/// " + line + "\n";
+  return out;
+}
+
+}  // namespace
+
+operation_count count_operations(const emitted_function& f) {
+  operation_count c;
+  for (const int id : postorder(*f.graph, f.outputs)) {
+    switch (f.graph->at(id).kind) {
+      case op::add:
+      case op::sub: ++c.add; break;
+      case op::mul: ++c.mul; break;
+      case op::div: ++c.div; break;
+      case op::neg: ++c.neg; break;
+      case op::sin:
+      case op::cos: ++c.trig; break;
+      default: break;
+    }
+  }
+  return c;
+}
+
+std::string generated_banner(const std::string& command) {
+  return fmt::format(
+      "// Generated by `{}`: do not edit. Regenerate with `cmake --build <build> --target "
+      "npend_regenerate`.\n",
+      command);
+}
+
+std::string chain_stem(int links) { return fmt::format("chain_{}", links); }
+
+chain_sources emit_chain(int n, const std::vector<emitted_function>& functions,
+                         const std::string& latex) {
+  const std::string banner = generated_banner(fmt::format("npend-gen --links {}", n));
+  chain_sources out;
+  out.header = banner + fmt::format(
+      "#pragma once\n\n"
+      "// The planar {0}-link pendulum: point masses m_i on massless rods l_i under gravity g.\n"
+      "// State x = [phi_1..phi_n, p_1..p_n] (dim 2n = {1}); angles from the downward vertical.\n"
+      "// Parameters params = [m_1..m_n, l_1..l_n, g] (dim 2n+1 = {2}).\n\n"
+      "namespace npend::generated::chain_{0} {{\n\n"
+      "inline constexpr int links = {0};\n"
+      "inline constexpr int state_size = {1};\n"
+      "inline constexpr int param_size = {2};\n\n",
+      n, 2 * n, 2 * n + 1);
+  out.source = banner + fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n\n", chain_stem(n)) +
+               fmt::format("namespace npend::generated::chain_{} {{\n", n);
+  for (const auto& f : functions) {
+    out.header += doc_comment(f) + signature(f) + ";\n\n";
+    out.source += "\n" + signature(f) + " {\n" + body(n, f) + "}\n";
+  }
+  const std::string latex_signature = "const char* equations_latex() noexcept";
+  out.header += "/// The derived equations as LaTeX (the output of npend-gen --latex).\n" +
+                latex_signature + ";\n\n";
+  if (latex.find(")npend\"") != std::string::npos)
+    throw std::logic_error("emit: the LaTeX text contains the raw-string delimiter");
+  out.source += "\n" + latex_signature + " {\n  return R\"npend(" + latex + ")npend\";\n}\n";
+  out.header += fmt::format("}}  // namespace npend::generated::chain_{}\n", n);
+  out.source += fmt::format("\n}}  // namespace npend::generated::chain_{}\n", n);
+  return out;
+}
+
+chain_sources emit_index(const std::vector<int>& links) {
+  std::string list;
+  for (const int n : links) list += (list.empty() ? "" : ",") + std::to_string(n);
+  const std::string banner = generated_banner("npend-gen --index " + list);
+  chain_sources out;
+  out.header = banner + R"(#pragma once
+
+// The table of generated chains, so that the runtime can look a link count up.
+
+namespace npend::generated {
+
+/// The emitted functions of one link count (see chain_<n>.hpp for their documentation).
+struct chain_kernels {
+  int links;
+  void (*rhs)(const double* x, const double* params, double* dxdt) noexcept;
+  void (*jacobian)(const double* x, const double* params, double* jac) noexcept;
+  double (*hamiltonian)(const double* x, const double* params) noexcept;
+  void (*velocities)(const double* phi, const double* p, const double* params, double* dphi) noexcept;
+  void (*momenta)(const double* phi, const double* dphi, const double* params, double* p) noexcept;
+  double (*lagrangian)(const double* phi, const double* dphi, const double* params) noexcept;
+  double (*kinetic_energy)(const double* phi, const double* dphi, const double* params) noexcept;
+  double (*potential_energy)(const double* phi, const double* params) noexcept;
+  void (*mass_matrix)(const double* phi, const double* params, double* A) noexcept;
+  double (*det_mass_matrix)(const double* phi, const double* params) noexcept;
+  void (*potential_gradient)(const double* phi, const double* params, double* grad) noexcept;
+  void (*potential_hessian)(const double* phi, const double* params, double* hess) noexcept;
+  void (*positions)(const double* phi, const double* params, double* xy) noexcept;
+  /// Closed-form Hamiltonian; nullptr for link counts above 3.
+  double (*hamiltonian_closed_form)(const double* x, const double* params) noexcept;
+  /// The derived equations as LaTeX.
+  const char* (*equations_latex)() noexcept;
+};
+
+/// The kernels for `links` links, or nullptr when that link count was not built.
+const chain_kernels* find_chain(int links) noexcept;
+
+/// The built link counts, ascending: a pointer to `*count` entries.
+const int* built_links(int* count) noexcept;
+
+}  // namespace npend::generated
+)";
+  out.source = banner + fmt::format("#include \"{}.hpp\"\n\n", index_stem);
+  for (const int n : links) out.source += fmt::format("#include \"{}.hpp\"\n", chain_stem(n));
+  out.source += "\nnamespace npend::generated {\n\nnamespace {\n\nconst chain_kernels table[] = {\n";
+  for (const int n : links) {
+    const std::string ns = fmt::format("chain_{}::", n);
+    out.source += fmt::format(
+        "    {{{0}, &{1}rhs, &{1}jacobian, &{1}hamiltonian, &{1}velocities, &{1}momenta,\n"
+        "     &{1}lagrangian, &{1}kinetic_energy, &{1}potential_energy, &{1}mass_matrix,\n"
+        "     &{1}det_mass_matrix, &{1}potential_gradient, &{1}potential_hessian, &{1}positions,\n"
+        "     {2}, &{1}equations_latex}},\n",
+        n, ns, n <= closed_form_max_links ? "&" + ns + "hamiltonian_closed_form" : "nullptr");
+  }
+  out.source += "};\n\nconst int links_built[] = {";
+  for (std::size_t i = 0; i < links.size(); ++i)
+    out.source += (i ? ", " : "") + std::to_string(links[i]);
+  out.source += R"(};
+
+}  // namespace
+
+const chain_kernels* find_chain(int links) noexcept {
+  for (const auto& k : table)
+    if (k.links == links) return &k;
+  return nullptr;
+}
+
+const int* built_links(int* count) noexcept {
+  *count = static_cast<int>(sizeof(links_built) / sizeof(links_built[0]));
+  return links_built;
+}
+
+}  // namespace npend::generated
+)";
+  return out;
+}
+
+}  // namespace npend::gen

@@ -1,0 +1,39 @@
+// Our own C++ printer for the expression graphs: flat functions with only <cmath>, no
+// allocation, shared subexpressions as named temporaries in a fixed order, `std::` maths,
+// integer powers as products and 17 significant digits (a double round-trips).
+#pragma once
+
+#include "chain_functions.hpp"
+
+#include <string>
+#include <vector>
+
+namespace npend::gen {
+
+/// Operation counts of one emitted function (what it executes per call).
+struct operation_count {
+  int add = 0, mul = 0, div = 0, neg = 0, trig = 0;
+  int total() const { return add + mul + div + neg + trig; }
+};
+
+operation_count count_operations(const emitted_function& f);
+
+/// The line every generated file starts with.
+std::string generated_banner(const std::string& command);
+
+/// Header and source of chain_<n>.hpp / chain_<n>.cpp.
+struct chain_sources {
+  std::string header, source;
+};
+/// `latex` is the text of print_latex, embedded so that programs can show the equations.
+chain_sources emit_chain(int links, const std::vector<emitted_function>& functions,
+                         const std::string& latex);
+
+/// chain_index.hpp / chain_index.cpp: the table of built link counts for the runtime.
+chain_sources emit_index(const std::vector<int>& links);
+
+/// File names of the sources for n links and of the index.
+std::string chain_stem(int links);
+inline constexpr const char* index_stem = "chain_index";
+
+}  // namespace npend::gen

@@ -1,0 +1,172 @@
+// npend-gen: derives the equations of planar n-link pendulums with GiNaC and writes them
+// as flat C++ (see README.md, "The generator").
+#include "chain_functions.hpp"
+#include "chain_model.hpp"
+#include "emit_cpp.hpp"
+#include "latex.hpp"
+#include "verify.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+#if defined(__SANITIZE_ADDRESS__)
+// CLN allocates a few bytes at start-up that it never frees; under AddressSanitizer that
+// would fail every run of the generator, so LeakSanitizer is told to ignore CLN's own leaks.
+extern "C" const char* __lsan_default_suppressions() { return "leak:libcln.so\n"; }
+#endif
+using namespace npend::gen;
+
+namespace {
+
+constexpr int max_links = 64;
+
+// Writes `content` to dir/name only if it differs, via a temporary file and a rename, so
+// that an unchanged file keeps its timestamp (no needless rebuilds) and a failed write
+// never leaves a truncated file behind.
+void write_if_changed(const fs::path& dir, const std::string& name, const std::string& content) {
+  const fs::path target = dir / name;
+  if (fs::exists(target)) {
+    std::ifstream in(target, std::ios::binary);
+    std::ostringstream old;
+    old << in.rdbuf();
+    if (old.str() == content) return;
+  }
+  const fs::path tmp = dir / (name + ".tmp");
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << content;
+    out.close();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw std::runtime_error("cannot write " + tmp.string());
+    }
+  }
+  fs::rename(tmp, target);
+}
+
+struct generated_chain {
+  chain_sources sources;
+  std::vector<emitted_function> functions;
+  double seconds = 0;
+};
+
+generated_chain generate(int n) {
+  const auto start = std::chrono::steady_clock::now();
+  const chain_symbols sym(n);
+  const chain_mechanics mech = derive_mechanics(sym);
+  generated_chain out;
+  out.functions = build_chain_functions(sym, mech);
+  std::ostringstream latex;
+  print_latex(sym, mech, latex);
+  out.sources = emit_chain(n, out.functions, latex.str());
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+const emitted_function& function_named(const generated_chain& g, const std::string& name) {
+  for (const auto& f : g.functions)
+    if (f.name == name) return f;
+  throw std::logic_error("no function " + name);
+}
+
+void print_stats(const std::vector<int>& links, bool json) {
+  if (json) std::cout << "[";
+  else
+    fmt::print("{:>4} {:>10} {:>10} {:>9} {:>9} {:>6} {:>11}\n", "n", "seconds", "bytes",
+               "rhs ops", "jac ops", "trig", "rhs divs");
+  bool first = true;
+  for (const int n : links) {
+    const generated_chain g = generate(n);
+    const auto rhs = count_operations(function_named(g, "rhs"));
+    const auto jac = count_operations(function_named(g, "jacobian"));
+    const std::size_t bytes = g.sources.header.size() + g.sources.source.size();
+    if (json) {
+      fmt::print("{}{{\"n\": {}, \"seconds\": {:.3f}, \"bytes\": {}, \"rhs_ops\": {}, "
+                 "\"jacobian_ops\": {}, \"rhs_trig\": {}, \"rhs_div\": {}}}",
+                 first ? "" : ",\n ", n, g.seconds, bytes, rhs.total(), jac.total(), rhs.trig,
+                 rhs.div);
+    } else {
+      fmt::print("{:>4} {:>10.3f} {:>10} {:>9} {:>9} {:>6} {:>11}\n", n, g.seconds, bytes,
+                 rhs.total(), jac.total(), rhs.trig, rhs.div);
+    }
+    first = false;
+  }
+  if (json) std::cout << "]\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "npend-gen: derives Hamilton's equations of the planar n-link pendulum and their exact\n"
+      "Jacobian with GiNaC, and writes them as flat C++ (chain_<n>.hpp/.cpp)."};
+  app.set_version_flag("--version", "npend-gen 0.1");
+  std::vector<int> links, index;
+  fs::path out_dir;
+  int latex = 0, verify = 0, points = 3;
+  std::vector<int> stats;
+  bool json = false;
+  app.add_option("--links", links, "Link counts to generate (comma-separated), written to --out")
+      ->delimiter(',')
+      ->check(CLI::Range(1, max_links));
+  app.add_option("--index", index,
+                 "Write chain_index.hpp/.cpp listing these link counts (comma-separated)")
+      ->delimiter(',')
+      ->check(CLI::Range(1, max_links));
+  app.add_option("--out", out_dir, "Output directory for --links and --index");
+  app.add_option("--latex", latex, "Print the derived equations of N links as LaTeX")
+      ->check(CLI::Range(1, max_links));
+  app.add_option("--verify", verify,
+                 "Check the emitted kernels of N links against GiNaC's derivation in exact "
+                 "arithmetic; exit 1 on any mismatch")
+      ->check(CLI::Range(1, max_links));
+  app.add_option("--points", points, "Rational points for --verify")->check(CLI::Range(1, 100));
+  app.add_option("--stats", stats, "Print generation time, size and operation counts")
+      ->delimiter(',')
+      ->check(CLI::Range(1, max_links));
+  app.add_flag("--json", json, "With --stats: print JSON");
+  CLI11_PARSE(app, argc, argv);
+
+  if (links.empty() && index.empty() && latex == 0 && verify == 0 && stats.empty()) {
+    std::cerr << app.help();
+    return 2;
+  }
+  if ((!links.empty() || !index.empty()) && out_dir.empty()) {
+    std::cerr << "npend-gen: --links and --index need --out DIR\n";
+    return 2;
+  }
+  try {
+    if (!out_dir.empty()) fs::create_directories(out_dir);
+    for (const int n : links) {
+      const generated_chain g = generate(n);
+      write_if_changed(out_dir, chain_stem(n) + ".hpp", g.sources.header);
+      write_if_changed(out_dir, chain_stem(n) + ".cpp", g.sources.source);
+    }
+    if (!index.empty()) {
+      std::sort(index.begin(), index.end());
+      index.erase(std::unique(index.begin(), index.end()), index.end());
+      const chain_sources idx = emit_index(index);
+      write_if_changed(out_dir, std::string(index_stem) + ".hpp", idx.header);
+      write_if_changed(out_dir, std::string(index_stem) + ".cpp", idx.source);
+    }
+    if (latex > 0) {
+      const chain_symbols sym(latex);
+      print_latex(sym, derive_mechanics(sym), std::cout);
+    }
+    if (!stats.empty()) print_stats(stats, json);
+    if (verify > 0 && !verify_chain(verify, points, std::cout)) return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "npend-gen: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
