@@ -1,0 +1,40 @@
+// Average mutual information between x(t) and x(t + τ) (Fraser & Swinney 1986), whose first
+// minimum is a common choice of the embedding delay.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace npend {
+
+struct mutual_information_options {
+  std::size_t bins = 16;  ///< equal-width bins per axis spanning [min x, max x], at least 2
+  /// Averaged shifted histograms (Scott 1985): the estimate is the mean over shifts² grids
+  /// offset by multiples of 1/shifts of a bin on each axis, which removes most of the
+  /// grid-alignment noise a single histogram shows on smooth signals (a sine's pairs lie on
+  /// a curve, and its single-grid I(τ) zigzags by ~0.1 bit from lag to lag). 1: one grid.
+  std::size_t shifts = 4;
+};
+
+struct mutual_information_result {
+  std::vector<double> lag;          ///< τ_k = k dt in s, k = 0..max_lag
+  std::vector<double> information;  ///< I(τ_k) in bits
+  /// First minimum of I on the scale of its lag (s): the first τ_k with I(τ_k) the smallest
+  /// on [τ_k − h, τ_k + h], h = max(dt, ⌈k/4⌉ dt), and below I(τ_{k−1}) — so the estimate's
+  /// lag-to-lag jitter on oversampled data is not taken for the minimum. None if there is none.
+  std::optional<double> first_minimum;
+};
+
+/// I(τ) = Σ_ab p_ab log₂(p_ab / (p_a p_b)) for the pairs (x_j, x_{j+k}), j = 0..N−1−k, with
+/// p_a, p_b the marginals of the same pairs (so I ≥ 0), estimated by histograms as set in
+/// `options`, for k = 0..max_lag; x_j = x(t₀ + j dt) (dim N, dt > 0 in s). Cost
+/// O(max_lag · (N + (bins·shifts)²)). Throws std::invalid_argument for max_lag > N − 2 (each
+/// lag needs two pairs), dt ≤ 0, bins < 2, shifts < 1, a non-finite sample or a constant
+/// series.
+mutual_information_result average_mutual_information(
+    std::span<const double> x, double dt, std::size_t max_lag,
+    const mutual_information_options& options = {});
+
+}  // namespace npend

@@ -1,0 +1,394 @@
+// The integration engine behind npend::integrate, for any implicit system: a pair
+// (rhs, jacobian) in odeint's convention. Analyses that integrate something other than a
+// bare chain (e.g. a chain with its variational equations) call integrate_system directly.
+#pragma once
+
+#include "npend/detail/rosenbrock4_dense_output.hpp"
+#include "npend/gauss_legendre.hpp"
+#include "npend/integrate.hpp"
+#include "npend/integration_error.hpp"
+
+#include <boost/numeric/odeint/stepper/bulirsch_stoer_dense_out.hpp>
+#include <boost/numeric/odeint/stepper/generation.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
+#include <boost/numeric/odeint/util/odeint_error.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <memory>
+#include <sstream>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace npend {
+
+namespace detail {
+
+/// The bookkeeping every stepper loop shares: the grid, the observers, the result.
+class integration_run {
+ public:
+  integration_run(const integration_options& options, const observer_function& observer,
+                  const step_observer_function& step_observer)
+      : m_options(options),
+        m_observer(observer),
+        m_step_observer(step_observer),
+        m_steps(output_steps(options)) {}
+
+  std::size_t grid_steps() const { return m_steps; }
+  double dt() const { return m_options.dt; }
+  /// t_k, computed from k (not accumulated, so no drift over long runs).
+  double grid_time(std::size_t k) const {
+    return m_options.t_start + static_cast<double>(k) * m_options.dt;
+  }
+  double min_step() const { return m_options.min_step_ratio * std::fabs(m_options.dt); }
+  integration_result& result() { return m_result; }
+
+  /// Passes grid point k to the observer and records it; false if the observer stops.
+  bool observe(std::size_t k, std::span<const double> x) {
+    m_result.t = grid_time(k);
+    ++m_result.outputs;
+    if (m_observer && m_observer(m_result.t, x) == observer_action::stop) {
+      m_result.stopped = true;
+      m_result.state.assign(x.begin(), x.end());
+      return false;
+    }
+    return true;
+  }
+
+  /// Whether a step observer wants to see the steps.
+  bool watches_steps() const { return static_cast<bool>(m_step_observer); }
+
+  /// Passes a step to the step observer; false if it stops the run (the result then holds
+  /// the end of the step).
+  bool observe_step(const integration_step& step) {
+    if (m_step_observer(step) == observer_action::proceed) return true;
+    m_result.stopped = true;
+    m_result.t = step.t_end();
+    m_result.state.assign(step.x_end().begin(), step.x_end().end());
+    return false;
+  }
+
+  /// Throws integration_error if x has a non-finite entry after the step from `from` to `t`;
+  /// its time() is `from`, the last time with a finite state.
+  void check_finite(std::span<const double> x, double from, double t) const {
+    for (double v : x)
+      if (!std::isfinite(v)) {
+        std::ostringstream msg;
+        msg.precision(10);
+        msg << "the state became non-finite in the " << stepper_name(m_options.stepper)
+            << " step from t = " << from << " to t = " << t << "; try "
+            << (is_adaptive(m_options.stepper)
+                    ? "tighter tolerances or a smaller dt"
+                    : "a smaller dt or an adaptive stepper (dopri5, rkf78)");
+        throw integration_error(msg.str(), from);
+      }
+  }
+
+  /// Throws integration_error reporting a collapsed adaptive step size at time t.
+  [[noreturn]] void step_collapsed(double t, double step, const char* detail = nullptr) const {
+    std::ostringstream msg;
+    msg.precision(6);
+    msg << "the adaptive step size of " << stepper_name(m_options.stepper)
+        << " collapsed at t = " << t;
+    if (step != 0) msg << " (step " << step << ")";
+    if (detail != nullptr) msg << " (" << detail << ")";
+    msg << "; the tolerances (abs " << m_options.abs_tol << ", rel " << m_options.rel_tol
+        << ") may be too tight or the motion too violent: loosen them, or use a fixed-step "
+           "stepper (gauss6) with a small dt";
+    throw integration_error(msg.str(), t);
+  }
+
+ private:
+  const integration_options& m_options;
+  const observer_function& m_observer;
+  const step_observer_function& m_step_observer;
+  std::size_t m_steps;
+  integration_result m_result;
+};
+
+/// The cubic Hermite interpolant of a step through the states at its ends with the
+/// derivatives f there (evaluated on the first request): the dense output of the steppers
+/// that have none of their own.
+template <class Rhs>
+class hermite_interpolant final : public step_interpolant {
+ public:
+  explicit hermite_interpolant(const Rhs& rhs) : m_rhs(rhs) {}
+
+  /// The step from (t0, x0) to (t1, x1); both states must stay alive while it is used.
+  void reset(double t0, const std::vector<double>& x0, double t1, const std::vector<double>& x1) {
+    m_t0 = t0;
+    m_t1 = t1;
+    m_x0 = &x0;
+    m_x1 = &x1;
+    m_have_derivatives = false;
+  }
+
+  void state_at(double t, std::span<double> x) const override {
+    const std::vector<double>& x0 = *m_x0;
+    const std::vector<double>& x1 = *m_x1;
+    if (!m_have_derivatives) {
+      m_f0.resize(x0.size());
+      m_f1.resize(x0.size());
+      m_rhs(x0, m_f0, m_t0);
+      m_rhs(x1, m_f1, m_t1);
+      m_have_derivatives = true;
+    }
+    const double h = m_t1 - m_t0, s = (t - m_t0) / h, r = 1 - s;
+    const double a0 = (1 + 2 * s) * r * r, b0 = s * r * r * h;
+    const double a1 = s * s * (3 - 2 * s), b1 = -s * s * r * h;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      x[i] = a0 * x0[i] + b0 * m_f0[i] + a1 * x1[i] + b1 * m_f1[i];
+  }
+
+ private:
+  mutable Rhs m_rhs;
+  double m_t0 = 0, m_t1 = 0;
+  const std::vector<double>* m_x0 = nullptr;
+  const std::vector<double>* m_x1 = nullptr;
+  mutable std::vector<double> m_f0, m_f1;
+  mutable bool m_have_derivatives = false;
+};
+
+/// A dense-output stepper's own interpolation within its last step; `reversed` as in
+/// run_dense (the stepper's clock runs as τ = 2 t0 − t).
+template <class Stepper, class State>
+class dense_interpolant final : public step_interpolant {
+ public:
+  dense_interpolant(const Stepper& stepper, const State& like, bool reversed, double t0)
+      : m_stepper(stepper), m_buffer(like), m_reversed(reversed), m_t0(t0) {}
+
+  void state_at(double t, std::span<double> x) const override {
+    m_stepper.calc_state(m_reversed ? 2 * m_t0 - t : t, m_buffer);
+    std::copy(&m_buffer[0], &m_buffer[0] + x.size(), x.begin());
+  }
+
+ private:
+  const Stepper& m_stepper;
+  mutable State m_buffer;
+  bool m_reversed;
+  double m_t0;
+};
+
+/// A fixed-step stepper from grid point to grid point.
+template <class Stepper, class System, class Rhs>
+void run_fixed(Stepper& stepper, System system, const Rhs& rhs, std::vector<double>& x,
+               integration_run& run) {
+  if (!run.observe(0, x)) return;
+  std::vector<double> begin;
+  hermite_interpolant<Rhs> interpolant(rhs);
+  for (std::size_t k = 1; k <= run.grid_steps(); ++k) {
+    const double t = run.grid_time(k - 1);
+    if (run.watches_steps()) begin = x;
+    stepper.do_step(system, x, t, run.dt());
+    ++run.result().steps;
+    run.check_finite(x, t, run.grid_time(k));
+    if (run.watches_steps()) {
+      interpolant.reset(t, begin, run.grid_time(k), x);
+      if (!run.observe_step(integration_step(t, begin, run.grid_time(k), x, interpolant))) return;
+    }
+    if (!run.observe(k, x)) return;
+  }
+  run.result().state = x;
+}
+
+/// A controlled stepper (try_step) with its steps cut to end on each grid point.
+template <class Stepper, class System>
+void run_controlled(Stepper& stepper, System system, std::vector<double>& x, integration_run& run) {
+  namespace odeint = boost::numeric::odeint;
+  if (!run.observe(0, x)) return;
+  const double direction = run.dt() > 0 ? 1.0 : -1.0;
+  double t = run.grid_time(0);
+  double h = run.dt();  // the controller's proposal, kept across grid points
+  std::vector<double> begin;
+  hermite_interpolant<System> interpolant(system);
+  for (std::size_t k = 1; k <= run.grid_steps(); ++k) {
+    const double target = run.grid_time(k);
+    int failures = 0;
+    while (direction * (target - t) > 0) {
+      const bool cut = direction * (t + h - target) >= 0;
+      double step = cut ? target - t : h;
+      double t_new = t;
+      const double tried = step;
+      if (run.watches_steps()) begin = x;
+      if (stepper.try_step(system, x, t_new, step) == odeint::success) {
+        ++run.result().steps;
+        run.check_finite(x, t, t_new);
+        if (!cut && std::fabs(tried) < run.min_step()) run.step_collapsed(t, tried);
+        const double from = t;
+        t = cut ? target : t_new;
+        if (run.watches_steps()) {
+          interpolant.reset(from, begin, t, x);
+          if (!run.observe_step(integration_step(from, begin, t, x, interpolant))) return;
+        }
+        h = cut ? direction * std::max(std::fabs(h), std::fabs(step)) : step;
+        failures = 0;
+      } else {
+        h = step;
+        if (std::fabs(h) < run.min_step()) run.step_collapsed(t, h);
+        if (++failures > 500) run.step_collapsed(t, h, "500 rejected steps in a row");
+      }
+    }
+    if (!run.observe(k, x)) return;
+  }
+  run.result().state = x;
+}
+
+/// dx/dτ = −f(x, 2 t0 − τ): the system run backwards in time from t0, as τ grows from t0.
+template <class Rhs>
+struct time_reversed {
+  Rhs rhs;
+  double t0;
+  template <class State, class Deriv>
+  void operator()(const State& x, Deriv& dxdt, double tau) const {
+    rhs(x, dxdt, 2 * t0 - tau);
+    for (auto& v : dxdt) v = -v;
+  }
+};
+
+/// A dense-output stepper: it steps freely and interpolates at the grid points. With
+/// `reversed` (for dt < 0) the stepper runs forwards in τ = 2 t_start − t on a
+/// time_reversed system: odeint 1.74's bulirsch_stoer_dense_out cannot step backwards (a
+/// rejected negative step is never shortened, odeint-v2 issue #55).
+template <class Stepper, class System, class State>
+void run_dense(Stepper& stepper, System system, State& x, integration_run& run,
+               bool reversed = false) {
+  namespace odeint = boost::numeric::odeint;
+  const auto view = [](const State& s) { return std::span<const double>(&s[0], s.size()); };
+  if (!run.observe(0, view(x))) return;
+  const double t0 = run.grid_time(0);
+  // The stepper's clock from physical time and back (an involution).
+  const auto clock = [&](double t) { return reversed ? 2 * t0 - t : t; };
+  const double step = reversed ? -run.dt() : run.dt();
+  const double direction = step > 0 ? 1.0 : -1.0;
+  stepper.initialize(x, t0, step);
+  State begin = x;
+  const dense_interpolant<Stepper, State> interpolant(stepper, x, reversed, t0);
+  for (std::size_t k = 1; k <= run.grid_steps(); ++k) {
+    const double target = clock(run.grid_time(k));
+    while (direction * (stepper.current_time() - target) < 0) {
+      const double from = stepper.current_time();
+      if (run.watches_steps()) begin = stepper.current_state();
+      try {
+        stepper.do_step(system);
+      } catch (const odeint::step_adjustment_error& e) {
+        run.step_collapsed(clock(from), 0, e.what());
+      }
+      ++run.result().steps;
+      run.check_finite(view(stepper.current_state()), clock(from), clock(stepper.current_time()));
+      if (std::fabs(stepper.current_time_step()) < run.min_step())
+        run.step_collapsed(clock(stepper.current_time()), stepper.current_time_step());
+      if (run.watches_steps() && !run.observe_step(integration_step(
+                                     clock(from), view(begin), clock(stepper.current_time()),
+                                     view(stepper.current_state()), interpolant)))
+        return;
+    }
+    stepper.calc_state(target, x);
+    if (!run.observe(k, view(x))) return;
+  }
+  run.result().state.assign(&x[0], &x[0] + x.size());
+}
+
+/// odeint's rosenbrock4 (dense output) on `system`, through its C++17 wrapper: the wrapper
+/// hands over raw arrays, which are copied into the vectors and the row-major Eigen matrix
+/// the system's functions take.
+template <class Rhs, class Jacobian>
+rosenbrock4_dense_output make_rosenbrock4(const std::pair<Rhs, Jacobian>& system, std::size_t dim,
+                                          double abs_tol, double rel_tol) {
+  struct workspace {
+    std::vector<double> x, dxdt, dfdt;
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> J;
+  };
+  auto w = std::make_shared<workspace>();
+  w->x.resize(dim);
+  w->dxdt.resize(dim);
+  w->dfdt.resize(dim);
+  w->J.resize(static_cast<Eigen::Index>(dim), static_cast<Eigen::Index>(dim));
+  auto rhs = [w, f = system.first](const double* x, double* dxdt, double t) {
+    std::copy(x, x + w->x.size(), w->x.begin());
+    f(w->x, w->dxdt, t);
+    std::copy(w->dxdt.begin(), w->dxdt.end(), dxdt);
+  };
+  auto jacobian = [w, jac = system.second](const double* x, double* J, double t) {
+    std::copy(x, x + w->x.size(), w->x.begin());
+    jac(w->x, w->J, t, w->dfdt);
+    std::copy(w->J.data(), w->J.data() + w->J.size(), J);
+  };
+  return rosenbrock4_dense_output(dim, abs_tol, rel_tol, rhs, jacobian);
+}
+
+}  // namespace detail
+
+/// Integrates the implicit system `system` = (rhs, jacobian) — odeint's convention:
+/// rhs(x, dxdt, t) and jacobian(x, J, t, dfdt) — from x0 (dim d) over the grid of `options`,
+/// as npend::integrate does for a chain (see there for the observers and the errors). x and
+/// dxdt are std::vector<double> (dim d); J is a row-major Eigen matrix (d × d), dfdt a
+/// std::vector<double> that is not used (time-dependent systems are fine for every stepper
+/// but rosenbrock4, which takes ∂f/∂t = 0). Only rosenbrock4, gauss4 and gauss6 call the
+/// jacobian.
+template <class Rhs, class Jacobian>
+integration_result integrate_system(const std::pair<Rhs, Jacobian>& system,
+                                    std::span<const double> x0, const integration_options& options,
+                                    const observer_function& observer = {},
+                                    const step_observer_function& step_observer = {}) {
+  namespace odeint = boost::numeric::odeint;
+  using state = std::vector<double>;
+  detail::integration_run run(options, observer, step_observer);
+  for (std::size_t i = 0; i < x0.size(); ++i)
+    if (!std::isfinite(x0[i]))
+      throw std::invalid_argument("start state entry " + std::to_string(i + 1) + " is not finite");
+  state x(x0.begin(), x0.end());
+  const double atol = options.abs_tol, rtol = options.rel_tol;
+
+  switch (options.stepper) {
+    case stepper_kind::rk4: {
+      odeint::runge_kutta4<state> stepper;
+      detail::run_fixed(stepper, system.first, system.first, x, run);
+      break;
+    }
+    case stepper_kind::gauss4: {
+      gauss_legendre4 stepper;
+      detail::run_fixed(stepper, system, system.first, x, run);
+      break;
+    }
+    case stepper_kind::gauss6: {
+      gauss_legendre6 stepper;
+      detail::run_fixed(stepper, system, system.first, x, run);
+      break;
+    }
+    case stepper_kind::dopri5: {
+      auto stepper = odeint::make_dense_output(atol, rtol, odeint::runge_kutta_dopri5<state>());
+      detail::run_dense(stepper, system.first, x, run);
+      break;
+    }
+    case stepper_kind::rkf78: {
+      auto stepper = odeint::make_controlled(atol, rtol, odeint::runge_kutta_fehlberg78<state>());
+      detail::run_controlled(stepper, system.first, x, run);
+      break;
+    }
+    case stepper_kind::bulirsch_stoer: {
+      // Controlling the interpolation error too: its steps are long, and the dense output
+      // between them must meet the tolerances as well.
+      odeint::bulirsch_stoer_dense_out<state> stepper(atol, rtol, 1.0, 1.0, 0.0, true);
+      if (options.dt > 0)
+        detail::run_dense(stepper, system.first, x, run);
+      else
+        detail::run_dense(stepper, detail::time_reversed<Rhs>{system.first, options.t_start}, x,
+                          run, true);
+      break;
+    }
+    case stepper_kind::rosenbrock4: {
+      auto stepper = detail::make_rosenbrock4(system, x.size(), atol, rtol);
+      detail::run_dense(stepper, system, x, run);
+      break;
+    }
+  }
+  return std::move(run.result());
+}
+
+}  // namespace npend

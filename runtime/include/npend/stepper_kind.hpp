@@ -1,0 +1,40 @@
+// The integrators a user can choose by name.
+#pragma once
+
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace npend {
+
+/// The steppers npend::integrate runs.
+enum class stepper_kind {
+  rk4,     ///< classic Runge–Kutta 4, fixed step (the paper's method)
+  dopri5,  ///< Dormand–Prince 5(4), adaptive, dense output
+  rkf78,   ///< Runge–Kutta–Fehlberg 7(8), adaptive (controlled steps to each output time)
+  bulirsch_stoer,  ///< Bulirsch–Stoer extrapolation, adaptive, dense output
+  rosenbrock4,     ///< Rosenbrock 4 with the exact Jacobian, adaptive, dense output
+  gauss4,          ///< implicit Gauss–Legendre, 2 stages, order 4, fixed step, symplectic
+  gauss6,          ///< implicit Gauss–Legendre, 3 stages, order 6, fixed step, symplectic
+};
+
+/// Every stepper, in the order above.
+std::span<const stepper_kind> all_stepper_kinds();
+
+/// The name users type: "rk4", "dopri5", "rkf78", "bs", "rosenbrock4", "gauss4", "gauss6".
+std::string_view stepper_name(stepper_kind kind);
+
+/// A one-line description ("classic Runge-Kutta 4, fixed step").
+std::string_view stepper_description(stepper_kind kind);
+
+/// The stepper called `name`. Throws std::invalid_argument naming the valid names.
+stepper_kind parse_stepper_kind(std::string_view name);
+
+/// Whether the stepper chooses its own steps under abs/rel tolerances.
+bool is_adaptive(stepper_kind kind);
+
+/// The valid names joined by ", " (for messages and help texts); with adaptive_only, the
+/// names of the adaptive steppers.
+std::string stepper_names(bool adaptive_only = false);
+
+}  // namespace npend

@@ -1,0 +1,70 @@
+#include "npend/stepper_kind.hpp"
+
+#include <array>
+#include <stdexcept>
+
+namespace npend {
+
+namespace {
+
+struct stepper_info {
+  stepper_kind kind;
+  std::string_view name;
+  std::string_view description;
+  bool adaptive;
+};
+
+constexpr std::array<stepper_info, 7> infos{{
+    {stepper_kind::rk4, "rk4", "classic Runge-Kutta 4, fixed step (the paper's method)", false},
+    {stepper_kind::dopri5, "dopri5", "Dormand-Prince 5(4), adaptive, dense output", true},
+    {stepper_kind::rkf78, "rkf78", "Runge-Kutta-Fehlberg 7(8), adaptive", true},
+    {stepper_kind::bulirsch_stoer, "bs", "Bulirsch-Stoer extrapolation, adaptive, dense output",
+     true},
+    {stepper_kind::rosenbrock4, "rosenbrock4",
+     "Rosenbrock 4 with the exact Jacobian, adaptive, dense output", true},
+    {stepper_kind::gauss4, "gauss4",
+     "implicit Gauss-Legendre, 2 stages, order 4, fixed step, symplectic", false},
+    {stepper_kind::gauss6, "gauss6",
+     "implicit Gauss-Legendre, 3 stages, order 6, fixed step, symplectic", false},
+}};
+
+constexpr auto kinds = [] {
+  std::array<stepper_kind, infos.size()> out{};
+  for (std::size_t i = 0; i < infos.size(); ++i) out[i] = infos[i].kind;
+  return out;
+}();
+
+const stepper_info& info(stepper_kind kind) {
+  for (const auto& i : infos)
+    if (i.kind == kind) return i;
+  throw std::invalid_argument("unknown stepper_kind value");
+}
+
+}  // namespace
+
+std::span<const stepper_kind> all_stepper_kinds() { return kinds; }
+
+std::string_view stepper_name(stepper_kind kind) { return info(kind).name; }
+
+std::string_view stepper_description(stepper_kind kind) { return info(kind).description; }
+
+bool is_adaptive(stepper_kind kind) { return info(kind).adaptive; }
+
+std::string stepper_names(bool adaptive_only) {
+  std::string out;
+  for (const auto& i : infos) {
+    if (adaptive_only && !i.adaptive) continue;
+    if (!out.empty()) out += ", ";
+    out += i.name;
+  }
+  return out;
+}
+
+stepper_kind parse_stepper_kind(std::string_view name) {
+  for (const auto& i : infos)
+    if (i.name == name) return i.kind;
+  throw std::invalid_argument("unknown stepper '" + std::string(name) + "': choose one of " +
+                              stepper_names());
+}
+
+}  // namespace npend
