@@ -1,0 +1,113 @@
+#include "csv_table.hpp"
+
+#include "input_parsing.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace npend::cli {
+
+namespace {
+
+std::vector<std::string_view> split_cells(std::string_view line) {
+  std::vector<std::string_view> cells;
+  for (std::size_t start = 0;;) {
+    const std::size_t comma = line.find(',', start);
+    cells.push_back(
+        trim(line.substr(start, comma == std::string_view::npos ? comma : comma - start)));
+    if (comma == std::string_view::npos) return cells;
+    start = comma + 1;
+  }
+}
+
+// A header cell: text that is not a number (an empty cell is a defect of a data row).
+bool is_name(std::string_view cell) {
+  if (cell.empty()) return false;
+  try {
+    parse_number(cell, "");
+    return false;
+  } catch (const input_error&) {
+    return true;
+  }
+}
+
+std::string unquote(std::string_view cell) {
+  if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"')
+    cell = trim(cell.substr(1, cell.size() - 2));
+  return std::string(cell);
+}
+
+}  // namespace
+
+csv_table parse_csv(std::string_view text, std::string_view source) {
+  csv_table table;
+  std::size_t width = 0;
+  bool first = true;
+  std::size_t line_number = 0;
+  for (std::size_t start = 0; start <= text.size();) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(start, end - start);
+    start = end + 1;
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    const std::string_view content = trim(line);
+    if (content.empty() || content.front() == '#') continue;
+
+    const auto cells = split_cells(line);
+    if (first) {
+      first = false;
+      width = cells.size();
+      table.columns.resize(width);
+      if (std::any_of(cells.begin(), cells.end(), is_name)) {
+        for (std::size_t c = 0; c < width; ++c) {
+          std::string name = unquote(cells[c]);
+          if (name.empty())
+            throw input_error(
+                fmt::format("{}:{}: header cell {} is empty", source, line_number, c + 1));
+          if (std::find(table.names.begin(), table.names.end(), name) != table.names.end())
+            throw input_error(
+                fmt::format("{}:{}: column name '{}' appears twice", source, line_number, name));
+          table.names.push_back(std::move(name));
+        }
+        continue;
+      }
+    }
+    if (cells.size() != width)
+      throw input_error(fmt::format("{}:{}: {} cells, but the first line has {}", source,
+                                    line_number, cells.size(), width));
+    for (std::size_t c = 0; c < width; ++c) {
+      const std::string column = table.names.empty() ? fmt::format("column {}", c + 1)
+                                                     : fmt::format("column '{}'", table.names[c]);
+      if (cells[c].empty())
+        throw input_error(fmt::format("{}:{}: {}: empty cell", source, line_number, column));
+      table.columns[c].push_back(
+          parse_number(cells[c], fmt::format("{}:{}: {}", source, line_number, column)));
+    }
+    table.lines.push_back(line_number);
+  }
+  if (table.lines.empty()) throw input_error(fmt::format("{}: no data rows", source));
+  return table;
+}
+
+std::string format_csv(std::span<const std::string> names,
+                       std::span<const std::vector<double>> columns) {
+  if (names.size() != columns.size() || columns.empty())
+    throw std::invalid_argument("format_csv: one name per column, at least one column");
+  for (const auto& c : columns)
+    if (c.size() != columns.front().size())
+      throw std::invalid_argument("format_csv: columns of different lengths");
+  std::string out = fmt::format("{}\n", fmt::join(names, ","));
+  for (std::size_t row = 0; row < columns.front().size(); ++row) {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (c > 0) out += ',';
+      fmt::format_to(std::back_inserter(out), "{}", columns[c][row]);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+}  // namespace npend::cli

@@ -1,0 +1,67 @@
+#include "input_parsing.hpp"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+
+namespace npend::cli {
+
+namespace {
+
+double parse_item(std::string_view item, std::string_view option, std::string_view whole,
+                  std::size_t position) {
+  const std::string where =
+      position == 0 ? std::string{} : fmt::format(" (item {} of '{}')", position, whole);
+  item = trim(item);
+  if (item.empty()) throw input_error(fmt::format("{}: empty value{}", option, where));
+  // from_chars does not take a leading '+', which people do type.
+  std::string_view digits = item;
+  if (digits.size() > 1 && digits.front() == '+' && digits[1] != '-') digits.remove_prefix(1);
+  double value = 0;
+  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  if (ec == std::errc::result_out_of_range)
+    throw input_error(fmt::format("{}: '{}' is out of the range of a double{}", option, item, where));
+  if (ec != std::errc{} || end != digits.data() + digits.size())
+    throw input_error(fmt::format("{}: '{}' is not a number{}", option, item, where));
+  if (!std::isfinite(value))
+    throw input_error(fmt::format("{}: '{}' is not a finite number{}", option, item, where));
+  return value;
+}
+
+}  // namespace
+
+std::string_view trim(std::string_view text) {
+  const auto first = text.find_first_not_of(" \t");
+  if (first == std::string_view::npos) return {};
+  return text.substr(first, text.find_last_not_of(" \t") - first + 1);
+}
+
+double parse_number(std::string_view text, std::string_view option) {
+  return parse_item(text, option, text, 0);
+}
+
+std::vector<double> parse_number_list(std::string_view text, std::string_view option) {
+  std::vector<double> out;
+  std::size_t start = 0;
+  for (std::size_t item = 1;; ++item) {
+    const std::size_t comma = text.find(',', start);
+    const std::string_view piece =
+        text.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    out.push_back(parse_item(piece, option, text, item));
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+std::vector<double> parse_number_list(std::string_view text, std::string_view option,
+                                      std::size_t expected, std::string_view what) {
+  std::vector<double> values = parse_number_list(text, option);
+  if (values.size() != expected)
+    throw input_error(fmt::format("{}: expected {} values ({}), got {}", option, expected, what,
+                                  values.size()));
+  return values;
+}
+
+}  // namespace npend::cli

@@ -1,0 +1,67 @@
+#include "integrator_options.hpp"
+
+#include "input_parsing.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace npend::cli {
+
+void integrator_options::add_to(CLI::App& command) {
+  command.add_option("--t-end", t_end, "Integrate from t = 0 to this time in s")->required();
+  command.add_option("--dt", dt,
+                     "Output step in s: the step of the fixed-step steppers, the output grid "
+                     "of the adaptive ones (default: 0.001)");
+  add_stepper_options(command);
+}
+
+void integrator_options::add_stepper_options(CLI::App& command, std::string_view note) {
+  command.add_option(
+      "--stepper", stepper,
+      fmt::format("{}Integrator: one of {} (default: gauss6)", note, stepper_names()));
+  command.add_option(
+      "--abs-tol", abs_tol,
+      fmt::format("{}Absolute error tolerance of the adaptive steppers (default: 1e-10)", note));
+  command.add_option(
+      "--rel-tol", rel_tol,
+      fmt::format("{}Relative error tolerance of the adaptive steppers (default: 1e-10)", note));
+}
+
+integration_options integrator_options::make() const {
+  integration_options o;
+  o.t_start = 0;
+  o.t_end = parse_number(t_end, "--t-end");
+  if (o.t_end <= 0) throw input_error(fmt::format("--t-end: must be positive, got {}", o.t_end));
+  if (!dt.empty()) o.dt = parse_number(dt, "--dt");
+  if (o.dt <= 0) throw input_error(fmt::format("--dt: must be positive, got {}", o.dt));
+  if (o.dt > o.t_end)
+    throw input_error(fmt::format("--dt: {} is longer than --t-end {}", o.dt, o.t_end));
+  if (o.t_end / o.dt > max_steps)
+    throw input_error(fmt::format(
+        "--t-end/--dt: {:.3g} steps is more than the limit of {:.0e}; use a larger --dt",
+        o.t_end / o.dt, max_steps));
+  if (!stepper.empty()) {
+    try {
+      o.stepper = parse_stepper_kind(stepper);
+    } catch (const std::invalid_argument& e) {
+      throw input_error(fmt::format("--stepper: {}", e.what()));
+    }
+  }
+  const auto tolerance = [&](const std::string& text, const char* option, double& value) {
+    if (text.empty()) return;
+    if (!is_adaptive(o.stepper))
+      throw input_error(fmt::format("{}: only the adaptive steppers ({}) take tolerances, not {}",
+                                    option, stepper_names(true), stepper_name(o.stepper)));
+    value = parse_number(text, option);
+    if (value < 0)
+      throw input_error(fmt::format("{}: must not be negative, got {}", option, value));
+  };
+  tolerance(abs_tol, "--abs-tol", o.abs_tol);
+  tolerance(rel_tol, "--rel-tol", o.rel_tol);
+  if (o.abs_tol == 0 && o.rel_tol == 0)
+    throw input_error("--abs-tol/--rel-tol: both are 0; at least one must be positive");
+  return o;
+}
+
+}  // namespace npend::cli

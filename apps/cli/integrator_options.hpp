@@ -1,0 +1,36 @@
+// The options that say how to integrate: --t-end, --dt, --stepper, --abs-tol, --rel-tol.
+// Shared by every command that integrates.
+#pragma once
+
+#include "npend/integrate.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <string_view>
+
+namespace npend::cli {
+
+/// Raw text of the integration options, parsed strictly after CLI11 has collected them.
+struct integrator_options {
+  std::string t_end, dt, stepper, abs_tol, rel_tol;
+
+  /// Adds --t-end (required), --dt, --stepper, --abs-tol and --rel-tol to `command`.
+  void add_to(CLI::App& command);
+
+  /// Adds only --stepper, --abs-tol and --rel-tol, their help texts starting with `note`
+  /// (for commands whose time grid comes from other options).
+  void add_stepper_options(CLI::App& command, std::string_view note = "");
+
+  /// The integration options they describe, from t = 0: dt default 0.001 s, stepper
+  /// default gauss6, tolerances default 1e-10 (adaptive steppers only). Throws input_error
+  /// naming the option: non-numbers, t-end or dt not positive, dt longer than t-end, more
+  /// than max_steps steps, an unknown stepper, negative tolerances (or both zero), and
+  /// tolerances given for a fixed-step stepper.
+  integration_options make() const;
+
+  /// The most output steps (t-end / dt) a command accepts.
+  static constexpr double max_steps = 1e9;
+};
+
+}  // namespace npend::cli

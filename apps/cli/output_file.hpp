@@ -1,0 +1,55 @@
+// Writing the commands' output files so that a failure never leaves a half-written file:
+// everything is written to a temporary file next to the target and renamed into place.
+#pragma once
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace npend::cli {
+
+/// A new, unused, empty temporary file next to `path` (".<name>.npend-XXXXXX", created with
+/// mkstemp and the permissions of a plain new file); the caller renames it into place or
+/// removes it. Throws std::runtime_error "cannot create a file in '<dir>': <reason>".
+std::filesystem::path temporary_sibling(const std::filesystem::path& path);
+
+/// An output file that appears under its name only when complete: writes go to a
+/// temporary_sibling, and commit() renames it to `path` (an existing file there stays
+/// untouched until then). Without commit() the destructor removes the temporary file.
+class atomic_output_file {
+ public:
+  /// Creates the temporary file; throws std::runtime_error naming the path and the reason.
+  explicit atomic_output_file(std::filesystem::path path);
+  ~atomic_output_file();
+  atomic_output_file(const atomic_output_file&) = delete;
+  atomic_output_file& operator=(const atomic_output_file&) = delete;
+
+  /// The stream to write to.
+  std::FILE* stream() { return m_stream; }
+  /// The temporary file's path (for tests and messages).
+  const std::filesystem::path& temporary_path() const { return m_temporary; }
+  /// Flushes, syncs, closes and renames to the requested path. Throws std::runtime_error on a
+  /// write error (e.g. disk full) or a failed rename, removing the temporary file.
+  void commit();
+
+ private:
+  void discard() noexcept;
+
+  std::filesystem::path m_path, m_temporary;
+  std::FILE* m_stream = nullptr;
+};
+
+/// Writes `content` to `path` through an atomic_output_file.
+void write_file_atomically(const std::filesystem::path& path, std::string_view content);
+
+/// The folder `out` names, created (with its parents) if missing, for commands that write
+/// several files; input_error naming `option` if it exists as something else or cannot be
+/// created.
+std::filesystem::path output_folder(const std::string& out, std::string_view option);
+
+/// The stem of an --out path (the path without its .csv extension), after checking that it
+/// ends in .csv and that its directory exists; input_error naming `option` otherwise.
+std::filesystem::path output_stem(const std::string& out, std::string_view option);
+
+}  // namespace npend::cli

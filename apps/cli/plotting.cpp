@@ -1,0 +1,148 @@
+#include "plotting.hpp"
+
+#include "output_file.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <system_error>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace npend::cli {
+
+namespace {
+
+// Settings every panel starts from (multiplot panels begin with `reset`).
+constexpr std::string_view panel_defaults =
+    "set datafile separator comma\n"
+    "set datafile columnheaders\n"
+    "set grid lc rgb '#dddddd'\n"
+    "set key top right Left reverse opaque box lc rgb '#bbbbbb'\n"
+    "set border lw 1.2\n"
+    "set tics nomirror out\n"
+    "set mxtics; set mytics\n";
+
+// Runs `gnuplot -e "npend_output='<png>'" <script>` in `dir`; returns the exit status (127:
+// not found) and what gnuplot printed.
+std::pair<int, std::string> run_gnuplot(const std::filesystem::path& dir, const std::string& script,
+                                        const std::string& png) {
+  int pipe_fds[2];
+  if (::pipe(pipe_fds) != 0) return {-1, std::strerror(errno)};
+  const std::string assignment = "npend_output=" + gnuplot_string(png);
+  const pid_t pid = ::fork();
+  if (pid < 0) return {-1, std::strerror(errno)};
+  if (pid == 0) {
+    ::close(pipe_fds[0]);
+    ::dup2(pipe_fds[1], STDOUT_FILENO);
+    ::dup2(pipe_fds[1], STDERR_FILENO);
+    if (::chdir(dir.c_str()) != 0) ::_exit(126);
+    ::execlp("gnuplot", "gnuplot", "-e", assignment.c_str(), script.c_str(), nullptr);
+    ::_exit(127);
+  }
+  ::close(pipe_fds[1]);
+  std::string output;
+  char buffer[4096];
+  for (ssize_t got; (got = ::read(pipe_fds[0], buffer, sizeof buffer)) != 0;) {
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    output.append(buffer, static_cast<std::size_t>(got));
+  }
+  ::close(pipe_fds[0]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+}  // namespace
+
+std::string gnuplot_string(std::string_view text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string gnuplot_script(const figure& f, std::string_view png_name) {
+  std::string s;
+  for (const auto& line : f.description) s += fmt::format("# {}\n", line);
+  s += fmt::format(
+      "# Written by npend; edit freely. Re-render in this folder with: gnuplot <this file>\n"
+      "if (!exists(\"npend_output\")) npend_output = {}\n"
+      "set encoding utf8\n"
+      "if (strstrt(GPVAL_TERMINALS, \"pngcairo\") > 0) {{\n"
+      "  set terminal pngcairo size {},{} enhanced font \"DejaVu Sans,12\" linewidth 1.2\n"
+      "}} else {{\n"
+      "  set terminal png size {},{} enhanced\n"
+      "}}\n"
+      "set output npend_output\n",
+      gnuplot_string(png_name), f.width, f.height, f.width, f.height);
+  const bool multi = f.panels.size() > 1;
+  if (multi) {
+    const int rows = static_cast<int>((f.panels.size() + static_cast<std::size_t>(f.columns) - 1) /
+                                      static_cast<std::size_t>(f.columns));
+    s += fmt::format("set multiplot layout {},{}\n", rows, f.columns);
+  }
+  for (const auto& p : f.panels) {
+    s += "\nreset\n";
+    s += panel_defaults;
+    s += fmt::format("set title {} noenhanced\n", gnuplot_string(p.title));
+    s += fmt::format("set xlabel {}\nset ylabel {}\n", gnuplot_string(p.xlabel),
+                     gnuplot_string(p.ylabel));
+    if (p.log_x) s += "set logscale x\nset format x '10^{%T}'\n";
+    if (p.log_y) s += "set logscale y\nset format y '10^{%T}'\n";
+    if (!p.xrange.empty()) s += fmt::format("set xrange {}\n", p.xrange);
+    if (!p.yrange.empty()) s += fmt::format("set yrange {}\n", p.yrange);
+    if (std::none_of(p.curves.begin(), p.curves.end(),
+                     [](const plot_curve& c) { return !c.title.empty(); }))
+      s += "set key off\n";
+    for (const auto& c : p.commands) s += c + "\n";
+    s += "plot ";
+    for (std::size_t k = 0; k < p.curves.size(); ++k) {
+      const auto& c = p.curves[k];
+      s += fmt::format(
+          "{}{} using {} with {} {}", k ? ", \\\n     " : "", gnuplot_string(c.data), c.columns,
+          c.style, c.title.empty() ? std::string("notitle") : "title " + gnuplot_string(c.title));
+    }
+    s += "\n";
+  }
+  if (multi) s += "unset multiplot\n";
+  s += "set output\n";
+  return s;
+}
+
+plot_outcome write_plot(const std::filesystem::path& stem, const figure& f) {
+  const std::filesystem::path script = stem.string() + ".gp";
+  const std::filesystem::path png = stem.string() + ".png";
+  write_file_atomically(script, gnuplot_script(f, png.filename().string()));
+  const auto dir = script.has_parent_path() ? script.parent_path() : std::filesystem::path(".");
+  const auto temporary = temporary_sibling(png);
+  const auto [status, output] =
+      run_gnuplot(dir, script.filename().string(), temporary.filename().string());
+  std::error_code ec;
+  if (status == 0 && std::filesystem::file_size(temporary, ec) > 0 && !ec) {
+    std::filesystem::rename(temporary, png, ec);
+    if (!ec) return {true, fmt::format("plot: {} (from {})", png.string(), script.string())};
+  }
+  std::filesystem::remove(temporary, ec);
+  if (status == 127)
+    return {false, fmt::format("gnuplot is not installed: the data and {} are written; render "
+                               "the plot later with `gnuplot {}` in {}",
+                               script.string(), script.filename().string(), dir.string())};
+  // gnuplot ends its complaint with the reason; report that line.
+  std::string reason = output;
+  while (!reason.empty() && (reason.back() == '\n' || reason.back() == ' ')) reason.pop_back();
+  reason = reason.substr(
+      reason.find_last_of('\n') == std::string::npos ? 0 : reason.find_last_of('\n') + 1);
+  return {false, fmt::format("gnuplot failed (status {}){}{}: the data and {} are written", status,
+                             reason.empty() ? "" : ": ", reason, script.string())};
+}
+
+}  // namespace npend::cli

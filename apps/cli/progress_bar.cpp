@@ -1,0 +1,51 @@
+#include "progress_bar.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <string>
+#include <unistd.h>
+
+namespace npend::cli {
+
+progress_bar::progress_bar(double t_start, double t_end, std::FILE* stream)
+    : m_t_start(t_start),
+      m_t_end(t_end),
+      m_stream(stream),
+      m_enabled(::isatty(::fileno(stream)) == 1),
+      m_started(std::chrono::steady_clock::now()),
+      m_last_draw(m_started) {}
+
+progress_bar::~progress_bar() { finish(); }
+
+void progress_bar::update(double t) {
+  if (!m_enabled || (++m_calls & 255u) != 0) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - m_started < std::chrono::seconds(1)) return;
+  if (m_shown && now - m_last_draw < std::chrono::milliseconds(100)) return;
+  draw(t, now);
+}
+
+void progress_bar::draw(double t, std::chrono::steady_clock::time_point now) {
+  const double fraction = std::clamp((t - m_t_start) / (m_t_end - m_t_start), 0.0, 1.0);
+  const double elapsed = std::chrono::duration<double>(now - m_started).count();
+  const double remaining = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0;
+  constexpr int width = 30;
+  const int filled = static_cast<int>(fraction * width);
+  fmt::print(m_stream, "\r[{}{}] {:5.1f}%  t = {:.6g} s  ~{:.0f} s left ",
+             std::string(static_cast<std::size_t>(filled), '#'),
+             std::string(static_cast<std::size_t>(width - filled), ' '), 100 * fraction, t,
+             remaining);
+  std::fflush(m_stream);
+  m_shown = true;
+  m_last_draw = now;
+}
+
+void progress_bar::finish() {
+  if (!m_shown) return;
+  fmt::print(m_stream, "\r\033[K");
+  std::fflush(m_stream);
+  m_shown = false;
+}
+
+}  // namespace npend::cli

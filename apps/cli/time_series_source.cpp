@@ -1,0 +1,305 @@
+#include "time_series_source.hpp"
+
+#include "input_parsing.hpp"
+#include "progress_bar.hpp"
+#include "section_spec.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace npend::cli {
+
+namespace {
+
+// "t", "time", optionally followed by a unit in () or [] ("t (s)", "Time[s]").
+bool is_time_name(std::string_view name) {
+  std::string lower;
+  for (const char c : name) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const auto unit = lower.find_first_of("([");
+  if (unit != std::string::npos && (lower.back() == ')' || lower.back() == ']')) lower.erase(unit);
+  while (!lower.empty() && (lower.back() == ' ' || lower.back() == '_')) lower.pop_back();
+  return lower == "t" || lower == "time";
+}
+
+// The uniform step of a time column, or an input_error saying where it is not uniform.
+double uniform_step(const std::vector<double>& t, const std::vector<std::size_t>& lines,
+                    std::string_view source, std::string_view name) {
+  for (std::size_t j = 1; j < t.size(); ++j)
+    if (!(t[j] > t[j - 1]))
+      throw input_error(fmt::format("{}:{}: time column '{}' does not increase ({} after {})",
+                                    source, lines[j], name, t[j], t[j - 1]));
+  const double dt = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
+  for (std::size_t j = 0; j < t.size(); ++j) {
+    const double off = (t[j] - (t.front() + static_cast<double>(j) * dt)) / dt;
+    if (std::fabs(off) > 0.01)
+      throw input_error(fmt::format(
+          "{}:{}: time column '{}' is not uniformly spaced: t = {} is {:.3g} steps off the grid "
+          "t_0 + j dt with dt = {:.6g} s (resample the data first)",
+          source, lines[j], name, t[j], off, dt));
+  }
+  return dt;
+}
+
+}  // namespace
+
+sampled_signals signals_from_csv(const csv_table& table, std::string_view source,
+                                 std::optional<double> dt_option, std::size_t min_samples) {
+  sampled_signals s;
+  s.source = std::string(source);
+  const std::size_t rows = table.lines.size();
+  if (rows < min_samples)
+    throw input_error(
+        fmt::format("{}: {} samples; at least {} are needed", source, rows, min_samples));
+  std::optional<std::size_t> time_column;
+  for (std::size_t c = 0; c < table.names.size(); ++c)
+    if (is_time_name(table.names[c])) {
+      if (time_column)
+        throw input_error(fmt::format("{}: two time columns, '{}' and '{}'", source,
+                                      table.names[*time_column], table.names[c]));
+      time_column = c;
+    }
+  if (time_column) {
+    s.time_name = table.names[*time_column];
+    s.time_number = *time_column + 1;
+    const auto& t = table.columns[*time_column];
+    s.dt = uniform_step(t, table.lines, source, s.time_name);
+    s.t0 = t.front();
+    if (dt_option && std::fabs(*dt_option - s.dt) > 0.01 * s.dt)
+      throw input_error(
+          fmt::format("--dt: {} s disagrees with the time column '{}' of {} (dt = {:.6g} s)",
+                      *dt_option, s.time_name, source, s.dt));
+  } else {
+    if (!dt_option)
+      throw input_error(fmt::format(
+          "{} has no time column (a header named t or time); give the sample spacing with --dt",
+          source));
+    s.dt = *dt_option;
+  }
+  for (std::size_t c = 0; c < table.columns.size(); ++c) {
+    if (time_column && c == *time_column) continue;
+    s.names.push_back(table.names.empty() ? std::to_string(c + 1) : table.names[c]);
+    s.values.push_back(table.columns[c]);
+    s.numbers.push_back(c + 1);
+  }
+  if (s.values.empty())
+    throw input_error(
+        fmt::format("{}: no signal column besides the time column '{}'", source, s.time_name));
+  return s;
+}
+
+namespace {
+
+time_series signal_at(const sampled_signals& signals, std::size_t k) {
+  return time_series{
+      signals.source,    signals.names[k],
+      signals.t0,        signals.dt,
+      signals.values[k], k < signals.units.size() ? signals.units[k] : std::string()};
+}
+
+// The default length of a simulated series: the paper's 2¹⁴ samples, and at most 2²².
+constexpr std::size_t default_samples = std::size_t{1} << 14;
+constexpr std::size_t max_samples = std::size_t{1} << 22;
+// The default duration of a simulation for events (s).
+constexpr double default_event_time = 200;
+
+// --dt as given: a positive number, or nothing.
+std::optional<double> sample_spacing(const std::string& dt) {
+  if (dt.empty()) return std::nullopt;
+  const double spacing = parse_number(dt, "--dt");
+  if (!(spacing > 0)) throw input_error(fmt::format("--dt: must be positive, got {}", dt));
+  return spacing;
+}
+
+}  // namespace
+
+time_series select_signal(const sampled_signals& signals, std::string_view selector,
+                          std::string_view option) {
+  if (selector.empty()) return signal_at(signals, signals.default_signal);
+  for (std::size_t k = 0; k < signals.names.size(); ++k)
+    if (signals.names[k] == selector) return signal_at(signals, k);
+  std::size_t number = 0;
+  const auto parsed = std::from_chars(selector.data(), selector.data() + selector.size(), number);
+  const bool numeric = parsed.ec == std::errc{} && parsed.ptr == selector.data() + selector.size();
+  if (numeric)
+    for (std::size_t k = 0; k < signals.numbers.size(); ++k)
+      if (signals.numbers[k] == number) return signal_at(signals, k);
+  if (!signals.time_name.empty() &&
+      (selector == signals.time_name || (numeric && number == signals.time_number)))
+    throw input_error(fmt::format("{}: '{}' is the time column of {}; choose a signal", option,
+                                  selector, signals.source));
+  std::string known;
+  for (std::size_t k = 0; k < signals.names.size(); ++k)
+    known += fmt::format("{}{} ({})", k ? ", " : "", signals.names[k], signals.numbers[k]);
+  throw input_error(fmt::format("{}: {} has no column '{}'; its signals are {}", option,
+                                signals.source, selector, known));
+}
+
+std::string read_text_file(const std::string& path, std::string_view option) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw input_error(fmt::format("{}: cannot read '{}': {}", option, path, std::strerror(errno)));
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw input_error(fmt::format("{}: cannot read '{}'", option, path));
+  return text.str();
+}
+
+sampled_signals simulate_signals(const simulated_start& s,
+                                 const step_observer_function& step_observer) {
+  const int n = s.pendulum.links();
+  sampled_signals out;
+  out.source = s.source;
+  out.t0 = s.integration.t_start;
+  out.dt = s.integration.dt;
+  out.time_name = "t";
+  out.time_number = 1;
+  out.default_signal = static_cast<std::size_t>(n - 1);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(2 * n); ++i) {
+    out.names.push_back(coordinate_name(i, n));
+    out.numbers.push_back(i + 2);
+    out.units.push_back(i < static_cast<std::size_t>(n) ? "rad" : "kg m^2/s");
+  }
+  out.values.assign(out.names.size(), {});
+  for (auto& v : out.values) v.reserve(s.samples);
+  progress_bar progress(s.integration.t_start, s.integration.t_end);
+  std::size_t recorded = 0;
+  integrate(
+      s.pendulum, s.x0, s.integration,
+      [&](double t, std::span<const double> x) {
+        if (recorded < s.samples) {
+          for (std::size_t i = 0; i < x.size(); ++i) out.values[i].push_back(x[i]);
+          ++recorded;
+        }
+        progress.update(t);
+        return observer_action::proceed;
+      },
+      step_observer);
+  progress.finish();
+  return out;
+}
+
+void series_options::add_to(CLI::App& command, series_use use) {
+  m_command = &command;
+  m_use = use;
+  if (use != series_use::whole)
+    command.add_option("--input", input,
+                       "Time series from a CSV file: a column per signal, a header row with names "
+                       "(a column t or time gives the sample times), comma-separated");
+  if (use == series_use::signal)
+    command.add_option("--column,--coordinate", column,
+                       "The signal to analyse: a CSV column name or number (1-based, counting the "
+                       "time column; default: the first signal), or for a simulation a "
+                       "coordinate phi1..phin, p1..pn (default: phin)");
+  else if (use == series_use::whole)
+    command.add_option("--coordinate,--column", column,
+                       "The coordinate whose time series is analysed: phi1..phin, p1..pn "
+                       "(default: phin)");
+  command.add_option("--dt", dt,
+                     use == series_use::whole
+                         ? "Sample spacing and output step of the simulation in s (default: 0.001)"
+                         : "Sample spacing in s: for a CSV file without a time column (with one, "
+                           "it must agree), or the output step of a simulation (default: 0.001)");
+  chain.add_to(command, use == series_use::whole);
+  start.add_to(command);
+  if (use != series_use::events)
+    command.add_option("--samples", samples,
+                       fmt::format("Simulation: samples of the time series, at t = 0, dt, 2 dt, "
+                                   "... (default: {} = 2^14, the paper's; at most 2^22)",
+                                   default_samples));
+  if (use != series_use::signal)
+    command.add_option(
+        "--t-end", t_end,
+        fmt::format("Simulation: integrate from t = 0 to this time in s, for the {} (default: "
+                    "{:g})",
+                    use == series_use::events ? "events" : "Poincare section and the events",
+                    default_event_time));
+  integrator.add_stepper_options(command, "Simulation: ");
+}
+
+bool series_options::simulated() const {
+  return m_command != nullptr && m_command->count("--links") > 0;
+}
+
+std::optional<simulated_start> series_options::simulation(std::size_t min_samples) const {
+  const bool from_file = !input.empty();
+  if (from_file && simulated())
+    throw input_error(
+        "--input and --links exclude each other: analyse a CSV file or a simulated start");
+  if (!simulated()) {
+    for (const char* name :
+         {"--masses", "--lengths", "--g", "--phi", "--p", "--dphi", "--energy", "--excitation",
+          "--samples", "--t-end", "--stepper", "--abs-tol", "--rel-tol"}) {
+      const CLI::Option* option = m_command->get_option_no_throw(name);
+      if (option != nullptr && option->count() > 0)
+        throw input_error(
+            fmt::format("{}: only for a simulated start (--links N), not with --input", name));
+    }
+    if (!from_file)
+      throw input_error(
+          "no time series: give --input FILE.csv, or a simulated start: --links N with --phi .. "
+          "or --energy E (see --help)");
+    return std::nullopt;
+  }
+  const npend::chain c = chain.make_chain();
+  std::vector<double> x0 = start.make_state(c);
+
+  std::size_t count = 0;
+  if (m_use != series_use::events) {
+    count = default_samples;
+    if (!samples.empty()) {
+      const double k = parse_number(samples, "--samples");
+      if (k != std::floor(k) || k < static_cast<double>(min_samples) ||
+          k > static_cast<double>(max_samples))
+        throw input_error(fmt::format("--samples: must be a whole number {}..{}, got {}",
+                                      min_samples, max_samples, samples));
+      count = static_cast<std::size_t>(k);
+    }
+  }
+  const double step = sample_spacing(dt).value_or(integration_options{}.dt);
+  // The grid ends at the last sample (the series' duration is (count − 1)·dt): half a step
+  // beyond it, so that rounding cannot drop or add a grid point.
+  double duration = count > 0 ? (static_cast<double>(count) - 0.5) * step : 0;
+  if (m_use != series_use::signal) {
+    double events = default_event_time;
+    if (!t_end.empty()) {
+      events = parse_number(t_end, "--t-end");
+      if (!(events > 0)) throw input_error(fmt::format("--t-end: must be positive, got {}", t_end));
+    }
+    duration = std::max(duration, events);
+  }
+  // The integrator options' own checks (stepper, tolerances, the number of steps).
+  integrator_options grid = integrator;
+  grid.t_end = fmt::format("{:.17g}", duration);
+  grid.dt = dt;
+  const integration_options integration = grid.make();
+  std::string source = fmt::format("simulation: {} link{}, E = {:.6g} J, {}, dt = {:g} s",
+                                   c.links(), c.links() == 1 ? "" : "s", c.hamiltonian(x0),
+                                   stepper_name(integration.stepper), integration.dt);
+  return simulated_start{c, std::move(x0), integration, count, std::move(source)};
+}
+
+sampled_signals series_options::load(std::size_t min_samples) const {
+  // The single place where the source is chosen.
+  if (const auto simulation = this->simulation(min_samples)) return simulate_signals(*simulation);
+  const std::optional<double> spacing = sample_spacing(dt);
+  const std::string text = read_text_file(input, "--input");
+  return signals_from_csv(parse_csv(text, input), input, spacing, min_samples);
+}
+
+time_series series_options::load_one(std::size_t min_samples) const {
+  const sampled_signals signals = load(min_samples);
+  if (!simulated()) return select_signal(signals, column, "--column");
+  const int links = static_cast<int>(signals.names.size() / 2);
+  return signal_at(signals, column.empty() ? signals.default_signal
+                                           : parse_coordinate(column, links, "--coordinate"));
+}
+
+}  // namespace npend::cli

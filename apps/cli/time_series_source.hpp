@@ -1,0 +1,131 @@
+// Where the commands of the time-series analyses (spectrum, autocorrelation, recurrence,
+// embed, analyze) get their data: a CSV file (--input, --column, --dt) — a user's measured
+// pendulum data — or a simulated start (--links N [params] --phi/--p/--dphi/--energy,
+// --samples, --dt, --coordinate, --stepper), whose trajectory's coordinates phi1..phin,
+// p1..pn on the output grid are the signals. series_options::load is the one place where
+// the choice is made; every command works on either unchanged.
+#pragma once
+
+#include "chain_options.hpp"
+#include "csv_table.hpp"
+#include "integrator_options.hpp"
+#include "start_options.hpp"
+
+#include "npend/chain.hpp"
+#include "npend/integrate.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace npend::cli {
+
+/// Named signals sampled on one uniform time grid t_j = t0 + j dt.
+struct sampled_signals {
+  std::string source;              ///< where they came from, for messages and reports ("data.csv")
+  double t0 = 0;                   ///< s
+  double dt = 0;                   ///< s
+  std::vector<std::string> names;  ///< one per signal; for CSV files the header or "1", "2", …
+  std::vector<std::vector<double>> values;  ///< one series per signal, all of equal length
+  /// The signals' units for plots ("rad", "kg m^2/s"): known for a simulation, empty (unknown)
+  /// for CSV files.
+  std::vector<std::string> units;
+  /// Selector numbers (1-based) of the signals: their column in the file, counting the time
+  /// column, as gnuplot and cut count.
+  std::vector<std::size_t> numbers;
+  std::string time_name;           ///< the time column's name, if the file had one
+  std::size_t time_number = 0;     ///< its column number (1-based), 0 if none
+  std::size_t default_signal = 0;  ///< the signal chosen when none is named
+
+  std::size_t samples() const { return values.empty() ? 0 : values.front().size(); }
+};
+
+/// One signal chosen from sampled_signals.
+struct time_series {
+  std::string source, name;
+  double t0 = 0, dt = 0;
+  std::vector<double> values;
+  std::string unit;  ///< for plots; empty if unknown
+};
+
+/// The signals of a parsed CSV table. The time column is the one whose header is t or time
+/// (any case, optionally with a unit: "t (s)", "time [s]"); its spacing must be uniform (every
+/// t_j within 1% of a step of t_0 + j dt, dt = (t_last − t_0)/(N − 1)) and agree with
+/// `dt_option` if given. Without a time column `dt_option` is required. Throws input_error
+/// with a one-line message for each failure, and when there are fewer than `min_samples`
+/// rows or no signal column.
+sampled_signals signals_from_csv(const csv_table& table, std::string_view source,
+                                 std::optional<double> dt_option, std::size_t min_samples);
+
+/// The signal `selector` names: a column name, else a 1-based column number; empty selects
+/// the default signal. `option` names the option in messages ("--column").
+time_series select_signal(const sampled_signals& signals, std::string_view selector,
+                          std::string_view option);
+
+/// The whole text of a file; throws input_error "cannot read 'x.csv': <reason>".
+std::string read_text_file(const std::string& path, std::string_view option);
+
+/// A simulated start: the chain, its start state, and the integration that samples it.
+struct simulated_start {
+  npend::chain pendulum;
+  std::vector<double> x0;           ///< [φ, p] (dim 2n)
+  integration_options integration;  ///< from t = 0 on the grid of --dt
+  std::size_t samples = 0;          ///< grid points recorded as signals (0: none)
+  std::string source;               ///< "simulation: 3 links, E = 14.7 J, gauss6, dt = 0.001 s"
+};
+
+/// Runs the simulation `s` (to its t_end) and returns its first s.samples grid points as the
+/// signals phi1..phin, p1..pn (t0 = 0, its dt; the default signal is phin), passing every
+/// step to `step_observer` if given (for events located on the steps). Shows a progress bar
+/// on a terminal. Throws npend::integration_error if the integration cannot go on.
+sampled_signals simulate_signals(const simulated_start& s,
+                                 const step_observer_function& step_observer = {});
+
+/// How a command uses its series, which decides the options it gets.
+enum class series_use {
+  signal,  ///< one signal: --input or a simulated start of --samples samples; --column
+  events,  ///< events between signals: --input or a simulated start over --t-end; no --column
+  whole,   ///< a simulated start only, both --samples and --t-end (npend analyze)
+};
+
+/// The options that say where a command's time series comes from.
+struct series_options {
+  std::string input, column, dt;
+  chain_options chain;
+  start_options start;
+  std::string samples, t_end;
+  integrator_options integrator;  ///< --stepper, --abs-tol, --rel-tol
+
+  /// Adds the options of `use` to `command`: --input (not for whole), --column alias
+  /// --coordinate (signal and whole), --dt, the chain and start options, --samples (signal
+  /// and whole), --t-end (events and whole), --stepper, --abs-tol, --rel-tol. The command
+  /// must outlive this object's use of it.
+  void add_to(CLI::App& command, series_use use = series_use::signal);
+
+  /// Whether the series is simulated (--links given) rather than read (--input).
+  bool simulated() const;
+
+  /// The simulated start, if --links was given: t_end = (samples − 1)·dt for signal, --t-end
+  /// (default 200 s) for events, the larger of the two for whole; dt default 0.001 s;
+  /// stepper default gauss6; at least `min_samples` samples (default 16384, at most 2²²).
+  /// Throws input_error for a missing or mixed source and every bad option (naming it), and
+  /// for options of a simulation given with --input.
+  std::optional<simulated_start> simulation(std::size_t min_samples) const;
+
+  /// The signals: from the CSV file given with --input, or simulated; at least
+  /// `min_samples` samples. Throws input_error for a missing source or bad data.
+  sampled_signals load(std::size_t min_samples) const;
+
+  /// load(), then the signal named by --column (a CSV column) or --coordinate (phi3, p_2, …
+  /// for a simulation; default phin).
+  time_series load_one(std::size_t min_samples) const;
+
+ private:
+  const CLI::App* m_command = nullptr;
+  series_use m_use = series_use::signal;
+};
+
+}  // namespace npend::cli

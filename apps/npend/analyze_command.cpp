@@ -1,0 +1,278 @@
+// npend analyze: every analysis of paper §6.6 for one simulated start, written to a folder
+// with the data (CSV), the plots (PNG from kept gnuplot scripts) and an index (Markdown).
+#include "command.hpp"
+#include "figure_index.hpp"
+#include "input_parsing.hpp"
+#include "motion_analysis.hpp"
+#include "output_file.hpp"
+#include "section_spec.hpp"
+#include "series_figures.hpp"
+#include "series_output.hpp"
+#include "time_series_source.hpp"
+
+#include "npend/excitation.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+
+namespace npend::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct analyze_options {
+  cli::series_options series;
+  std::string section = "phi1=0", direction = "up", event, event_direction = "both", project;
+  std::string out;
+  bool json = false;
+};
+
+int run_analyze(const analyze_options& o) {
+  const fs::path dir = cli::output_folder(o.out, "--out");
+  const auto simulation = o.series.simulation(64);
+  const chain& c = simulation->pendulum;
+  const int n = c.links();
+  motion_analysis_options options;
+  options.coordinate = o.series.column.empty()
+                           ? static_cast<std::size_t>(n - 1)
+                           : cli::parse_coordinate(o.series.column, n, "--coordinate");
+  options.section =
+      cli::section_from_spec(cli::parse_section_spec(o.section, "--section"), n, "--section");
+  options.section_direction = cli::parse_direction(o.direction, "--direction");
+  const std::string event = o.event.empty() ? fmt::format("phi{}=0", n) : o.event;
+  options.event = cli::section_from_spec(cli::parse_section_spec(event, "--event"), n, "--event");
+  options.event_direction = cli::parse_direction(o.event_direction, "--event-direction");
+  const auto projection =
+      o.project.empty()
+          ? std::pair<std::size_t, std::size_t>{options.coordinate,
+                                                options.coordinate < static_cast<std::size_t>(n)
+                                                    ? options.coordinate + n
+                                                    : options.coordinate - n}
+          : cli::parse_projection(o.project, n, "--project");
+
+  const motion_analysis a = analyze_motion(*simulation, options);
+  const cli::time_series& x = a.series;
+  const std::string section_what =
+      fmt::format("{} ({})", o.section, cli::direction_name(options.section_direction));
+  const std::string event_what =
+      fmt::format("{} ({})", event, cli::direction_name(options.event_direction));
+  std::vector<std::string> files, notes = a.notes;
+  std::vector<index_entry> entries;
+  // Each figure: its own stem in the folder, its tables, its plot.
+  const auto figure = [&](const std::string& stem, const std::string& heading,
+                          const std::string& text, auto&& panels, int width = 960, int height = 640,
+                          int columns = 1) {
+    series_output out((dir / (stem + ".csv")).string());
+    std::vector<cli::plot_panel> list = panels(out);
+    out.write_plot({.description = {fmt::format("npend analyze: {} of {}", heading, x.source)},
+                    .width = width,
+                    .height = height,
+                    .columns = columns,
+                    .panels = list});
+    std::vector<std::string> data;
+    for (const auto& path : out.files()) {
+      files.push_back(path);
+      if (path.ends_with(".csv")) data.push_back(fs::path(path).filename().string());
+    }
+    notes.insert(notes.end(), out.notes().begin(), out.notes().end());
+    entries.push_back({heading, stem + ".png", text, data});
+  };
+
+  const double duration = x.dt * static_cast<double>(x.values.size() - 1);
+  figure("series", "Time series",
+         fmt::format("{}(t) over the {} samples analysed below (dt = {:g} s). Regular motion "
+                     "looks like a beat of a few oscillations; chaotic motion like calm phases "
+                     "and sudden flurries taking turns.",
+                     x.name, x.values.size(), x.dt),
+         [&](series_output& out) {
+           return std::vector{time_series_panel(out, "", a.signals, options.coordinate)};
+         });
+  figure("spectrum", "Spectral density",
+         fmt::format("ρ(ω) = |x̂(ω)|² of {} (mean removed, Hann window), on a log scale, its "
+                     "peaks marked. A few sharp lines mean periodic or quasi-periodic motion "
+                     "(for small oscillations: the normal modes); a broad continuous spectrum "
+                     "is a sign of chaos.",
+                     x.name),
+         [&](series_output& out) {
+           return std::vector{spectrum_panel(out, "", x, a.spectrum, a.peaks)};
+         });
+  figure("autocorrelation", "Autocorrelation",
+         fmt::format("C_xx(τ) of {}, normalised to C_xx(0) = 1. It keeps oscillating for a "
+                     "discrete spectrum (long memory) and decays towards 0 for chaotic motion.",
+                     x.name),
+         [&](series_output& out) {
+           return std::vector{autocorrelation_panel(out, "", x, a.autocorrelation)};
+         });
+  if (!a.section.empty())
+    figure(
+        "poincare", "Poincaré section",
+        fmt::format("The {} crossings of the section {} over {:g} s, projected on ({}, {}). "
+                    "Periodic motion gives finitely many points, quasi-periodic motion closed "
+                    "curves, chaotic motion a scattered cloud.",
+                    a.section.size(), section_what, simulation->integration.t_end,
+                    cli::coordinate_name(projection.first, n),
+                    cli::coordinate_name(projection.second, n)),
+        [&](series_output& out) {
+          return std::vector{poincare_panel(out, "", c, a.section, projection, section_what)};
+        },
+        820, 760);
+  if (a.recurrence)
+    figure(
+        "recurrence", "Recurrence times",
+        fmt::format("The intervals between the events {} over {:g} s, their probability "
+                    "density and the spectrum of the interval sequence. Periodic motion "
+                    "clusters them at a few values; chaotic motion spreads them around a mean "
+                    "T with a broad spectrum.",
+                    event_what, simulation->integration.t_end),
+        [&](series_output& out) {
+          const auto p = recurrence_figure(out, "", event_what, a.event_times, *a.recurrence);
+          return std::vector{p.intervals, p.distribution, p.spectrum};
+        },
+        1500, 520, 3);
+  if (a.embedded())
+    figure(
+        "embedding", "Delay embedding",
+        fmt::format("{}(t) against {}(t − τ) with τ = {:.4g} s ({}), and the false-nearest-"
+                    "neighbour fraction and Cao's E1, E2 against the embedding dimension m. "
+                    "Too small a τ squeezes the plot onto the diagonal, too large a τ folds it.",
+                    x.name, x.name, a.tau.seconds, delay_method_name(a.tau.method)),
+        [&](series_output& out) {
+          const auto [delay, dimension] =
+              embedding_figure(out, "", x, a.tau, a.vectors, a.fnn, a.cao, a.dimension, "fnn");
+          return std::vector{delay, dimension};
+        },
+        1300, 620, 2);
+
+  // The numbers of the index, the terminal and the JSON.
+  const double energy = c.hamiltonian(simulation->x0);
+  std::string epsilon;
+  try {
+    epsilon = fmt::format(" (ε = E/(m g l) = {:.4g})", epsilon_from_energy(c, energy));
+  } catch (const std::invalid_argument&) {  // unequal masses or lengths: no ε
+  }
+  double residual = 0, energy_error = 0;
+  for (const auto& k : a.section) {
+    residual = std::max(residual, std::fabs(options.section.value(k.state)));
+    energy_error = std::max(energy_error, std::fabs(c.hamiltonian(k.state) - energy) / energy);
+  }
+  std::vector<std::string> lines;
+  for (std::size_t k = 0; k < std::min<std::size_t>(a.peaks.size(), 5); ++k)
+    lines.push_back(fmt::format("{:.4g}", a.peaks[k].omega));
+  const auto seconds = [](const std::optional<double>& v) {
+    return v ? fmt::format("{:.4g} s", *v) : std::string("none");
+  };
+  const std::vector<std::pair<std::string, std::string>> facts{
+      {"energy E", fmt::format("{:.6g} J{}", energy, epsilon)},
+      {"series", fmt::format("{}, {} samples, dt = {:g} s ({:g} s)", x.name, x.values.size(), x.dt,
+                             duration)},
+      {"strongest spectral lines ω (rad/s)",
+       lines.empty() ? "none" : fmt::format("{}", fmt::join(lines, ", "))},
+      {"autocorrelation",
+       fmt::format("first zero {}, first minimum {}", seconds(a.autocorrelation.first_zero),
+                   seconds(a.autocorrelation.first_minimum))},
+      {fmt::format("Poincaré section {}", section_what),
+       fmt::format("{} crossings, largest |g| {:.1e}, largest |H − E|/E {:.1e}", a.section.size(),
+                   residual, energy_error)},
+      {fmt::format("events {}", event_what),
+       a.recurrence
+           ? fmt::format("{} events, mean interval T = {:.4g} s, standard deviation "
+                         "{:.3g} s",
+                         a.event_times.size(), a.recurrence->mean, a.recurrence->standard_deviation)
+           : fmt::format("{} events", a.event_times.size())},
+      {"delay embedding",
+       a.embedded() ? fmt::format("τ = {:.4g} s ({}), dimension {}", a.tau.seconds,
+                                  delay_method_name(a.tau.method),
+                                  a.dimension ? std::to_string(*a.dimension) : "none up to 10")
+                    : "none"}};
+  const std::string title =
+      fmt::format("npend analyze: the {}-link chain, E = {:.6g} J", n, energy);
+  const std::vector<std::string> preamble{
+      fmt::format("Masses {} kg, lengths {} m, g = {} m/s². Start x₀ = [φ₁..φ_{}, p₁..p_{}] = "
+                  "[{}] (rad, kg m²/s).",
+                  fmt::join(c.parameters().masses, ", "), fmt::join(c.parameters().lengths, ", "),
+                  c.parameters().g, n, n, fmt::join(simulation->x0, ", ")),
+      fmt::format("Integrated by {} with dt = {:g} s from t = 0 to {:g} s: the first {} samples "
+                  "are the time series, the whole run gives the Poincaré section and the events "
+                  "(located on the integrator's steps, not on the samples).",
+                  stepper_name(simulation->integration.stepper), simulation->integration.dt,
+                  simulation->integration.t_end, x.values.size())};
+  const fs::path index = dir / "index.md";
+  cli::write_file_atomically(index,
+                             figure_index{title, preamble, facts, entries, notes}.markdown());
+  files.push_back(index.string());
+  for (const auto& note : notes) fmt::print(stderr, "note: {}\n", note);
+
+  if (o.json) {
+    nlohmann::json peaks = nlohmann::json::array();
+    for (const auto& p : a.peaks) peaks.push_back({{"omega", p.omega}, {"power", p.power}});
+    const auto optional = [](const auto& v) { return v ? nlohmann::json(*v) : nlohmann::json(); };
+    nlohmann::json j{
+        {"out", dir.string()},
+        {"index", index.string()},
+        {"files", files},
+        {"links", n},
+        {"initial_state", simulation->x0},
+        {"energy", energy},
+        {"stepper", std::string(stepper_name(simulation->integration.stepper))},
+        {"dt", simulation->integration.dt},
+        {"t_end", simulation->integration.t_end},
+        {"signal", x.name},
+        {"samples", x.values.size()},
+        {"peaks", peaks},
+        {"first_zero", optional(a.autocorrelation.first_zero)},
+        {"first_minimum", optional(a.autocorrelation.first_minimum)},
+        {"section", o.section},
+        {"crossings", a.section.size()},
+        {"max_section_residual", residual},
+        {"max_rel_energy_error", energy_error},
+        {"event", event},
+        {"events", a.event_times.size()},
+        {"mean_interval", a.recurrence ? nlohmann::json(a.recurrence->mean) : nlohmann::json()},
+        {"tau", a.embedded() ? nlohmann::json(a.tau.seconds) : nlohmann::json()},
+        {"dimension", optional(a.dimension)},
+        {"notes", notes}};
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  fmt::print("{}\n\n", title);
+  for (const auto& [name, value] : facts) fmt::print("{:<40} {}\n", name, value);
+  fmt::print("\nWrote {} files to {}/; open {}\n", files.size(), dir.string(), index.string());
+  return 0;
+}
+
+}  // namespace
+
+void add_analyze_command(CLI::App& app, command_list& commands) {
+  auto o = std::make_shared<analyze_options>();
+  CLI::App* cmd = app.add_subcommand(
+      "analyze",
+      "Every analysis of one simulated start (time series, spectrum, autocorrelation, Poincare "
+      "section, recurrence times, delay embedding) into a folder with plots and an index");
+  o->series.add_to(*cmd, cli::series_use::whole);
+  cmd->add_option("--section", o->section,
+                  "The Poincare section: NAME=VALUE or NAME=NAME over phi1..phin, p1..pn")
+      ->capture_default_str();
+  cmd->add_option("--direction", o->direction, "Crossings of the section: up, down or both")
+      ->capture_default_str();
+  cmd->add_option("--event", o->event,
+                  "The recurrence event, like --section (default: phin=0, the paper's)");
+  cmd->add_option("--event-direction", o->event_direction, "Events counted: up, down or both")
+      ->capture_default_str();
+  cmd->add_option("--project", o->project,
+                  "The two coordinates of the Poincare plot, e.g. phi3,p3 (default: the analysed "
+                  "coordinate and its partner)");
+  cmd->add_option("--out", o->out,
+                  "The folder to write (created if missing; files in it are replaced)")
+      ->required();
+  cmd->add_flag("--json", o->json, "Print a JSON summary instead of the table");
+  commands.push_back({cmd, [o] { return run_analyze(*o); }});
+}
+
+}  // namespace npend::app

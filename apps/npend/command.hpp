@@ -1,0 +1,35 @@
+// How the subcommands of `npend` plug into main: each registers its CLI11 subcommand and
+// the function that runs it.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <vector>
+
+namespace npend::app {
+
+struct command {
+  CLI::App* options;
+  std::function<int()> run;
+};
+
+using command_list = std::vector<command>;
+
+void add_eval_command(CLI::App& app, command_list& commands);
+void add_equations_command(CLI::App& app, command_list& commands);
+void add_demo_command(CLI::App& app, command_list& commands);
+/// npend equilibria, npend modes, npend toda-brumer.
+void add_stability_commands(CLI::App& app, command_list& commands);
+void add_simulate_command(CLI::App& app, command_list& commands);
+/// The time-series analyses: npend spectrum, npend autocorrelation.
+void add_spectrum_commands(CLI::App& app, command_list& commands);
+void add_recurrence_command(CLI::App& app, command_list& commands);
+void add_embed_command(CLI::App& app, command_list& commands);
+void add_poincare_command(CLI::App& app, command_list& commands);
+void add_analyze_command(CLI::App& app, command_list& commands);
+void add_lyapunov_command(CLI::App& app, command_list& commands);
+/// npend backbone, npend corrections.
+void add_harmonic_validity_commands(CLI::App& app, command_list& commands);
+
+}  // namespace npend::app

@@ -1,0 +1,139 @@
+// npend demo, section 4: stability — the 8 equilibria, the normal modes and how far the
+// harmonic approximation carries, and the Lyapunov spectra of a weak and a strong excitation.
+#include "demo_sections.hpp"
+#include "stability_tables.hpp"
+
+#include "npend/analysis/backbone.hpp"
+#include "npend/analysis/equilibria.hpp"
+#include "npend/analysis/lyapunov.hpp"
+#include "npend/analysis/normal_modes.hpp"
+#include "npend/excitation.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace npend::app {
+
+namespace {
+
+// The running λ_1 at the history time closest to t.
+double running_largest(const lyapunov_result& r, double t) {
+  std::size_t best = 0;
+  for (std::size_t j = 1; j < r.history_t.size(); ++j)
+    if (std::fabs(r.history_t[j] - t) < std::fabs(r.history_t[best] - t)) best = j;
+  return r.history[best][0];
+}
+
+double largest_pair_sum(const std::vector<double>& lambda) {
+  double worst = 0;
+  for (std::size_t i = 0; i < lambda.size(); ++i)
+    worst = std::max(worst, std::fabs(lambda[i] + lambda[lambda.size() - 1 - i]));
+  return worst;
+}
+
+void equilibria_and_modes(const chain& c) {
+  fmt::print("### 4.1 Equilibria and linear stability (paper 6.5.1)\n\n");
+  print_equilibria_table(c, find_equilibria(c));
+  fmt::print(
+      "\nOnly the hanging chain is stable; here each arm pointing up adds one unstable direction\n"
+      "(a real pair +-kappa), so the standing chain has three.\n\n");
+  print_modes_table(normal_modes(c, std::vector<double>(3, 0.0)));
+  fmt::print(
+      "\nThe frequencies are the roots of the paper's characteristic polynomial (6.4.2); the\n"
+      "Jacobian's eigenvalues at the hanging chain are +-i omega_k.\n\n");
+}
+
+void harmonic_range(const chain& c) {
+  fmt::print("### 4.2 How far the harmonic approximation carries (paper 6.4; npend backbone)\n\n");
+  fmt::print(
+      "The full nonlinear chain launched from rest along each mode shape with amplitude a (the\n"
+      "largest start angle), its frequency measured from the zero crossings of the modal\n"
+      "coordinate over 20 linear periods; the amplitude where it has fallen 1 % and 5 % below\n"
+      "omega_k (bisected; a = 0.1 ... 1.5 rad scanned):\n\n");
+  std::vector<double> amplitudes;
+  for (int k = 1; k <= 15; ++k) amplitudes.push_back(0.1 * k);
+  fmt::print("{:>5}  {:>15}  {:>16}  {:>16}\n", "mode", "omega_k (rad/s)", "1 %: a (rad)",
+             "5 %: a (rad)");
+  for (int mode = 1; mode <= 3; ++mode) {
+    const backbone_result r = backbone_curve(c, mode, amplitudes);
+    const auto text = [](const backbone_threshold& t) {
+      return t.amplitude ? fmt::format("{:.3f}", *t.amplitude) : std::string("> 1.5");
+    };
+    fmt::print("{:>5}  {:>15.5f}  {:>16}  {:>16}\n", mode, r.linear_frequency,
+               text(r.thresholds[0]), text(r.thresholds[1]));
+  }
+  fmt::print(
+      "\nThe faster the mode, the sooner it softens: mode 3 is off by 1 % at a few degrees. The\n"
+      "paper's velocity corrections do not fix this: they leave out terms of the same (third)\n"
+      "order, and their error stays O(a^3) like the harmonic one (npend corrections).\n\n");
+}
+
+void lyapunov_spectra(const chain& c) {
+  lyapunov_options o;
+  o.integration.t_end = 1000;
+  o.integration.dt = 0.005;
+  fmt::print("### 4.3 Lyapunov spectra (paper 6.5.1; npend lyapunov)\n\n");
+  fmt::print(
+      "The zigzag starts of section 3, followed for {:g} s with gauss6 at dt = {} s (short\n"
+      "enough for the demo; longer runs sharpen the estimates). Six tangent vectors ride along,\n"
+      "mapped by the exact derivative of each Gauss-Legendre step and re-orthonormalised every\n"
+      "{} s (Benettin et al.); spread = max - min of the running value over the last quarter.\n\n",
+      o.integration.t_end, o.integration.dt, o.renormalisation_interval);
+  const auto started = std::chrono::steady_clock::now();
+  const std::vector<double> zigzag{1.0, -1.0, 1.0};
+  const auto run = [&](double epsilon) {
+    return lyapunov_spectrum(c, deflected_state(c, energy_from_epsilon(c, epsilon), zigzag), o);
+  };
+  const lyapunov_result weak = run(0.1), strong = run(1.5);
+  const lyapunov_result strong_maximal =
+      maximal_lyapunov_exponent(c, deflected_state(c, energy_from_epsilon(c, 1.5), zigzag), o);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+
+  constexpr const char* row = "{:<34}{:>20}{:>20}\n";
+  fmt::print(row, "", "weak (eps = 0.1)", "strong (eps = 1.5)");
+  for (std::size_t i = 0; i < 6; ++i)
+    fmt::print(row, fmt::format("lambda_{} (1/s)   +- spread", i + 1),
+               fmt::format("{:+.5f} +- {:.4f}", weak.exponents[i], weak.spread[i]),
+               fmt::format("{:+.5f} +- {:.4f}", strong.exponents[i], strong.spread[i]));
+  fmt::print(row, "sum (1/s)", fmt::format("{:.1e}", weak.sum), fmt::format("{:.1e}", strong.sum));
+  fmt::print(row, "max |lambda_i + lambda_(7-i)|",
+             fmt::format("{:.1e}", largest_pair_sum(weak.exponents)),
+             fmt::format("{:.1e}", largest_pair_sum(strong.exponents)));
+  for (double t : {125.0, 250.0, 500.0, 1000.0})
+    fmt::print(row, fmt::format("running lambda_1 at t = {:g} s", t),
+               fmt::format("{:.5f}", running_largest(weak, t)),
+               fmt::format("{:.5f}", running_largest(strong, t)));
+  fmt::print(row, "maximal exponent alone (1 vector)", "",
+             fmt::format("{:.5f}", strong_maximal.exponents[0]));
+  fmt::print(row, "max |H(t) - H(0)| / H(0)", fmt::format("{:.1e}", weak.max_rel_energy_error),
+             fmt::format("{:.1e}", strong.max_rel_energy_error));
+  fmt::print(
+      "\n(two spectra and one maximal exponent in {:.1f} s)\n\n"
+      "The sum is 0 (div f = 0: phase-space volume is conserved) and the exponents come in\n"
+      "+- pairs to round-off: the Gauss-Legendre tangent map is symplectic. Two are ~0 (the\n"
+      "flow direction and the energy), within their spread. Weak excitation: every exponent\n"
+      "goes to 0, the running lambda_1 nearly halving as t doubles (ln|Z| grows like ln t) --\n"
+      "regular, quasi-periodic motion. Strong excitation: lambda_1 stays clearly above 0 and one\n"
+      "tangent vector alone finds the same value -- chaos, the separation of section 3 growing\n"
+      "like exp(lambda_1 t). Its running value still drifts (see the spread): the motion\n"
+      "alternates between quiet and wild phases, as the paper observes, and finite-time\n"
+      "exponents of such motion converge slowly.\n",
+      seconds);
+}
+
+}  // namespace
+
+void demo_stability(const demo_context& demo) {
+  fmt::print(
+      "## 4. Stability: equilibria, normal modes, the harmonic approximation, Lyapunov "
+      "exponents\n\n");
+  equilibria_and_modes(demo.triple);
+  harmonic_range(demo.triple);
+  lyapunov_spectra(demo.triple);
+}
+
+}  // namespace npend::app

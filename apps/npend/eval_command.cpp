@@ -1,0 +1,110 @@
+// npend eval: the generated functions at one state.
+#include "chain_options.hpp"
+#include "command.hpp"
+
+#include <chain_index.hpp>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+
+#include <iostream>
+
+namespace npend::app {
+
+namespace {
+
+struct eval_options {
+  cli::chain_options chain;
+  std::string state;
+  bool json = false;
+};
+
+nlohmann::json rows(const std::vector<double>& m, int n) {
+  nlohmann::json out = nlohmann::json::array();
+  for (int i = 0; i < n; ++i)
+    out.push_back(std::vector<double>(m.begin() + i * n, m.begin() + (i + 1) * n));
+  return out;
+}
+
+void print_matrix(const char* name, const std::vector<double>& m, int n) {
+  fmt::print("{} =\n", name);
+  for (int i = 0; i < n; ++i) {
+    fmt::print("  ");
+    for (int j = 0; j < n; ++j) fmt::print("{:>13.6g}", m[static_cast<std::size_t>(i * n + j)]);
+    fmt::print("\n");
+  }
+}
+
+int run_eval(const eval_options& o) {
+  const chain c = o.chain.make_chain();
+  const int n = c.links();
+  const auto nn = static_cast<std::size_t>(n);
+  const std::vector<double> x = cli::parse_state(o.state, n);
+  const std::span<const double> phi(x.data(), nn), p(x.data() + n, nn);
+
+  std::vector<double> dphi(nn), A(nn * nn);
+  c.velocities(phi, p, dphi);
+  c.mass_matrix(phi, A);
+  const std::vector<double> f = c.rhs(x), J = c.jacobian(x);
+  const double H = c.hamiltonian(x), T = c.kinetic_energy(phi, dphi), V = c.potential_energy(phi);
+  const double detA = c.det_mass_matrix(phi);
+
+  if (o.json) {
+    nlohmann::json j;
+    j["links"] = n;
+    j["masses"] = c.parameters().masses;
+    j["lengths"] = c.parameters().lengths;
+    j["g"] = c.parameters().g;
+    j["state"] = x;
+    j["hamiltonian"] = H;
+    j["kinetic_energy"] = T;
+    j["potential_energy"] = V;
+    j["velocities"] = dphi;
+    j["rhs"] = f;
+    j["jacobian"] = rows(J, 2 * n);
+    j["mass_matrix"] = rows(A, n);
+    j["det_mass_matrix"] = detA;
+    if (n <= 3) j["hamiltonian_closed_form"] = c.hamiltonian_closed_form(x);
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  fmt::print("{}-link chain: masses {} kg, lengths {} m, g = {} m/s^2\n", n, c.parameters().masses,
+             c.parameters().lengths, c.parameters().g);
+  fmt::print("phi = {} rad\np   = {} kg m^2/s\n", std::vector<double>(phi.begin(), phi.end()),
+             std::vector<double>(p.begin(), p.end()));
+  fmt::print("H = {:.17g} J   (T = {:.17g}, V = {:.17g})\n", H, T, V);
+  if (n <= 3) fmt::print("H (closed form) = {:.17g} J\n", c.hamiltonian_closed_form(x));
+  fmt::print("dphi/dt = {}\n", dphi);
+  fmt::print("dp/dt   = {}\n", std::vector<double>(f.begin() + n, f.end()));
+  fmt::print("det A = {:.17g}\n", detA);
+  print_matrix("A (mass matrix)", A, n);
+  print_matrix("J (Jacobian df/dx, x = [phi, p])", J, 2 * n);
+  return 0;
+}
+
+}  // namespace
+
+void add_eval_command(CLI::App& app, command_list& commands) {
+  auto opts = std::make_shared<eval_options>();
+  CLI::App* cmd = app.add_subcommand(
+      "eval", "Evaluate the generated functions (H, f, Jacobian, mass matrix) at one state");
+  opts->chain.add_to(*cmd);
+  cmd->add_option("--state", opts->state,
+                  "The state phi_1,...,phi_n,p_1,...,p_n (rad, kg m^2/s)")
+      ->required();
+  cmd->add_flag("--json", opts->json, "Print one JSON object");
+  commands.push_back({cmd, [opts] { return run_eval(*opts); }});
+}
+
+void add_equations_command(CLI::App& app, command_list& commands) {
+  auto opts = std::make_shared<cli::chain_options>();
+  CLI::App* cmd = app.add_subcommand(
+      "equations", "Print the derived equations of the n-link chain as LaTeX (from npend-gen)");
+  cmd->add_option("--links,-n", opts->links, "Number of links n")->required();
+  commands.push_back({cmd, [opts] {
+                        std::cout << opts->make_chain().kernels().equations_latex();
+                        return 0;
+                      }});
+}
+
+}  // namespace npend::app

@@ -1,0 +1,515 @@
+// npend backbone and npend corrections: where the harmonic approximation stops being valid,
+// and the paper's nonlinear corrections to it (§6.4).
+#include "chain_options.hpp"
+#include "command.hpp"
+#include "input_parsing.hpp"
+#include "series_output.hpp"
+#include "start_options.hpp"
+
+#include "npend/analysis/backbone.hpp"
+#include "npend/analysis/harmonic_corrections.hpp"
+#include "npend/analysis/normal_modes.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <numbers>
+
+namespace npend::app {
+
+namespace {
+
+// A whole number in [low, high] typed for `option`.
+double whole_number(const std::string& text, const char* option, double low, double high) {
+  const double k = cli::parse_number(text, option);
+  if (k != std::floor(k) || k < low || k > high)
+    throw cli::input_error(
+        fmt::format("{}: must be a whole number in {:g}..{:g}, got {}", option, low, high, text));
+  return k;
+}
+
+// ---- npend backbone ----------------------------------------------------------------------
+
+struct backbone_command_options {
+  cli::chain_options chain;
+  std::string mode, amplitudes, periods, steps, thresholds;
+  bool json = false;
+  std::string out;
+};
+
+// "a,b,c" or "FROM:TO:STEP" (FROM, FROM + STEP, … up to TO).
+std::vector<double> parse_amplitudes(const std::string& text) {
+  if (text.empty()) return parse_amplitudes("0.05:1.5:0.05");
+  if (text.find(':') == std::string::npos) return cli::parse_number_list(text, "--amplitudes");
+  const auto first = text.find(':'), second = text.find(':', first + 1);
+  if (second == std::string::npos || text.find(':', second + 1) != std::string::npos)
+    throw cli::input_error(
+        fmt::format("--amplitudes: '{}' is neither a list a,b,c nor a range FROM:TO:STEP", text));
+  const double from = cli::parse_number(text.substr(0, first), "--amplitudes (FROM)");
+  const double to =
+      cli::parse_number(text.substr(first + 1, second - first - 1), "--amplitudes (TO)");
+  const double step = cli::parse_number(text.substr(second + 1), "--amplitudes (STEP)");
+  if (!(step > 0) || to < from || (to - from) / step > 10000)
+    throw cli::input_error(fmt::format(
+        "--amplitudes: the range {} needs FROM <= TO and a positive STEP giving at most 10000 "
+        "amplitudes",
+        text));
+  std::vector<double> out;
+  for (long k = 0; from + static_cast<double>(k) * step <= to * (1 + 1e-12); ++k)
+    out.push_back(from + static_cast<double>(k) * step);
+  return out;
+}
+
+backbone_options make_backbone_options(const backbone_command_options& o) {
+  backbone_options b;
+  if (!o.periods.empty()) b.periods = cli::parse_number(o.periods, "--periods");
+  if (!o.steps.empty())
+    b.steps_per_period = static_cast<int>(whole_number(o.steps, "--steps-per-period", 20, 1e6));
+  if (!(b.periods >= 3 && b.periods <= 1e5))
+    throw cli::input_error(fmt::format("--periods: must be in 3..1e5, got {}", b.periods));
+  if (!o.thresholds.empty()) {
+    b.thresholds = cli::parse_number_list(o.thresholds, "--thresholds");
+    for (double s : b.thresholds)
+      if (!(s > 0 && s < 1))
+        throw cli::input_error(
+            fmt::format("--thresholds: {} is not a relative shift in (0, 1) (0.01 = 1 %)", s));
+  }
+  return b;
+}
+
+// A single pendulum's exact frequency ratio ω/ω₀ = π / (2 K(sin(θ₀/2))).
+double pendulum_frequency_ratio(double amplitude) {
+  return std::numbers::pi / (2 * std::comp_ellint_1(std::sin(amplitude / 2)));
+}
+
+// The ratio ω/ω_k where |ω/ω_k − 1| = shift on the side the curve departs to.
+double threshold_ratio(const backbone_result& r, double shift) {
+  for (const auto& p : r.points)
+    if (p.measured && std::fabs(p.relative_shift) >= shift)
+      return p.relative_shift > 0 ? 1 + shift : 1 - shift;
+  return 1 - shift;
+}
+
+void write_backbone_files(series_output& files, const chain& c,
+                          const std::vector<backbone_result>& curves) {
+  std::vector<std::vector<double>> table(9), marks(4);
+  for (const auto& r : curves) {
+    for (const auto& p : r.points) {
+      const std::vector<double> row{static_cast<double>(r.mode),
+                                    p.amplitude,
+                                    p.energy,
+                                    p.measured ? 1.0 : 0.0,
+                                    p.frequency,
+                                    p.measured ? p.frequency / r.linear_frequency : NAN,
+                                    p.relative_shift,
+                                    p.period_spread,
+                                    p.min_mode_share};
+      for (std::size_t k = 0; k < row.size(); ++k) table[k].push_back(row[k]);
+    }
+    for (const auto& t : r.thresholds)
+      if (t.amplitude) {
+        marks[0].push_back(r.mode);
+        marks[1].push_back(t.shift);
+        marks[2].push_back(*t.amplitude);
+        marks[3].push_back(threshold_ratio(r, t.shift));
+      }
+  }
+  const std::string data = files.write_csv(
+      "",
+      std::vector<std::string>{"mode", "amplitude", "energy", "measured", "omega", "ratio",
+                               "relative_shift", "period_spread", "min_mode_share"},
+      table);
+  const std::string thresholds = files.write_csv(
+      "thresholds", std::vector<std::string>{"mode", "shift", "amplitude", "ratio"}, marks);
+  cli::plot_panel panel{
+      .title = fmt::format("Backbone curves of the {}-link chain's normal modes", c.links()),
+      .xlabel = "ω / ω_k (measured over the linear frequency)",
+      .ylabel = "launch amplitude a (rad)",
+      .commands = {"set key bottom left"}};
+  std::vector<double> shifts;
+  for (const auto& t : curves.front().thresholds) shifts.push_back(t.shift);
+  for (std::size_t k = 0; k < shifts.size(); ++k)
+    panel.commands.push_back(
+        fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2 lc rgb '#888888'\n"
+                    "set label \"{1:g} %\" at {0},graph {2} right offset -0.3,0 tc rgb '#666666'",
+                    1 - shifts[k], 100 * shifts[k], 0.97 - 0.05 * static_cast<double>(k)));
+  for (const auto& r : curves)
+    panel.curves.push_back(
+        {data, fmt::format("($1=={0} ? $6 : 1/0):2", r.mode), "linespoints lw 1.5 pt 7 ps 0.6",
+         fmt::format("mode {} (ω_{} = {:.4g} rad/s)", r.mode, r.mode, r.linear_frequency)});
+  panel.curves.push_back(
+      {thresholds, "4:3", "points pt 6 ps 2 lw 2 lc rgb '#d62728'", "1 % / 5 % departures"});
+  if (c.links() == 1) {
+    // The exact curve of the single pendulum, from the elliptic integral.
+    std::vector<double> a, ratio;
+    const double top = curves.front().points.back().amplitude;
+    for (int k = 1; k <= 200; ++k) {
+      a.push_back(top * k / 200);
+      ratio.push_back(pendulum_frequency_ratio(a.back()));
+    }
+    const std::string exact = files.write_csv(
+        "exact", std::vector<std::string>{"amplitude", "ratio"}, std::vector{a, ratio});
+    panel.curves.push_back(
+        {exact, "2:1", "lines lw 1 dt 3 lc rgb 'black'", "exact: π / (2 K(sin(a/2)))"});
+  }
+  // Beside it, how much of the motion stays in the launched mode: where the share drops, the
+  // launch is no longer close to a periodic orbit and the backbone loses its meaning.
+  cli::plot_panel share{.title = "Least share of the launched mode in the linear modal energies",
+                        .xlabel = "launch amplitude a (rad)",
+                        .ylabel = "min_t E_k / Σ_j E_j",
+                        .yrange = "[0:1.05]",
+                        .commands = {"set key bottom left"}};
+  for (const auto& r : curves)
+    share.curves.push_back({data, fmt::format("($1=={0} ? $2 : 1/0):9", r.mode),
+                            "linespoints lw 1.5 pt 7 ps 0.6", fmt::format("mode {}", r.mode)});
+  files.write_plot(
+      {.description = {fmt::format("npend backbone: measured frequency against launch amplitude, "
+                                   "{}-link chain",
+                                   c.links()),
+                       fmt::format("data: {} (per mode and amplitude), {} (the departures)", data,
+                                   thresholds)},
+       .width = 1400,
+       .height = 640,
+       .columns = 2,
+       .panels = {panel, share}});
+}
+
+int run_backbone(const backbone_command_options& o) {
+  const chain c = o.chain.make_chain();
+  const int n = c.links();
+  std::vector<int> modes;
+  if (o.mode.empty()) {
+    for (int k = 1; k <= n; ++k) modes.push_back(k);
+  } else {
+    modes.push_back(static_cast<int>(whole_number(o.mode, "--mode", 1, n)));
+  }
+  const std::vector<double> amplitudes = parse_amplitudes(o.amplitudes);
+  for (double a : amplitudes)
+    if (!(a > 0 && a < std::numbers::pi))
+      throw cli::input_error(fmt::format("--amplitudes: {} rad is not in (0, pi)", a));
+  const backbone_options options = make_backbone_options(o);
+  series_output files(o.out);
+
+  std::vector<backbone_result> curves;
+  for (int k : modes) curves.push_back(backbone_curve(c, k, amplitudes, options));
+  if (files.enabled()) write_backbone_files(files, c, curves);
+
+  if (o.json) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& r : curves) {
+      nlohmann::json points = nlohmann::json::array(), thresholds = nlohmann::json::array();
+      for (const auto& p : r.points) {
+        nlohmann::json point{{"amplitude", p.amplitude},
+                             {"energy", p.energy},
+                             {"measured", p.measured},
+                             {"frequency", p.frequency},
+                             {"relative_shift", p.relative_shift},
+                             {"period_spread", p.period_spread},
+                             {"min_mode_share", p.min_mode_share}};
+        if (n == 1)
+          point["exact_frequency"] = r.linear_frequency * pendulum_frequency_ratio(p.amplitude);
+        points.push_back(point);
+      }
+      for (const auto& t : r.thresholds)
+        thresholds.push_back(
+            {{"shift", t.shift},
+             {"amplitude", t.amplitude ? nlohmann::json(*t.amplitude) : nlohmann::json()},
+             {"energy", t.amplitude ? nlohmann::json(t.energy) : nlohmann::json()}});
+      list.push_back({{"mode", r.mode},
+                      {"linear_frequency", r.linear_frequency},
+                      {"shape", r.shape},
+                      {"points", points},
+                      {"thresholds", thresholds}});
+    }
+    nlohmann::json j{{"links", n},
+                     {"masses", c.parameters().masses},
+                     {"lengths", c.parameters().lengths},
+                     {"g", c.parameters().g},
+                     {"periods", options.periods},
+                     {"steps_per_period", options.steps_per_period},
+                     {"modes", list}};
+    files.add_to(j);
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  fmt::print(
+      "Backbone curves of the {}-link chain: the full nonlinear chain launched along a normal "
+      "mode\n"
+      "of the hanging position (phi(0) = a v / max|v_i|, p = 0), the frequency of the modal\n"
+      "coordinate q = v^T M phi from its zero crossings over {:g} linear periods (Gauss-Legendre,\n"
+      "{} steps per period). period spread: (max - min)/mean of the single periods (0 for a\n"
+      "periodic orbit); mode share: the least share of the mode in the linear modal energies.\n",
+      n, options.periods, options.steps_per_period);
+  for (const auto& r : curves) {
+    fmt::print("\nMode {}: omega_{} = {:.6g} rad/s, shape ({:.4f})\n", r.mode, r.mode,
+               r.linear_frequency, fmt::join(r.shape, ", "));
+    fmt::print("{:>10}  {:>12}  {:>14}  {:>10}  {:>13}  {:>10}{}\n", "a (rad)", "energy (J)",
+               "omega (rad/s)", "shift (%)", "period spread", "mode share",
+               n == 1 ? "  exact omega (elliptic)" : "");
+    for (const auto& p : r.points) {
+      const std::string exact =
+          n == 1 ? fmt::format("  {:>23.10g}",
+                               r.linear_frequency * pendulum_frequency_ratio(p.amplitude))
+                 : "";
+      if (p.measured)
+        fmt::print("{:>10.4g}  {:>12.5g}  {:>14.8g}  {:>10.4f}  {:>13.2g}  {:>10.4f}{}\n",
+                   p.amplitude, p.energy, p.frequency, 100 * p.relative_shift, p.period_spread,
+                   p.min_mode_share, exact);
+      else
+        fmt::print("{:>10.4g}  {:>12.5g}  {:>14}  {:>10}  {:>13}  {:>10.4f}{}\n", p.amplitude,
+                   p.energy, "no oscillation", "-", "-", p.min_mode_share, exact);
+    }
+    for (const auto& t : r.thresholds) {
+      if (t.amplitude)
+        fmt::print("{:g} % departure from omega_{} at a = {:.4f} rad (E = {:.5g} J)\n",
+                   100 * t.shift, r.mode, *t.amplitude, t.energy);
+      else
+        fmt::print("{:g} % departure from omega_{}: not reached up to a = {:.4g} rad\n",
+                   100 * t.shift, r.mode, r.points.back().amplitude);
+    }
+  }
+  if (n > 1)
+    fmt::print(
+        "\nFor n >= 2 a launch along a linear mode is not a periodic orbit at finite amplitude:\n"
+        "energy leaks into the other modes (mode share < 1, period spread > 0), and omega is the\n"
+        "mean frequency of the modal coordinate.\n");
+  files.print();
+  return 0;
+}
+
+// ---- npend corrections -------------------------------------------------------------------
+
+struct corrections_command_options {
+  cli::chain_options chain;
+  cli::start_options start;
+  std::string amplitude, horizon, samples;
+  bool json = false;
+  std::string out;
+};
+
+// "harmonic solution" → "harmonic_solution"
+std::string slug(const std::string& name) {
+  std::string s = name;
+  std::replace(s.begin(), s.end(), ' ', '_');
+  return s;
+}
+
+void write_corrections_files(series_output& files, const correction_study& s) {
+  const std::size_t n = s.phi0.size();
+  std::vector<std::string> names{"t"};
+  std::vector<std::vector<double>> columns{s.t};
+  const auto add = [&](const std::string& suffix, const std::vector<std::vector<double>>& angles,
+                       const std::vector<double>& q) {
+    for (std::size_t i = 0; i < n; ++i) {
+      names.push_back(fmt::format("phi_{}_{}", i + 1, suffix));
+      std::vector<double> column;
+      for (const auto& a : angles) column.push_back(a[i]);
+      columns.push_back(std::move(column));
+    }
+    names.push_back("Q_" + suffix);
+    columns.push_back(q);
+  };
+  add("true", s.true_angles, s.true_q);
+  for (const auto& t : s.tracks) add(slug(t.name), t.angles, t.q);
+  const std::string data = files.write_csv("", names, columns);
+
+  // Column numbers (1-based) of φ_1 and Q for the true motion and each track.
+  const auto phi1 = [&](std::size_t block) { return 2 + block * (n + 1); };
+  cli::plot_panel angles{.title = "φ_1(t): the chain and the approximations",
+                         .xlabel = "t (s)",
+                         .ylabel = "φ_1 (rad)"};
+  cli::plot_panel q{.title = "The paper's correction function Q = φ_1 φ_2 / (φ̇_1 φ̇_2)",
+                    .xlabel = "t (s)",
+                    .ylabel = "Q (s^2)"};
+  // Q has poles where φ̇_1 or φ̇_2 vanishes (turning points): scale the axis to the bulk of
+  // the true Q (its 10th to 90th percentile, widened), and let the poles run off it.
+  std::vector<double> finite_q;
+  for (double v : s.true_q)
+    if (std::isfinite(v)) finite_q.push_back(v);
+  std::sort(finite_q.begin(), finite_q.end());
+  if (finite_q.size() >= 10) {
+    const double low = finite_q[finite_q.size() / 10], high = finite_q[finite_q.size() * 9 / 10];
+    const double pad = std::max(high - low, 1e-3 * std::max(std::fabs(low), std::fabs(high)));
+    q.yrange = fmt::format("[{}:{}]", low - 2 * pad, high + 2 * pad);
+  }
+  const std::vector<std::string> styles{"lines lw 1.5 dt 2", "lines lw 1.2 dt 3",
+                                        "lines lw 1.2 dt 4", "lines lw 1.5 dt 5",
+                                        "lines lw 1.5 dt 6"};
+  angles.curves.push_back(
+      {data, fmt::format("1:{}", phi1(0)), "lines lw 3 lc rgb 'black'", "true motion"});
+  q.curves.push_back(
+      {data, fmt::format("1:{}", phi1(0) + n), "lines lw 3 lc rgb 'black'", "true motion"});
+  for (std::size_t k = 0; k < s.tracks.size(); ++k) {
+    angles.curves.push_back({data, fmt::format("1:{}", phi1(k + 1)), styles[k], s.tracks[k].name});
+    q.curves.push_back({data, fmt::format("1:{}", phi1(k + 1) + n), styles[k], s.tracks[k].name});
+  }
+  files.write_plot({.description = {"npend corrections: the paper's nonlinear corrections to the "
+                                    "harmonic approximation against the true motion",
+                                    fmt::format("data: {}", data)},
+                    .height = 900,
+                    .panels = {angles, q}});
+}
+
+int run_corrections(const corrections_command_options& o) {
+  const chain c = o.chain.make_chain();
+  const int n = c.links();
+  if (n < 2)
+    throw cli::input_error(
+        "--links: the correction study needs at least 2 links (for one link the paper's "
+        "correction terms vanish, and Q needs two angles)");
+  std::vector<double> phi0, dphi0(static_cast<std::size_t>(n));
+  const bool own_start = !o.start.phi.empty() || !o.start.energy.empty() || !o.start.p.empty() ||
+                         !o.start.dphi.empty() || !o.start.style.empty();
+  if (own_start) {
+    if (!o.amplitude.empty())
+      throw cli::input_error("--amplitude: only for the default start, not with --phi or --energy");
+    const std::vector<double> x = o.start.make_state(c);
+    phi0.assign(x.begin(), x.begin() + n);
+    c.velocities(phi0, std::span(x).subspan(static_cast<std::size_t>(n)), dphi0);
+  } else {
+    // The default start: the arms zigzag by ±a and all turn at a·ω_1.
+    const double a = o.amplitude.empty() ? 0.3 : cli::parse_number(o.amplitude, "--amplitude");
+    if (!(a > 0 && a < 1.5))
+      throw cli::input_error(fmt::format("--amplitude: must be in (0, 1.5) rad, got {}", a));
+    const double omega1 = normal_modes(c, std::vector<double>(static_cast<std::size_t>(n), 0.0))
+                              .modes.front()
+                              .frequency;
+    for (int i = 0; i < n; ++i) {
+      phi0.push_back(i % 2 == 0 ? a : -a);
+      dphi0[static_cast<std::size_t>(i)] = a * omega1;
+    }
+  }
+  correction_study_options options;
+  if (!o.horizon.empty()) {
+    options.horizon = cli::parse_number(o.horizon, "--horizon");
+    if (!(options.horizon > 0))
+      throw cli::input_error(fmt::format("--horizon: must be positive, got {}", o.horizon));
+  }
+  if (!o.samples.empty())
+    options.samples = static_cast<std::size_t>(whole_number(o.samples, "--samples", 2, 1e6));
+  series_output files(o.out);
+  correction_study s;
+  try {
+    s = harmonic_correction_study(c, phi0, dphi0, options);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(e.what());
+  }
+  if (files.enabled()) write_corrections_files(files, s);
+
+  const auto finite = [](double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+  };
+  if (o.json) {
+    nlohmann::json tracks = nlohmann::json::array(), defects = nlohmann::json::array();
+    for (const auto& t : s.tracks)
+      tracks.push_back({{"name", t.name},
+                        {"max_error", t.max_error},
+                        {"scaled_errors", t.scaled_errors},
+                        {"order", t.order},
+                        {"q_end", finite(t.q.back())},
+                        {"q_pole", finite(t.q_pole)}});
+    for (const auto& d : s.defects)
+      defects.push_back(
+          {{"truncation", truncation_name(d.kind)}, {"errors", d.errors}, {"order", d.order}});
+    nlohmann::json j{{"links", n},
+                     {"masses", c.parameters().masses},
+                     {"lengths", c.parameters().lengths},
+                     {"g", c.parameters().g},
+                     {"phi0", s.phi0},
+                     {"dphi0", s.dphi0},
+                     {"horizon", s.horizon},
+                     {"samples", s.t.size()},
+                     {"scales", s.scales},
+                     {"true_q_end", finite(s.true_q.back())},
+                     {"true_q_pole", finite(s.true_q_pole)},
+                     {"tracks", tracks},
+                     {"acceleration_defects", defects}};
+    files.add_to(j);
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  fmt::print(
+      "The paper's nonlinear corrections to the harmonic approximation (section 6.4), {}-link "
+      "chain\n",
+      n);
+  fmt::print("start phi = ({:.4g}) rad, dphi = ({:.4g}) rad/s; horizon {:.4g} s\n\n",
+             fmt::join(s.phi0, ", "), fmt::join(s.dphi0, ", "), s.horizon);
+  const auto pole = [](double t) { return std::isfinite(t) ? fmt::format("{:.4f}", t) : "none"; };
+  fmt::print("{:<20}  {:>26}  {:>18}  {:>18}  {:>14}\n", "", "max |phi - phi_true| (rad)",
+             "order in amplitude", "Q at horizon (s^2)", "Q's pole (s)");
+  fmt::print("{:<20}  {:>26}  {:>18}  {:>18.5g}  {:>14}\n", "true motion", "-", "-",
+             s.true_q.back(), pole(s.true_q_pole));
+  for (const auto& t : s.tracks)
+    fmt::print("{:<20}  {:>26.3e}  {:>18.2f}  {:>18.5g}  {:>14}\n", t.name, t.max_error, t.order,
+               t.q.back(), pole(t.q_pole));
+  fmt::print("\nAcceleration error |phi'' - phi''_exact| at t = 0, start scaled by ({:g}):\n",
+             fmt::join(s.scales, ", "));
+  for (const auto& d : s.defects)
+    fmt::print("{:<10} {:.3e}  order {:.2f}\n", truncation_name(d.kind), fmt::join(d.errors, "  "),
+               d.order);
+  fmt::print(
+      "\nharmonic: A0 phi'' + K phi = 0; paper: + the velocity terms A0_ij (phi_i - phi_j) "
+      "dphi_j^2\n"
+      "(the paper's equations 6.4.1/6.4.2 for any n); cubic: every third-order term (also from\n"
+      "sin phi and cos(phi_i - phi_j)). The series are the paper's power series a1 + a2 t + a3 "
+      "t^2.\n"
+      "Q's pole: the first time phi1' phi2' = 0 (a turning point of phi1 or phi2).\n"
+      "Orders: the error's slope against the start's scale. The paper's terms leave terms of the\n"
+      "same order out, so its error stays O(a^3) like the harmonic one; the cubic one's is "
+      "O(a^5).\n");
+  files.print();
+  return 0;
+}
+
+}  // namespace
+
+void add_harmonic_validity_commands(CLI::App& app, command_list& commands) {
+  {
+    auto o = std::make_shared<backbone_command_options>();
+    CLI::App* cmd = app.add_subcommand(
+        "backbone",
+        "Validity of the harmonic approximation: frequency against amplitude along each mode");
+    o->chain.add_to(*cmd);
+    cmd->add_option("--mode", o->mode, "Only this mode (1 = the slowest; default: all)");
+    cmd->add_option("--amplitudes", o->amplitudes,
+                    "Launch amplitudes in rad (the largest start angle): a list a,b,c or a "
+                    "range FROM:TO:STEP (default: 0.05:1.5:0.05)");
+    cmd->add_option("--periods", o->periods,
+                    "Linear periods integrated per amplitude (default: 20)");
+    cmd->add_option("--steps-per-period", o->steps,
+                    "Gauss-Legendre steps per linear period (default: 200)");
+    cmd->add_option("--thresholds", o->thresholds,
+                    "Relative frequency departures to locate (default: 0.01,0.05)");
+    cmd->add_flag("--json", o->json, "Print JSON");
+    cmd->add_option("--out", o->out,
+                    "Write FILE.csv (per mode and amplitude), FILE_thresholds.csv and the plot "
+                    "FILE.png with its gnuplot script FILE.gp");
+    commands.push_back({cmd, [o] { return run_backbone(*o); }});
+  }
+  {
+    auto o = std::make_shared<corrections_command_options>();
+    CLI::App* cmd = app.add_subcommand(
+        "corrections",
+        "The paper's nonlinear corrections and power series against the true motion (Q)");
+    o->chain.add_to(*cmd);
+    o->start.add_to(*cmd);
+    cmd->add_option(
+        "--amplitude", o->amplitude,
+        "Default start: phi_i = +-a alternately, dphi_i = a omega_1 (default: 0.3 rad)");
+    cmd->add_option(
+        "--horizon", o->horizon,
+        "Compare over this time in s (default: a quarter of the shortest linear period)");
+    cmd->add_option("--samples", o->samples, "Sample times over the horizon (default: 201)");
+    cmd->add_flag("--json", o->json, "Print JSON");
+    cmd->add_option("--out", o->out,
+                    "Write FILE.csv (t, phi_i and Q of the chain and of every approximation) and "
+                    "the plot FILE.png with its gnuplot script FILE.gp");
+    commands.push_back({cmd, [o] { return run_corrections(*o); }});
+  }
+}
+
+}  // namespace npend::app

@@ -1,0 +1,57 @@
+// npend: the command-line front end (see README.md for every command).
+#include "command.hpp"
+#include "input_parsing.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <exception>
+#include <iostream>
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "npend: exact equations of planar n-link pendulums, generated code, and the analysis of\n"
+      "their motion. Run `npend <command> --help` for a command's options."};
+  app.set_version_flag("--version", "npend 0.1");
+  app.require_subcommand(1);
+  npend::app::command_list commands;
+  npend::app::add_eval_command(app, commands);
+  npend::app::add_equations_command(app, commands);
+  npend::app::add_stability_commands(app, commands);
+  npend::app::add_lyapunov_command(app, commands);
+  npend::app::add_harmonic_validity_commands(app, commands);
+  npend::app::add_simulate_command(app, commands);
+  npend::app::add_spectrum_commands(app, commands);
+  npend::app::add_recurrence_command(app, commands);
+  npend::app::add_embed_command(app, commands);
+  npend::app::add_poincare_command(app, commands);
+  npend::app::add_analyze_command(app, commands);
+  npend::app::add_demo_command(app, commands);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    fmt::print(stderr, "npend: error: {} (see npend --help)\n", e.what());
+    return 2;
+  }
+  for (const auto& c : commands) {
+    if (!c.options->parsed()) continue;
+    const std::string name = "npend " + c.options->get_name();
+    try {
+      return c.run();
+    } catch (const npend::cli::input_error& e) {
+      fmt::print(stderr, "{}: error: {}\n", name, e.what());
+      return 2;
+    } catch (const std::exception& e) {
+      fmt::print(stderr, "{}: error: {}\n", name, e.what());
+      return 1;
+    }
+  }
+  return 2;
+}

@@ -1,0 +1,64 @@
+#include "series_output.hpp"
+
+#include "csv_table.hpp"
+#include "output_file.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+
+namespace npend::app {
+
+nlohmann::json describe_series(const cli::time_series& s) {
+  return {{"source", s.source},
+          {"signal", s.name},
+          {"samples", s.values.size()},
+          {"t0", s.t0},
+          {"dt", s.dt}};
+}
+
+std::string series_summary(const cli::time_series& s) {
+  return fmt::format("'{}' from {}: {} samples, dt = {:.6g} s ({:.6g} s)", s.name, s.source,
+                     s.values.size(), s.dt, s.dt * static_cast<double>(s.values.size()));
+}
+
+series_output::series_output(const std::string& out) {
+  if (!out.empty()) m_stem = cli::output_stem(out, "--out");
+}
+
+std::string series_output::file_name(std::string_view table) const {
+  return m_stem.filename().string() + (table.empty() ? std::string() : "_" + std::string(table)) +
+         ".csv";
+}
+
+std::string series_output::write_csv(std::string_view table, std::span<const std::string> names,
+                                     std::span<const std::vector<double>> columns) {
+  const std::filesystem::path path = m_stem.parent_path() / file_name(table);
+  cli::write_file_atomically(path, cli::format_csv(names, columns));
+  m_files.push_back(path.string());
+  return path.filename().string();
+}
+
+void series_output::write_plot(const cli::figure& f) {
+  const auto outcome = cli::write_plot(m_stem, f);
+  m_files.push_back(m_stem.string() + ".gp");
+  if (outcome.rendered)
+    m_files.push_back(m_stem.string() + ".png");
+  else
+    m_notes.push_back(outcome.message);
+}
+
+void series_output::add_to(nlohmann::json& j) const {
+  if (!enabled()) return;
+  j["files"] = m_files;
+  if (!m_notes.empty()) j["notes"] = m_notes;
+  for (const auto& note : m_notes) fmt::print(stderr, "note: {}\n", note);
+}
+
+void series_output::print() const {
+  if (!enabled()) return;
+  fmt::print("\nFiles: {}\n", fmt::join(m_files, ", "));
+  for (const auto& note : m_notes) fmt::print(stderr, "note: {}\n", note);
+}
+
+}  // namespace npend::app

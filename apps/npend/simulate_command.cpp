@@ -1,0 +1,176 @@
+// npend simulate: integrate a chain from a start state and write the trajectory as CSV.
+#include "output_file.hpp"
+#include "chain_options.hpp"
+#include "command.hpp"
+#include "input_parsing.hpp"
+#include "integrator_options.hpp"
+#include "interrupt_guard.hpp"
+#include "progress_bar.hpp"
+#include "start_options.hpp"
+
+#include "npend/integrate.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <iostream>
+#include <iterator>
+#include <optional>
+
+namespace npend::app {
+
+namespace {
+
+struct simulate_options {
+  cli::chain_options chain;
+  cli::start_options start;
+  cli::integrator_options integrator;
+  std::string out, every;
+  bool json = false;
+};
+
+std::size_t parse_every(const std::string& text) {
+  if (text.empty()) return 1;
+  const double k = cli::parse_number(text, "--every");
+  if (k < 1 || k != std::floor(k) || k > 1e15)
+    throw cli::input_error(fmt::format("--every: must be a whole number >= 1, got {}", text));
+  return static_cast<std::size_t>(k);
+}
+
+// The trajectory as CSV: t, φ_i, p_i, H, then the bob positions x_i, y_i.
+class csv_writer {
+ public:
+  csv_writer(const chain& c, std::FILE* stream)
+      : m_chain(c), m_stream(stream), m_xy(static_cast<std::size_t>(2 * c.links())) {}
+
+  void header() {
+    const int n = m_chain.links();
+    m_buffer += "t";
+    for (int i = 1; i <= n; ++i) fmt::format_to(std::back_inserter(m_buffer), ",phi_{}", i);
+    for (int i = 1; i <= n; ++i) fmt::format_to(std::back_inserter(m_buffer), ",p_{}", i);
+    m_buffer += ",H";
+    for (int i = 1; i <= n; ++i) fmt::format_to(std::back_inserter(m_buffer), ",x_{0},y_{0}", i);
+    m_buffer += '\n';
+  }
+
+  // Numbers in the shortest form that reads back to the same double.
+  void row(double t, std::span<const double> x, double energy) {
+    m_chain.positions(x.first(static_cast<std::size_t>(m_chain.links())), m_xy);
+    auto out = std::back_inserter(m_buffer);
+    fmt::format_to(out, "{}", t);
+    for (double v : x) fmt::format_to(out, ",{}", v);
+    fmt::format_to(out, ",{}", energy);
+    for (double v : m_xy) fmt::format_to(out, ",{}", v);
+    m_buffer += '\n';
+    if (m_buffer.size() > (1u << 16)) flush();
+  }
+
+  void flush() {
+    std::fwrite(m_buffer.data(), 1, m_buffer.size(), m_stream);
+    m_buffer.clear();
+  }
+
+ private:
+  const chain& m_chain;
+  std::FILE* m_stream;
+  std::vector<double> m_xy;
+  std::string m_buffer;
+};
+
+int run_simulate(const simulate_options& o) {
+  const chain c = o.chain.make_chain();
+  const std::vector<double> x0 = o.start.make_state(c);
+  const integration_options options = o.integrator.make();
+  const std::size_t every = parse_every(o.every);
+
+  // From here on Ctrl-C only stops the run at its next output step, so the temporary file
+  // created below is always removed again.
+  cli::interrupt_guard interrupt;
+  std::optional<cli::atomic_output_file> file;
+  if (!o.out.empty()) {
+    try {
+      file.emplace(o.out);
+    } catch (const std::runtime_error& e) {
+      throw cli::input_error(fmt::format("--out: {}", e.what()));
+    }
+  }
+  // CSV to the file, or to stdout unless only the --json summary was asked for.
+  std::optional<csv_writer> csv;
+  if (file)
+    csv.emplace(c, file->stream());
+  else if (!o.json)
+    csv.emplace(c, stdout);
+  if (csv) csv->header();
+
+  const double energy_initial = c.hamiltonian(x0);
+  double energy = energy_initial, max_rel_error = 0;
+  std::size_t index = 0, rows = 0;
+  cli::progress_bar progress(options.t_start, options.t_end);
+  const integration_result result =
+      integrate(c, x0, options, [&](double t, std::span<const double> x) {
+        energy = c.hamiltonian(x);
+        const double error = std::fabs(energy - energy_initial);
+        max_rel_error = std::max(max_rel_error,
+                                 energy_initial != 0 ? error / std::fabs(energy_initial) : error);
+        if (csv && index % every == 0) {
+          csv->row(t, x, energy);
+          ++rows;
+        }
+        ++index;
+        progress.update(t);
+        return interrupt.interrupted() ? observer_action::stop : observer_action::proceed;
+      });
+  progress.finish();
+
+  if (result.stopped) {
+    file.reset();  // removes the temporary file
+    fmt::print(stderr, "npend simulate: interrupted at t = {} s{}\n", result.t,
+               o.out.empty() ? "" : fmt::format("; nothing written to {}", o.out));
+    return 128 + interrupt.signal();
+  }
+  if (csv) csv->flush();
+  if (file) file->commit();
+
+  if (o.json) {
+    nlohmann::json j;
+    j["links"] = c.links();
+    j["masses"] = c.parameters().masses;
+    j["lengths"] = c.parameters().lengths;
+    j["g"] = c.parameters().g;
+    j["stepper"] = std::string(stepper_name(options.stepper));
+    j["dt"] = options.dt;
+    j["t_end"] = result.t;
+    j["steps"] = result.steps;
+    j["outputs"] = result.outputs;
+    j["rows"] = rows;
+    j["energy_initial"] = energy_initial;
+    j["energy_final"] = energy;
+    j["max_rel_energy_error"] = max_rel_error;
+    j["initial_state"] = x0;
+    j["final_state"] = result.state;
+    j["out"] = o.out.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.out);
+    std::cout << j.dump(2) << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+void add_simulate_command(CLI::App& app, command_list& commands) {
+  auto opts = std::make_shared<simulate_options>();
+  CLI::App* cmd = app.add_subcommand(
+      "simulate", "Integrate the chain from a start state; write the trajectory as CSV");
+  opts->chain.add_to(*cmd);
+  opts->start.add_to(*cmd);
+  opts->integrator.add_to(*cmd);
+  cmd->add_option("--out", opts->out,
+                  "Write the CSV here (default: stdout; with --json and no --out, no CSV). "
+                  "Columns: t, phi_i, p_i, H, x_i, y_i");
+  cmd->add_option("--every", opts->every, "Write every K-th output step only (default: 1)");
+  cmd->add_flag("--json", opts->json,
+                "Print a JSON summary (steps, energies, max_rel_energy_error, ...) to stdout");
+  commands.push_back({cmd, [opts] { return run_simulate(*opts); }});
+}
+
+}  // namespace npend::app
