@@ -1,0 +1,79 @@
+// `npend eval` as a user runs it: JSON keys and values, and each bad input's message and
+// exit status.
+#include "npend/chain.hpp"
+#include "support/test_support.hpp"
+
+#include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+
+using npend::test::run_npend;
+
+TEST_CASE("npend eval: --json prints the generated functions at the state") {
+  const auto r = run_npend(
+      "eval --links 3 --masses 1,2,1.5 --lengths 1,0.5,2 --g 9.81 "
+      "--state 0.3,-0.2,0.5,0.1,0.2,-0.1 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* key : {"links", "hamiltonian", "rhs", "jacobian", "mass_matrix",
+                          "det_mass_matrix", "kinetic_energy", "potential_energy"})
+    CHECK_MESSAGE(j.contains(key), key);
+  CHECK(j["links"] == 3);
+  CHECK(j["rhs"].size() == 6);
+  REQUIRE(j["jacobian"].size() == 6);
+  CHECK(j["jacobian"][0].size() == 6);
+  CHECK(j["mass_matrix"].size() == 3);
+
+  // The printed numbers round-trip to the library's values exactly.
+  npend::chain_parameters params{{1, 2, 1.5}, {1, 0.5, 2}, 9.81};
+  const npend::chain c(params);
+  const std::vector<double> x{0.3, -0.2, 0.5, 0.1, 0.2, -0.1};
+  CHECK(j["hamiltonian"].get<double>() == c.hamiltonian(x));
+  CHECK(j["rhs"].get<std::vector<double>>() == c.rhs(x));
+  const auto J = c.jacobian(x);
+  CHECK(j["jacobian"][2][4].get<double>() == J[2 * 6 + 4]);
+}
+
+TEST_CASE("npend eval: readable output by default") {
+  const auto r = run_npend("eval --links 2 --state 0.1,0.2,0,0");
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.find("H = ") != std::string::npos);
+  CHECK(r.out.find("J (Jacobian") != std::string::npos);
+}
+
+TEST_CASE("npend eval: bad input gets a one-line message naming the problem, exit status 2") {
+  struct bad_case {
+    const char* args;
+    const char* message;
+  };
+  const bad_case cases[] = {
+      {"eval --links 2 --state 0,0,0", "--state: expected 4 values (phi_1..phi_2, p_1..p_2), got 3"},
+      {"eval --links 2 --masses 1 --state 0,0,0,0", "--masses: expected 2 values (m_1..m_2), got 1"},
+      {"eval --links 2 --masses 1,-2 --state 0,0,0,0", "mass 2 is -2: it must be a positive finite number"},
+      {"eval --links 2 --lengths 1,0 --state 0,0,0,0", "length 2 is 0: it must be a positive finite number"},
+      {"eval --links 2 --g 0 --state 0,0,0,0", "g is 0: it must be a positive finite number"},
+      {"eval --links 2 --state 0,nan,0,0", "--state: 'nan' is not a finite number (item 2 of '0,nan,0,0')"},
+      {"eval --links 2 --state 0,inf,0,0", "--state: 'inf' is not a finite number"},
+      {"eval --links 2 --state 0,x,0,0", "--state: 'x' is not a number (item 2 of '0,x,0,0')"},
+      {"eval --links 2 --state 0,,0,0", "--state: empty value (item 2 of '0,,0,0')"},
+      {"eval --links 2 --state 0,1e999,0,0", "--state: '1e999' is out of the range of a double"},
+      {"eval --links 99 --state 0,0", "99 links are not built into this program"},
+      {"eval --links 0 --state 0,0", "--links: must be at least 1, got 0"},
+      {"eval --links 2 --state 0,0,0,0 --bogus", "The following argument was not expected: --bogus"},
+  };
+  for (const auto& bad : cases) {
+    const auto r = run_npend(bad.args);
+    INFO("npend ", bad.args, " -> ", r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find(bad.message) != std::string::npos);
+    CHECK(r.out.empty());
+    // One line: the message and its newline.
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  }
+}
+
+TEST_CASE("npend equations: prints the derived LaTeX for a link count") {
+  const auto r = run_npend("equations --links 2");
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.find("\\begin{align*}") != std::string::npos);
+  CHECK(r.out.find("A_{12} &= \\mu_{2} l_{1} l_{2} \\cos(\\varphi_{1} - \\varphi_{2})") != std::string::npos);
+}

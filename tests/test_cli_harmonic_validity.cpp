@@ -1,0 +1,118 @@
+// `npend backbone` and `npend corrections` as a user runs them: the JSON against the library
+// and the single pendulum's exact frequency, the files and plots, bad input.
+#include "npend/analysis/backbone.hpp"
+#include "npend/analysis/harmonic_corrections.hpp"
+#include "support/test_support.hpp"
+
+#include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+using npend::test::run_npend;
+
+TEST_CASE(
+    "npend backbone: --json for the single pendulum, with the elliptic integral's frequency") {
+  const auto r = run_npend("backbone --links 1 --lengths 2 --amplitudes 0.5:2.5:0.5 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  REQUIRE(j["modes"].size() == 1);
+  const auto& mode = j["modes"][0];
+  const double omega0 = std::sqrt(9.81 / 2);
+  CHECK(mode["linear_frequency"].get<double>() == doctest::Approx(omega0).epsilon(1e-14));
+  REQUIRE(mode["points"].size() == 5);
+  for (const auto& p : mode["points"]) {
+    const double a = p["amplitude"].get<double>();
+    const double exact = omega0 * std::numbers::pi / (2 * std::comp_ellint_1(std::sin(a / 2)));
+    CHECK(p["frequency"].get<double>() == doctest::Approx(exact).epsilon(1e-9));
+    CHECK(p["exact_frequency"].get<double>() == doctest::Approx(exact).epsilon(1e-15));
+    CHECK(p["measured"] == true);
+  }
+  REQUIRE(mode["thresholds"].size() == 2);
+  CHECK(mode["thresholds"][0]["shift"].get<double>() == 0.01);
+  CHECK(mode["thresholds"][0]["amplitude"].get<double>() == doctest::Approx(0.4).epsilon(0.01));
+  CHECK(j["periods"].get<double>() == 20);
+}
+
+TEST_CASE("npend backbone: one mode of a chain agrees with the library; --out writes the plot") {
+  const auto dir = std::filesystem::path(npend::test::temporary_directory("cli-backbone"));
+  const auto r = run_npend(
+      "backbone --links 2 --mode 2 --amplitudes 0.1,0.3 --periods 10 "
+      "--thresholds 0.02 --json --out " +
+      (dir / "bb.csv").string());
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  npend::backbone_options o;
+  o.periods = 10;
+  o.thresholds = {0.02};
+  const auto lib = npend::backbone_curve(c, 2, std::vector<double>{0.1, 0.3}, o);
+  REQUIRE(j["modes"].size() == 1);
+  CHECK(j["modes"][0]["mode"] == 2);
+  CHECK(j["modes"][0]["points"][1]["frequency"].get<double>() == lib.points[1].frequency);
+  CHECK(j["modes"][0]["thresholds"][0]["amplitude"].get<double>() == *lib.thresholds[0].amplitude);
+  CHECK_FALSE(j["modes"][0]["points"][0].contains("exact_frequency"));
+  CHECK(npend::test::directory_listing(dir.string()) ==
+        std::vector<std::string>{"bb.csv", "bb.gp", "bb.png", "bb_thresholds.csv"});
+}
+
+TEST_CASE("npend corrections: --json is the library's study; --out writes the plot") {
+  const auto dir = std::filesystem::path(npend::test::temporary_directory("cli-corrections"));
+  const auto r = run_npend(
+      "corrections --links 2 --phi 0.2,-0.1 --dphi 0.5,1 --horizon 0.3 "
+      "--samples 101 --json --out " +
+      (dir / "c.csv").string());
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  // The command turns --dphi into momenta and back (as every start option does): the start it
+  // reports is --dphi to round-off, and the library's study from that start is the same.
+  const auto dphi0 = j["dphi0"].get<std::vector<double>>();
+  CHECK(dphi0[0] == doctest::Approx(0.5).epsilon(1e-15));
+  CHECK(dphi0[1] == doctest::Approx(1).epsilon(1e-15));
+  CHECK(j["phi0"].get<std::vector<double>>() == std::vector<double>{0.2, -0.1});
+  npend::correction_study_options o;
+  o.horizon = 0.3;
+  o.samples = 101;
+  const auto lib = npend::harmonic_correction_study(
+      npend::chain(npend::chain_parameters::uniform(2)), std::vector<double>{0.2, -0.1}, dphi0, o);
+  CHECK(j["horizon"].get<double>() == 0.3);
+  CHECK(j["samples"] == 101);
+  REQUIRE(j["tracks"].size() == lib.tracks.size());
+  for (std::size_t k = 0; k < lib.tracks.size(); ++k) {
+    CHECK(j["tracks"][k]["name"] == lib.tracks[k].name);
+    CHECK(j["tracks"][k]["max_error"].get<double>() == lib.tracks[k].max_error);
+    CHECK(j["tracks"][k]["order"].get<double>() == lib.tracks[k].order);
+    CHECK(j["tracks"][k]["q_pole"].get<double>() == lib.tracks[k].q_pole);
+  }
+  REQUIRE(j["acceleration_defects"].size() == 3);
+  CHECK(j["acceleration_defects"][1]["truncation"] == "paper");
+  CHECK(npend::test::directory_listing(dir.string()) ==
+        std::vector<std::string>{"c.csv", "c.gp", "c.png"});
+}
+
+TEST_CASE("npend backbone and corrections: bad input gets a one-line message, exit status 2") {
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"backbone --links 2 --mode 3", "--mode: must be a whole number in 1..2, got 3"},
+      {"backbone --links 2 --amplitudes 0.1,4", "--amplitudes: 4 rad is not in (0, pi)"},
+      {"backbone --links 2 --amplitudes 1:0.5:0.1", "FROM <= TO"},
+      {"backbone --links 2 --amplitudes 0.1:0.5", "neither a list"},
+      {"backbone --links 2 --periods 2", "--periods: must be in 3..1e5"},
+      {"backbone --links 2 --steps-per-period 10", "--steps-per-period"},
+      {"backbone --links 2 --thresholds 0.01,1", "--thresholds: 1 is not"},
+      {"corrections --links 1", "at least 2 links"},
+      {"corrections --links 2 --phi 0,0", "at rest"},
+      {"corrections --links 2 --phi 0.1,0 --amplitude 0.2", "--amplitude: only for the default"},
+      {"corrections --links 2 --amplitude 2", "--amplitude: must be in (0, 1.5)"},
+      {"corrections --links 2 --horizon -1", "--horizon: must be positive"},
+      {"corrections --links 2 --samples 1", "--samples"},
+  };
+  for (const auto& [args, message] : cases) {
+    CAPTURE(args);
+    const auto r = run_npend(args);
+    INFO(r.err);
+    CHECK(npend::test::is_input_error(r, message));
+  }
+}

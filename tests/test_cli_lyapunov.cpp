@@ -1,0 +1,116 @@
+// `npend lyapunov` as a user runs it: the JSON keys against the library, --maximal, the
+// running values and their plot, bad input, and the progress bar and Ctrl-C on a terminal.
+#include "npend/analysis/lyapunov.hpp"
+#include "npend/excitation.hpp"
+#include "support/test_support.hpp"
+
+#include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+using npend::test::run_npend;
+
+TEST_CASE("npend lyapunov: --json exponents, sum, pairs and convergence are the library's") {
+  const auto r = run_npend(
+      "lyapunov --links 3 --masses 1,2,1 --energy 30 --t-end 40 --dt 0.01 --transient 5 --json");
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.err.empty());  // no progress bar off a terminal
+  const auto j = nlohmann::json::parse(r.out);
+
+  const npend::chain c(npend::chain_parameters{{1, 2, 1}, {1, 1, 1}, 9.81});
+  const auto x0 = npend::deflected_state(c, 30);
+  npend::lyapunov_options o;
+  o.integration.t_end = 40;
+  o.integration.dt = 0.01;
+  o.transient = 5;
+  const auto lib = npend::lyapunov_spectrum(c, x0, o);
+  CHECK(j["exponents"].get<std::vector<double>>() == lib.exponents);
+  CHECK(j["maximal_exponent"].get<double>() == lib.exponents[0]);
+  CHECK(j["sum"].get<double>() == lib.sum);
+  CHECK(j["spread"].get<std::vector<double>>() == lib.spread);
+  CHECK(j["initial_state"].get<std::vector<double>>() == x0);
+  CHECK(j["energy"].get<double>() == doctest::Approx(30).epsilon(1e-12));
+  REQUIRE(j["pair_sums"].size() == 3);
+  for (std::size_t i = 0; i < 3; ++i)
+    CHECK(j["pair_sums"][i].get<double>() == lib.exponents[i] + lib.exponents[5 - i]);
+  CHECK(j["t_end"].get<double>() == doctest::Approx(40));
+  CHECK(j["transient"].get<double>() == doctest::Approx(5));
+  CHECK(j["convergence_window"].get<double>() == doctest::Approx(0.25 * 35));
+  CHECK(j["renormalisations"].get<std::size_t>() == 350);
+  CHECK(j["stepper"] == "gauss6");
+  CHECK(j["method"] == "tangent map");
+  CHECK(j["renormalisation_interval"].get<double>() == doctest::Approx(0.1));
+  CHECK(j["max_rel_energy_error"].get<double>() < 1e-8);
+}
+
+TEST_CASE("npend lyapunov: --maximal, another stepper, and the readable table") {
+  const auto m = run_npend(
+      "lyapunov --links 2 --phi 2,-1 --t-end 30 --dt 0.01 --stepper dopri5 --rel-tol 1e-9 "
+      "--renormalise-every 0.5 --maximal --json");
+  REQUIRE(m.exit_code == 0);
+  const auto j = nlohmann::json::parse(m.out);
+  CHECK(j["exponents"].size() == 1);
+  CHECK(j["maximal_exponent"] == j["exponents"][0]);
+  CHECK_FALSE(j.contains("sum"));
+  CHECK(j["method"] == "variational equations");
+  CHECK(j["renormalisation_interval"].get<double>() == doctest::Approx(0.5));
+
+  const auto table = run_npend("lyapunov --links 2 --phi 2,-1 --t-end 10 --dt 0.01");
+  REQUIRE(table.exit_code == 0);
+  for (const char* text : {"Lyapunov spectrum of the 2-link chain", "lambda_i (1/s)",
+                           "spread (last 2.5 s)", "sum = ", "pairs lambda_i", "max |H - H0|"})
+    CHECK_MESSAGE(table.out.find(text) != std::string::npos, text);
+}
+
+TEST_CASE("npend lyapunov: --out writes the running values and their plot") {
+  const auto dir = std::filesystem::path(npend::test::temporary_directory("cli-lyapunov"));
+  const auto r = run_npend("lyapunov --links 2 --phi 1,1 --t-end 20 --dt 0.01 --json --out " +
+                           (dir / "run.csv").string());
+  REQUIRE(r.exit_code == 0);
+  CHECK(npend::test::directory_listing(dir.string()) ==
+        std::vector<std::string>{"run.csv", "run.gp", "run.png"});
+  std::ifstream in(dir / "run.csv");
+  std::string header, line, last;
+  std::getline(in, header);
+  CHECK(header == "t,lambda_1,lambda_2,lambda_3,lambda_4");
+  while (std::getline(in, line)) last = line;
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(last.rfind("20,", 0) == 0);
+  CHECK(j["files"].size() == 3);
+}
+
+TEST_CASE("npend lyapunov: bad input gets a one-line message naming the problem, exit status 2") {
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"lyapunov --links 3 --t-end 10", "no start state"},
+      {"lyapunov --links 3 --phi 1,1,1 --t-end 10 --stepper rosenbrock4", "--stepper: rosenbrock4"},
+      {"lyapunov --links 3 --phi 1,1,1 --t-end 10 --transient 10",
+       "--transient: 10 s leaves no time"},
+      {"lyapunov --links 3 --phi 1,1,1 --t-end 10 --transient 9.95 --renormalise-every 1",
+       "leaves no time to average"},
+      {"lyapunov --links 3 --phi 1,1,1 --t-end 10 --renormalise-every 0",
+       "--renormalise-every: must be positive"},
+      {"lyapunov --links 3 --phi 1,1,1 --t-end 10 --convergence-fraction 2",
+       "--convergence-fraction: must be in (0, 1]"},
+      {"lyapunov --links 3 --phi 1,1,1 --t-end 10 --out x.txt", "--out"},
+      {"lyapunov --links 3 --phi 1,1 --t-end 10", "--phi"},
+  };
+  for (const auto& [args, message] : cases) {
+    CAPTURE(args);
+    const auto r = run_npend(args);
+    INFO(r.err);
+    CHECK(npend::test::is_input_error(r, message));
+  }
+}
+
+TEST_CASE("npend lyapunov: a progress bar on a terminal, and Ctrl-C stops the run") {
+  const std::string run = "timeout --preserve-status -s INT 2 " + std::string(NPEND_CLI_PATH) +
+                          " lyapunov --links 6 --energy 50 --t-end 100000";
+  // `script` runs the command on a pseudo-terminal and copies what it shows to stdout.
+  const auto on_terminal = npend::test::run_shell("script -qec '" + run + "' /dev/null");
+  INFO(on_terminal.out);
+  CHECK(on_terminal.out.find("s left") != std::string::npos);
+  CHECK(on_terminal.out.find("npend lyapunov: interrupted at t = ") != std::string::npos);
+}

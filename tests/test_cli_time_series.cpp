@@ -1,0 +1,301 @@
+// npend spectrum / autocorrelation / recurrence / embed on CSV files, as a user runs them:
+// the JSON against the library on the same data, the files --out writes, every input error's
+// message and exit status, and that a failure leaves no file behind.
+#include "csv_table.hpp"
+#include "support/test_signals.hpp"
+#include "support/test_support.hpp"
+#include "time_series_source.hpp"
+
+#include "npend/analysis/autocorrelation.hpp"
+#include "npend/analysis/delay_embedding.hpp"
+#include "npend/analysis/embedding_dimension.hpp"
+#include "npend/analysis/event_times.hpp"
+#include "npend/analysis/power_spectrum.hpp"
+#include "npend/analysis/spectral_peaks.hpp"
+
+#include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+namespace fs = std::filesystem;
+using npend::test::run_npend;
+using npend::test::temporary_directory;
+using std::numbers::pi;
+
+namespace {
+
+const double dt = 0.001;
+const double omega_1 = 2 * pi * 1.3, omega_2 = 2 * pi * 3.51;
+
+// A CSV with columns t, x (two sines) and y (one sine) of `n` samples; returns its path.
+std::string write_sines(const fs::path& dir, std::size_t n = 8192) {
+  std::vector<double> t(n);
+  for (std::size_t j = 0; j < n; ++j) t[j] = static_cast<double>(j) * dt;
+  const auto x = npend::test::sum_of_sines({{1, omega_1, 0.1}, {0.5, omega_2, 0.3}}, n, dt);
+  const auto y = npend::test::sum_of_sines({{2, omega_1, -0.4}}, n, dt);
+  const std::vector<std::string> names{"t", "x", "y"};
+  const std::vector<std::vector<double>> columns{t, x, y};
+  const fs::path path = dir / "sines.csv";
+  std::ofstream(path) << npend::cli::format_csv(names, columns);
+  return path.string();
+}
+
+std::string write_text(const fs::path& dir, const std::string& name, const std::string& text) {
+  std::ofstream(dir / name) << text;
+  return (dir / name).string();
+}
+
+// The file's signal as the commands read it.
+npend::cli::time_series load(const std::string& path, const std::string& column) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return npend::cli::select_signal(
+      npend::cli::signals_from_csv(npend::cli::parse_csv(text.str(), path), path, std::nullopt, 2),
+      column, "--column");
+}
+
+std::vector<std::string> listing(const fs::path& dir) {
+  return npend::test::directory_listing(dir.string());
+}
+
+}  // namespace
+
+TEST_CASE("npend spectrum: --json peaks are the library's, strongest first, at the sines") {
+  const fs::path dir = temporary_directory("cli-spectrum");
+  const std::string file = write_sines(dir);
+  const auto r = run_npend("spectrum --input " + file + " --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  const auto x = load(file, "x");
+  const auto s = npend::power_spectrum(x.values, x.dt);
+  const auto peaks = npend::find_spectral_peaks(s);
+  REQUIRE(j["peaks"].size() == peaks.size());
+  REQUIRE(peaks.size() == 2);
+  for (std::size_t k = 0; k < peaks.size(); ++k) {
+    CHECK(j["peaks"][k]["omega"].get<double>() == peaks[k].omega);
+    CHECK(j["peaks"][k]["power"].get<double>() == peaks[k].power);
+  }
+  CHECK(std::fabs(peaks[0].omega - omega_1) < s.resolution);
+  CHECK(std::fabs(peaks[1].omega - omega_2) < s.resolution);
+  CHECK(j["signal"] == "x");
+  CHECK(j["samples"] == 8192);
+  CHECK(j["dt"].get<double>() == doctest::Approx(dt).epsilon(1e-12));
+  CHECK(j["window"] == "hann");
+  // Another column, window and Welch segments.
+  const auto w = nlohmann::json::parse(
+      run_npend("spectrum --input " + file + " --column 3 --window blackman --segment 2048 --json")
+          .out);
+  CHECK(w["signal"] == "y");
+  CHECK(w["segments"] == 7);
+  CHECK(std::fabs(w["peaks"][0]["omega"].get<double>() - omega_1) < w["resolution"].get<double>());
+}
+
+TEST_CASE("npend spectrum: --out writes the spectrum, its peaks, the script and the plot") {
+  const fs::path dir = temporary_directory("cli-spectrum-out");
+  const std::string file = write_sines(dir);
+  const auto r = run_npend("spectrum --input " + file + " --out " + (dir / "s.csv").string());
+  REQUIRE(r.exit_code == 0);
+  CHECK(listing(dir) ==
+        std::vector<std::string>{"s.csv", "s.gp", "s.png", "s_peaks.csv", "sines.csv"});
+  std::ifstream in(dir / "s.csv");
+  std::stringstream text;
+  text << in.rdbuf();
+  const auto table = npend::cli::parse_csv(text.str(), "s.csv");
+  CHECK(table.names == std::vector<std::string>{"omega", "power"});
+  CHECK(table.columns[0].size() == 8192 / 2 + 1);
+  CHECK(r.out.find("Files: ") != std::string::npos);
+}
+
+TEST_CASE("npend autocorrelation: --json first zero and minimum of a sine") {
+  const fs::path dir = temporary_directory("cli-acf");
+  const std::string file = write_sines(dir);
+  const auto r = run_npend("autocorrelation --input " + file + " --column y --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  const auto y = load(file, "y");
+  const auto c = npend::autocorrelation(y.values, y.dt, y.values.size() / 2);
+  CHECK(j["first_zero"].get<double>() == *c.first_zero);
+  CHECK(j["first_minimum"].get<double>() == *c.first_minimum);
+  CHECK(j["first_zero"].get<double>() == doctest::Approx(pi / 2 / omega_1).epsilon(2e-3));
+  CHECK(run_npend("autocorrelation --input " + file + " --max-lag 0.1 --json").exit_code == 0);
+  const auto bad = run_npend("autocorrelation --input " + file + " --max-lag 100");
+  CHECK(bad.exit_code == 2);
+  CHECK(bad.err.find("--max-lag: must be between") != std::string::npos);
+}
+
+TEST_CASE("npend recurrence: --json intervals of a sine are its half period") {
+  const fs::path dir = temporary_directory("cli-recurrence");
+  const std::string file = write_sines(dir);
+  const auto r = run_npend("recurrence --input " + file + " --event y=0 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  REQUIRE(j["intervals"].size() > 10);
+  for (const auto& t : j["intervals"])
+    CHECK(t.get<double>() == doctest::Approx(pi / omega_1).epsilon(1e-8));
+  CHECK(j["mean"].get<double>() == doctest::Approx(pi / omega_1).epsilon(1e-9));
+  CHECK(j["count"] == j["intervals"].size() + 1);
+  // Upward crossings only: a whole period apart.
+  const auto up = nlohmann::json::parse(
+      run_npend("recurrence --input " + file + " --event y=0 --direction up --json").out);
+  CHECK(up["mean"].get<double>() == doctest::Approx(2 * pi / omega_1).epsilon(1e-9));
+  // Two signals crossing (the stretched-neighbours event) against the library.
+  const auto pair =
+      nlohmann::json::parse(run_npend("recurrence --input " + file + " --event x=y --json").out);
+  const auto x = load(file, "x"), y = load(file, "y");
+  std::vector<double> g(x.values.size());
+  for (std::size_t k = 0; k < g.size(); ++k) g[k] = x.values[k] - y.values[k];
+  CHECK(pair["times"].get<std::vector<double>>() == npend::event_times(g, x.dt, {.t0 = x.t0}));
+}
+
+TEST_CASE("npend recurrence: --out writes the intervals, histogram, spectrum and plot") {
+  const fs::path dir = temporary_directory("cli-recurrence-out");
+  const std::string file = write_sines(dir);
+  const auto r = run_npend("recurrence --input " + file + " --event x=0 --bins 12 --out " +
+                           (dir / "r.csv").string());
+  REQUIRE(r.exit_code == 0);
+  CHECK(listing(dir) == std::vector<std::string>{"r.csv", "r.gp", "r.png", "r_histogram.csv",
+                                                 "r_spectrum.csv", "sines.csv"});
+}
+
+TEST_CASE("npend embed: --json tau and dimension of a sine") {
+  const fs::path dir = temporary_directory("cli-embed");
+  const std::string file = write_sines(dir, 16384);
+  const auto r = run_npend("embed --input " + file + " --column y --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  const auto y = load(file, "y");
+  const auto tau = npend::choose_delay(y.values, y.dt);
+  CHECK(j["tau"].get<double>() == tau.seconds);
+  CHECK(j["tau_samples"] == tau.samples);
+  CHECK(j["tau_method"] == "ami");
+  CHECK(j["dimension"] == 2);
+  CHECK(j["dimension_method"] == "fnn");
+  CHECK(j["false_neighbours"].size() == 10);
+  // Each method, Cao's criterion, a given delay and a given dimension.
+  const auto quarter = nlohmann::json::parse(
+      run_npend("embed --input " + file + " --column y --tau T/4 --dim-method cao --json").out);
+  CHECK(quarter["tau"].get<double>() == doctest::Approx(pi / 2 / omega_1).epsilon(0.01));
+  CHECK(quarter["tau_method"] == "T/4");
+  CHECK(quarter["dimension"] == 2);
+  const auto given = nlohmann::json::parse(
+      run_npend("embed --input " + file + " --column y --tau 0.1 --dim 3 --json").out);
+  CHECK(given["tau"].get<double>() == doctest::Approx(0.1));
+  CHECK(given["tau_method"] == "given");
+  CHECK(given["dimension"] == 3);
+  CHECK(run_npend("embed --input " + file + " --column y --out " + (dir / "e.csv").string())
+            .exit_code == 0);
+  CHECK(listing(dir) ==
+        std::vector<std::string>{"e.csv", "e.gp", "e.png", "e_dimension.csv", "sines.csv"});
+}
+
+TEST_CASE("npend time series: each bad input gets its message and exit status 2") {
+  const fs::path dir = temporary_directory("cli-errors");
+  const std::string sines = write_sines(dir, 64);
+  const std::string text_cell = write_text(dir, "cell.csv", "t,x\n0,1\n0.1,2\n0.2,oops\n");
+  const std::string nan_cell = write_text(dir, "nan.csv", "t,x\n0,1\n0.1,NaN\n");
+  const std::string short_file = write_text(dir, "short.csv", "t,x\n0,1\n0.1,2\n");
+  std::string jitter = "t,x\n";
+  for (int j = 0; j < 40; ++j)
+    jitter += std::to_string(j == 20 ? 2.04 : 0.1 * j) + "," + std::to_string(j % 3) + "\n";
+  const std::string uneven = write_text(dir, "uneven.csv", jitter);
+  std::string bare;
+  for (int j = 0; j < 40; ++j) bare += std::to_string(j % 5) + "\n";
+  const std::string no_time = write_text(dir, "bare.csv", bare);
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"spectrum --input " + (dir / "missing.csv").string(),
+       "--input: cannot read '" + (dir / "missing.csv").string() + "': No such file or directory"},
+      {"spectrum --input " + sines + " --column z",
+       "--column: " + sines + " has no column 'z'; its signals are x (2), y (3)"},
+      {"spectrum --input " + text_cell, text_cell + ":4: column 'x': 'oops' is not a number"},
+      {"autocorrelation --input " + nan_cell,
+       nan_cell + ":3: column 'x': 'NaN' is not a finite number"},
+      {"embed --input " + short_file, short_file + ": 2 samples; at least 64 are needed"},
+      {"spectrum --input " + uneven, uneven + ":22: time column 't' is not uniformly spaced"},
+      {"spectrum --input " + no_time,
+       no_time +
+           " has no time column (a header named t or time); give the sample spacing with --dt"},
+      {"spectrum --input " + sines + " --dt 0.5", "--dt: 0.5 s disagrees with the time column 't'"},
+      {"spectrum --input " + sines + " --window kaiser",
+       "--window: 'kaiser' is not one of none, hann, hamming, blackman"},
+      {"spectrum", "no time series: give --input FILE.csv, or a simulated start: --links N"},
+      {"recurrence --input " + sines + " --event x", "--event: 'x' is not NAME=VALUE"},
+      {"recurrence --input " + sines + " --event x=1e9",
+       "--event: x=1e9 has 0 events in " + sines + "; at least 3 are needed"},
+      {"embed --input " + sines + " --tau sometimes",
+       "--tau: 'sometimes' is not auto, T/4, acf-zero, acf-min, ami or a delay in seconds"},
+      {"spectrum --input " + sines + " --out " + (dir / "x.png").string(),
+       "--out: '" + (dir / "x.png").string() + "' must be a file name ending in .csv"},
+  };
+  for (const auto& [args, message] : cases) {
+    CAPTURE(args);
+    const auto r = run_npend(args);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("error: " + message) != std::string::npos);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);  // one line
+  }
+  CHECK(run_npend("spectrum --input " + no_time + " --dt 0.01 --json").exit_code == 0);
+}
+
+TEST_CASE("npend time series: a failure leaves no output file, and an old one untouched") {
+  const fs::path dir = temporary_directory("cli-atomic");
+  const std::string bad = write_text(dir, "bad.csv", "t,x\n0,1\n0.1,zzz\n");
+  const fs::path out = dir / "out";
+  fs::create_directories(out);
+  for (const char* command : {"spectrum", "autocorrelation", "embed"}) {
+    const auto r =
+        run_npend(std::string(command) + " --input " + bad + " --out " + (out / "a.csv").string());
+    CHECK(r.exit_code == 2);
+  }
+  CHECK(run_npend("recurrence --input " + bad + " --event x=0 --out " + (out / "a.csv").string())
+            .exit_code == 2);
+  CHECK(listing(out).empty());
+  std::ofstream(out / "a.csv") << "previous\n";
+  CHECK(run_npend("spectrum --input " + bad + " --out " + (out / "a.csv").string()).exit_code == 2);
+  std::ifstream in(out / "a.csv");
+  std::string line;
+  std::getline(in, line);
+  CHECK(line == "previous");
+  CHECK(listing(out) == std::vector<std::string>{"a.csv"});
+}
+
+TEST_CASE("npend spectrum: without gnuplot the data and script are written, with a note") {
+  const fs::path dir = temporary_directory("cli-no-gnuplot");
+  const std::string file = write_sines(dir);
+  const std::string saved = std::getenv("PATH");
+  ::setenv("PATH", temporary_directory("cli-empty-path").c_str(), 1);
+  const auto r =
+      run_npend("spectrum --input " + file + " --json --out " + (dir / "s.csv").string());
+  ::setenv("PATH", saved.c_str(), 1);
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["files"].size() == 3);  // s.csv, s_peaks.csv, s.gp
+  CHECK(j["notes"][0].get<std::string>().find("gnuplot is not installed") == 0);
+  CHECK(r.err.find("note: gnuplot is not installed") == 0);
+  CHECK(listing(dir) == std::vector<std::string>{"s.csv", "s.gp", "s_peaks.csv", "sines.csv"});
+}
+
+TEST_CASE("npend time series: --help names every option") {
+  for (const auto& [command, options] :
+       std::vector<std::pair<std::string, std::vector<std::string>>>{
+           {"spectrum",
+            {"--input", "--column", "--dt", "--window", "--segment", "--overlap", "--peaks",
+             "--threshold", "--prominence", "--omega-max", "--json", "--out"}},
+           {"autocorrelation", {"--input", "--column", "--dt", "--max-lag", "--json", "--out"}},
+           {"recurrence",
+            {"--input", "--dt", "--event", "--direction", "--interpolation", "--bins", "--json",
+             "--out"}},
+           {"embed",
+            {"--input", "--column", "--dt", "--tau", "--dim", "--dim-method", "--max-dim",
+             "--theiler", "--json", "--out"}}}) {
+    const auto r = run_npend(command + " --help");
+    CHECK(r.exit_code == 0);
+    for (const auto& o : options)
+      CHECK_MESSAGE(r.out.find(o) != std::string::npos, command, " ", o);
+  }
+}

@@ -1,0 +1,134 @@
+// write_file_atomically, output_stem and the gnuplot plots every command writes.
+#include "input_parsing.hpp"
+#include "output_file.hpp"
+#include "plotting.hpp"
+#include "support/test_support.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using npend::test::temporary_directory;
+
+namespace {
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::vector<std::string> listing(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// Runs `body` with PATH set to `path`, restoring it afterwards.
+template <class F>
+void with_path(const std::string& path, F body) {
+  const std::string saved = std::getenv("PATH") ? std::getenv("PATH") : "";
+  ::setenv("PATH", path.c_str(), 1);
+  try {
+    body();
+  } catch (...) {
+    ::setenv("PATH", saved.c_str(), 1);
+    throw;
+  }
+  ::setenv("PATH", saved.c_str(), 1);
+}
+
+bool is_png(const fs::path& p) { return read(p).rfind("\x89PNG", 0) == 0; }
+
+}  // namespace
+
+TEST_CASE("write_file_atomically: writes and replaces, leaving only the file") {
+  const fs::path dir = temporary_directory("atomic");
+  npend::cli::write_file_atomically(dir / "a.csv", "first\n");
+  npend::cli::write_file_atomically(dir / "a.csv", "second\n");
+  CHECK(read(dir / "a.csv") == "second\n");
+  CHECK(listing(dir) == std::vector<std::string>{"a.csv"});
+  // The mode of a plain new file (umask applied), not mkstemp's private 0600.
+  CHECK((fs::status(dir / "a.csv").permissions() & fs::perms::owner_read) != fs::perms::none);
+}
+
+TEST_CASE("write_file_atomically: a failure leaves the target and no temporary") {
+  const fs::path dir = temporary_directory("atomic-fail");
+  CHECK_THROWS_WITH_AS(npend::cli::write_file_atomically(dir / "missing" / "a.csv", "x"),
+                       doctest::Contains("cannot create a file in"),
+                       std::runtime_error);
+  fs::create_directories(dir / "busy.csv" / "inside");  // renaming a file onto it fails
+  CHECK_THROWS_WITH_AS(npend::cli::write_file_atomically(dir / "busy.csv", "x"),
+                       doctest::Contains("cannot rename the output to"), std::runtime_error);
+  CHECK(fs::is_directory(dir / "busy.csv" / "inside"));
+  CHECK(listing(dir) == std::vector<std::string>{"busy.csv"});
+}
+
+TEST_CASE("output_stem: a .csv name in an existing directory") {
+  const fs::path dir = temporary_directory("stem");
+  CHECK(npend::cli::output_stem((dir / "s.csv").string(), "--out") == dir / "s");
+  CHECK_THROWS_WITH_AS(npend::cli::output_stem((dir / "s.png").string(), "--out"),
+                       doctest::Contains("must be a file name ending in .csv"),
+                       npend::cli::input_error);
+  CHECK_THROWS_WITH_AS(npend::cli::output_stem((dir / "no" / "s.csv").string(), "--out"),
+                       doctest::Contains("--out: directory '"), npend::cli::input_error);
+}
+
+TEST_CASE("gnuplot_string: quotes and backslashes are escaped") {
+  CHECK(npend::cli::gnuplot_string(R"(a "b" \c)") == R"("a \"b\" \\c")");
+}
+
+TEST_CASE("write_plot: a PNG from the kept script, which re-renders it") {
+  const fs::path dir = temporary_directory("plot");
+  npend::cli::write_file_atomically(dir / "p.csv", "x,y\n0,1\n1,3\n2,2\n");
+  npend::cli::figure f;
+  f.description = {"a test figure"};
+  f.panels.push_back({.title = "title_with_underscores",
+                      .xlabel = "x (s)",
+                      .ylabel = "y (m)",
+                      .curves = {{"p.csv", "1:2", "linespoints", "y"}}});
+  const auto outcome = npend::cli::write_plot(dir / "p", f);
+  CHECK(outcome.rendered);
+  CHECK(outcome.message.find("p.png") != std::string::npos);
+  CHECK(is_png(dir / "p.png"));
+  CHECK(listing(dir) == std::vector<std::string>{"p.csv", "p.gp", "p.png"});
+  const std::string script = read(dir / "p.gp");
+  CHECK(script.rfind("# a test figure\n", 0) == 0);
+  CHECK(script.find("npend_output = \"p.png\"") != std::string::npos);
+  CHECK(script.find("plot \"p.csv\" using 1:2 with linespoints title \"y\"") != std::string::npos);
+  // The user's way: gnuplot on the script, in its folder, rewrites the PNG.
+  fs::remove(dir / "p.png");
+  const std::string command = "cd '" + dir.string() + "' && gnuplot p.gp 2>/dev/null";
+  REQUIRE(std::system(command.c_str()) == 0);
+  CHECK(is_png(dir / "p.png"));
+}
+
+TEST_CASE("write_plot: without gnuplot the script is kept and the outcome says why") {
+  const fs::path dir = temporary_directory("no-gnuplot");
+  npend::cli::figure f;
+  f.panels.push_back({.title = "t", .curves = {{"q.csv", "1:2", "lines", ""}}});
+  npend::cli::plot_outcome outcome;
+  with_path(temporary_directory("empty-path"),
+            [&] { outcome = npend::cli::write_plot(dir / "q", f); });
+  CHECK_FALSE(outcome.rendered);
+  CHECK(outcome.message.find("gnuplot is not installed") == 0);
+  CHECK(listing(dir) == std::vector<std::string>{"q.gp"});
+}
+
+TEST_CASE("write_plot: a failing script is reported, not thrown, and leaves no PNG") {
+  const fs::path dir = temporary_directory("bad-plot");
+  npend::cli::figure f;
+  f.panels.push_back({.title = "t",
+                      .commands = {"set no_such_setting"},
+                      .curves = {{"r.csv", "1:2", "lines", ""}}});
+  const auto outcome = npend::cli::write_plot(dir / "r", f);
+  CHECK_FALSE(outcome.rendered);
+  CHECK(outcome.message.find("gnuplot failed") == 0);
+  CHECK(listing(dir) == std::vector<std::string>{"r.gp"});
+}
