@@ -1,0 +1,83 @@
+#include "chain_implementation.hpp"
+
+#include <chain_index.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "reference/chain_recursion.hpp"
+#include "reference/dense_chain.hpp"
+#include "sympy_kernels.hpp"
+
+namespace npend::bench {
+
+namespace {
+
+// The generated kernels and SymPy's: plain functions of (x, params, out).
+template <class kernels>
+class kernel_implementation final : public chain_implementation {
+ public:
+  kernel_implementation(const kernels& k, std::vector<double> packed)
+      : m_kernels(k), m_params(std::move(packed)) {}
+  void rhs(const double* x, double* dxdt) override { m_kernels.rhs(x, m_params.data(), dxdt); }
+  bool has_jacobian() const override { return true; }
+  void jacobian(const double* x, double* jac) override {
+    m_kernels.jacobian(x, m_params.data(), jac);
+  }
+
+ private:
+  const kernels& m_kernels;
+  std::vector<double> m_params;  ///< [m_1..m_n, l_1..l_n, g]
+};
+
+class recursion_implementation final : public chain_implementation {
+ public:
+  explicit recursion_implementation(const chain_parameters& p)
+      : m_recursion(p.masses, p.lengths, p.g) {}
+  void rhs(const double* x, double* dxdt) override { m_recursion.rhs(x, dxdt); }
+  bool has_jacobian() const override { return false; }
+  void jacobian(const double*, double*) override {
+    throw std::logic_error("the recursion peer has no Jacobian");
+  }
+
+ private:
+  reference::chain_recursion m_recursion;
+};
+
+class eigen_implementation final : public chain_implementation {
+ public:
+  explicit eigen_implementation(const chain_parameters& p)
+      : m_chain(p.masses, p.lengths, p.g), m_workspace(p.links()) {}
+  void rhs(const double* x, double* dxdt) override { m_chain.rhs(x, dxdt, m_workspace); }
+  bool has_jacobian() const override { return true; }
+  void jacobian(const double* x, double* jac) override { m_chain.jacobian(x, jac, m_workspace); }
+
+ private:
+  reference::dense_chain m_chain;
+  reference::dense_chain::workspace m_workspace;
+};
+
+}  // namespace
+
+std::unique_ptr<chain_implementation> make_implementation(std::string_view name,
+                                                          const chain_parameters& params) {
+  params.validate();
+  const int n = params.links();
+  if (name == "generated") {
+    const generated::chain_kernels* kernels = generated::find_chain(n);
+    if (kernels == nullptr) return nullptr;
+    return std::make_unique<kernel_implementation<generated::chain_kernels>>(*kernels,
+                                                                             params.packed());
+  }
+  if (name == "recursion") return std::make_unique<recursion_implementation>(params);
+  if (name == "eigen") return std::make_unique<eigen_implementation>(params);
+  if (name == "sympy") {
+    const sympy_kernels* kernels = find_sympy_chain(n);
+    if (kernels == nullptr) return nullptr;
+    return std::make_unique<kernel_implementation<sympy_kernels>>(*kernels, params.packed());
+  }
+  throw std::invalid_argument("make_implementation: unknown implementation '" + std::string(name) +
+                              "' (expected generated, recursion, eigen or sympy)");
+}
+
+}  // namespace npend::bench

@@ -1,0 +1,43 @@
+// The implementations of the chain's Hamilton equations that the benchmarks compare, behind
+// one interface, so that every one is timed through the same kind of call and checked
+// against the generated kernels by the same code.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string_view>
+
+#include "npend/parameters.hpp"
+
+namespace npend::bench {
+
+/// Table order: npend's generated kernels, the hand-written O(n) recursion
+/// (tests/reference/chain_recursion.hpp), the hand-written dense Eigen implementation
+/// (tests/reference/dense_chain.hpp) and SymPy's generated C (bench/sympy_peer.py).
+inline constexpr std::array<std::string_view, 4> implementation_names{"generated", "recursion",
+                                                                      "eigen", "sympy"};
+
+/// One implementation for one chain (its parameters fixed). Not thread-safe: the
+/// hand-written ones keep a workspace.
+class chain_implementation {
+ public:
+  virtual ~chain_implementation() = default;
+
+  /// Hamilton's equations: dxdt = f(x), x = [φ_1..φ_n, p_1..p_n], both dim 2n.
+  virtual void rhs(const double* x, double* dxdt) = 0;
+
+  /// Whether jacobian() exists (the recursion only computes the right-hand side).
+  virtual bool has_jacobian() const = 0;
+
+  /// ∂f/∂x, row-major 2n × 2n. Throws std::logic_error when !has_jacobian().
+  virtual void jacobian(const double* x, double* jac) = 0;
+};
+
+/// The implementation `name` (one of implementation_names) for a chain with these
+/// parameters, or nullptr when this build has none for its link count (generated: n not in
+/// NPEND_LINKS; sympy: n not in NPEND_SYMPY_LINKS). Throws std::invalid_argument for an
+/// unknown name or invalid parameters.
+std::unique_ptr<chain_implementation> make_implementation(std::string_view name,
+                                                          const chain_parameters& params);
+
+}  // namespace npend::bench
