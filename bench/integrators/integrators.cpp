@@ -4,7 +4,9 @@
 // (interleaved rounds, medians); and the Newton work per Gauss–Legendre step. Prints
 // Markdown tables (docs/integrators.md).
 //
-//   npend_bench_integrators [--quick]     (--quick: 10^4 steps and 3 rounds, a smoke run)
+//   npend_bench_integrators [--quick] [--throughput]
+//     --quick       10^4 steps and 3 rounds, a smoke run
+//     --throughput  the throughput table alone (bench/run puts it beside the kernel timings)
 #include "npend/chain_system.hpp"
 #include "npend/gauss_legendre.hpp"
 #include "npend/integrate.hpp"
@@ -165,7 +167,23 @@ void newton_table(double t_sim) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
+  bool quick = false, throughput_only = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--quick") {
+      quick = true;
+    } else if (arg == "--throughput") {
+      throughput_only = true;
+    } else {
+      fmt::print(stderr, "npend_bench_integrators: unknown option '{}' (--quick, --throughput)\n",
+                 arg);
+      return 2;
+    }
+  }
+  if (throughput_only) {
+    throughput_table(quick ? 1.0 : 10.0, quick ? 3 : 7);
+    return 0;
+  }
   fmt::print(
       "# npend integrator benchmark\n\nMachine: {}; compiler: g++ {}; flags -O3 -march=native "
       "(kernels, runtime and benchmark).\n\n",
