@@ -2,11 +2,15 @@
 #include "input_parsing.hpp"
 #include "output_file.hpp"
 #include "plotting.hpp"
+#include "signal_cleanup.hpp"
 #include "support/test_support.hpp"
 
 #include <doctest/doctest.h>
 
+#include <csignal>
 #include <cstdlib>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -63,11 +67,56 @@ TEST_CASE("write_file_atomically: a failure leaves the target and no temporary")
   CHECK_THROWS_WITH_AS(npend::cli::write_file_atomically(dir / "missing" / "a.csv", "x"),
                        doctest::Contains("cannot create a file in"),
                        std::runtime_error);
-  fs::create_directories(dir / "busy.csv" / "inside");  // renaming a file onto it fails
-  CHECK_THROWS_WITH_AS(npend::cli::write_file_atomically(dir / "busy.csv", "x"),
-                       doctest::Contains("cannot rename the output to"), std::runtime_error);
+  {
+    // A folder appearing under the name while the output is written: the rename fails.
+    npend::cli::atomic_output_file file(dir / "busy.csv");
+    std::fputs("x", file.stream());
+    fs::create_directories(dir / "busy.csv" / "inside");
+    CHECK_THROWS_WITH_AS(file.commit(), doctest::Contains("cannot rename the output to"),
+                         std::runtime_error);
+  }
   CHECK(fs::is_directory(dir / "busy.csv" / "inside"));
   CHECK(listing(dir) == std::vector<std::string>{"busy.csv"});
+  // A folder there from the start is refused before any work is done.
+  CHECK_THROWS_WITH_AS(npend::cli::write_file_atomically(dir / "busy.csv", "x"),
+                       doctest::Contains("names a directory, not a file"), std::runtime_error);
+  CHECK(listing(dir) == std::vector<std::string>{"busy.csv"});
+}
+
+namespace {
+
+// Forks a child that opens an atomic output in `dir`, writes to it and dies of SIGINT before
+// committing; returns the child's wait status.
+int die_while_writing(const fs::path& dir, bool with_cleanup) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    if (with_cleanup) npend::cli::remove_temporaries_on_signal();
+    npend::cli::atomic_output_file file(dir / "out.csv");
+    std::fputs("t,x\n0,1\n", file.stream());
+    std::fflush(file.stream());
+    ::raise(SIGINT);
+    ::_exit(0);  // not reached: the signal kills the child
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return status;
+}
+
+}  // namespace
+
+TEST_CASE("remove_temporaries_on_signal: a SIGINT while writing leaves no file at all") {
+  const fs::path dir = temporary_directory("signal-cleanup");
+  const int status = die_while_writing(dir, true);
+  REQUIRE(WIFSIGNALED(status));
+  CHECK(WTERMSIG(status) == SIGINT);  // it still dies of the signal, as the shell expects
+  CHECK(listing(dir).empty());
+  // Without the handler the same death leaves the hidden temporary behind (so the check above
+  // is what the handler does, not what dying does anyway).
+  const fs::path other = temporary_directory("signal-no-cleanup");
+  REQUIRE(WIFSIGNALED(die_while_writing(other, false)));
+  const auto left = listing(other);
+  REQUIRE(left.size() == 1);
+  CHECK(left[0].rfind(".out.csv.npend-", 0) == 0);
 }
 
 TEST_CASE("output_stem: a .csv name in an existing directory") {

@@ -13,7 +13,9 @@
 namespace npend::cli {
 
 std::filesystem::path temporary_sibling(const std::filesystem::path& path) {
-  if (path.filename().empty())
+  std::error_code ec;
+  // Checked up front: otherwise the rename at the end, after all the work, is what fails.
+  if (path.filename().empty() || std::filesystem::is_directory(path, ec))
     throw std::runtime_error(fmt::format("'{}' names a directory, not a file", path.string()));
   const auto dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
   std::string name = ".";  // built by appending: GCC 12 misreports `"." + s` (-Wrestrict)
@@ -33,7 +35,9 @@ std::filesystem::path temporary_sibling(const std::filesystem::path& path) {
 }
 
 atomic_output_file::atomic_output_file(std::filesystem::path path)
-    : m_path(std::move(path)), m_temporary(temporary_sibling(m_path)) {
+    : m_path(std::move(path)),
+      m_temporary(temporary_sibling(m_path)),
+      m_cleanup(std::make_unique<signal_cleanup>(m_temporary)) {
   m_stream = std::fopen(m_temporary.c_str(), "wb");
   if (m_stream == nullptr) {
     const int error = errno;
@@ -50,6 +54,7 @@ void atomic_output_file::discard() noexcept {
   std::fclose(m_stream);
   m_stream = nullptr;
   ::unlink(m_temporary.c_str());
+  m_cleanup.reset();
 }
 
 void atomic_output_file::commit() {
@@ -72,6 +77,7 @@ void atomic_output_file::commit() {
     throw std::runtime_error(fmt::format("cannot rename the output to '{}': {}", m_path.string(),
                                          std::strerror(rename_error)));
   }
+  m_cleanup.reset();
 }
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view content) {

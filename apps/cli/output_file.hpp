@@ -2,8 +2,11 @@
 // everything is written to a temporary file next to the target and renamed into place.
 #pragma once
 
+#include "signal_cleanup.hpp"
+
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -16,7 +19,8 @@ std::filesystem::path temporary_sibling(const std::filesystem::path& path);
 
 /// An output file that appears under its name only when complete: writes go to a
 /// temporary_sibling, and commit() renames it to `path` (an existing file there stays
-/// untouched until then). Without commit() the destructor removes the temporary file.
+/// untouched until then). Without commit() the destructor removes the temporary file, and so
+/// does a fatal SIGINT or SIGTERM (see signal_cleanup).
 class atomic_output_file {
  public:
   /// Creates the temporary file; throws std::runtime_error naming the path and the reason.
@@ -37,6 +41,7 @@ class atomic_output_file {
   void discard() noexcept;
 
   std::filesystem::path m_path, m_temporary;
+  std::unique_ptr<signal_cleanup> m_cleanup;
   std::FILE* m_stream = nullptr;
 };
 

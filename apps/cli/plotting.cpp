@@ -124,6 +124,7 @@ plot_outcome write_plot(const std::filesystem::path& stem, const figure& f) {
   write_file_atomically(script, gnuplot_script(f, png.filename().string()));
   const auto dir = script.has_parent_path() ? script.parent_path() : std::filesystem::path(".");
   const auto temporary = temporary_sibling(png);
+  const signal_cleanup cleanup(temporary);
   const auto [status, output] =
       run_gnuplot(dir, script.filename().string(), temporary.filename().string());
   std::error_code ec;

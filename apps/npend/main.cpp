@@ -1,12 +1,37 @@
 // npend: the command-line front end (see README.md for every command).
 #include "command.hpp"
 #include "input_parsing.hpp"
+#include "signal_cleanup.hpp"
 
 #include <fmt/format.h>
 
 #include <cstdio>
 #include <exception>
 #include <iostream>
+
+namespace {
+
+// CLI11's own messages do not say which command they are about, and for an unknown command
+// it only says that one is required: name the command, and list the commands there are.
+void report_parse_error(const CLI::App& app, int argc, char** argv, const CLI::ParseError& e) {
+  const auto parsed = app.get_subcommands();
+  if (!parsed.empty()) {
+    const std::string name = "npend " + parsed.front()->get_name();
+    fmt::print(stderr, "{}: error: {} (see {} --help)\n", name, e.what(), name);
+    return;
+  }
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    for (const auto* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    fmt::print(stderr, "npend: error: unknown command '{}': choose one of {} (see npend --help)\n",
+               argv[1], names);
+    return;
+  }
+  fmt::print(stderr, "npend: error: {} (see npend --help)\n", e.what());
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -37,9 +62,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    fmt::print(stderr, "npend: error: {} (see npend --help)\n", e.what());
+    report_parse_error(app, argc, argv, e);
     return 2;
   }
+  npend::cli::remove_temporaries_on_signal();
   for (const auto& c : commands) {
     if (!c.options->parsed()) continue;
     const std::string name = "npend " + c.options->get_name();

@@ -1,0 +1,55 @@
+#include "signal_cleanup.hpp"
+
+#include <array>
+#include <csignal>
+#include <cstring>
+#include <unistd.h>
+
+namespace npend::cli {
+
+namespace {
+
+constexpr int slot_count = 64;
+constexpr std::size_t path_capacity = 4096;
+
+// Plain arrays, so that the handler only reads memory and calls unlink (async-signal-safe).
+std::array<std::array<char, path_capacity>, slot_count> paths{};
+std::array<volatile std::sig_atomic_t, slot_count> in_use{};
+
+extern "C" void remove_temporaries_and_die(int sig) {
+  for (int i = 0; i < slot_count; ++i)
+    if (in_use[i] != 0) ::unlink(paths[i].data());
+  struct sigaction fallback {};
+  fallback.sa_handler = SIG_DFL;
+  sigemptyset(&fallback.sa_mask);
+  sigaction(sig, &fallback, nullptr);
+  ::raise(sig);
+}
+
+}  // namespace
+
+void remove_temporaries_on_signal() {
+  struct sigaction action {};
+  action.sa_handler = remove_temporaries_and_die;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+signal_cleanup::signal_cleanup(const std::filesystem::path& path) noexcept : m_slot(-1) {
+  const std::string& name = path.native();
+  if (name.size() >= path_capacity) return;
+  for (int i = 0; i < slot_count; ++i) {
+    if (in_use[i] != 0) continue;
+    std::memcpy(paths[i].data(), name.c_str(), name.size() + 1);
+    in_use[i] = 1;  // only now may the handler read the slot
+    m_slot = i;
+    return;
+  }
+}
+
+signal_cleanup::~signal_cleanup() {
+  if (m_slot >= 0) in_use[m_slot] = 0;
+}
+
+}  // namespace npend::cli
