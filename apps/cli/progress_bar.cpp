@@ -14,13 +14,22 @@ progress_bar::progress_bar(double t_start, double t_end, std::FILE* stream)
       m_stream(stream),
       m_enabled(::isatty(::fileno(stream)) == 1),
       m_started(std::chrono::steady_clock::now()),
-      m_last_draw(m_started) {}
+      m_last_draw(m_started),
+      m_last_check(m_started) {}
 
 progress_bar::~progress_bar() { finish(); }
 
 void progress_bar::update(double t) {
-  if (!m_enabled || (++m_calls & 255u) != 0) return;
+  if (!m_enabled || ++m_calls < m_next_check) return;
   const auto now = std::chrono::steady_clock::now();
+  // Adapt the number of calls between two looks at the clock to about 10 ms.
+  const auto since = now - m_last_check;
+  if (since < std::chrono::milliseconds(5) && m_stride < (1ul << 20))
+    m_stride *= 2;
+  else if (since > std::chrono::milliseconds(20) && m_stride > 1)
+    m_stride /= 2;
+  m_next_check = m_calls + m_stride;
+  m_last_check = now;
   if (now - m_started < std::chrono::seconds(1)) return;
   if (m_shown && now - m_last_draw < std::chrono::milliseconds(100)) return;
   draw(t, now);

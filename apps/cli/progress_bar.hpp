@@ -16,7 +16,9 @@ class progress_bar {
   progress_bar(const progress_bar&) = delete;
   progress_bar& operator=(const progress_bar&) = delete;
 
-  /// The run has reached time t. Cheap: it looks at the clock every 256th call.
+  /// The run has reached time t. Cheap: it looks at the clock about every 10 ms, counting
+  /// calls in between (a fixed count would never show the bar of a run whose calls are few
+  /// and slow, like a Lyapunov spectrum's re-orthonormalisations).
   void update(double t);
   /// Erases the bar if it was shown.
   void finish();
@@ -28,8 +30,8 @@ class progress_bar {
   std::FILE* m_stream;
   bool m_enabled;
   bool m_shown = false;
-  unsigned m_calls = 0;
-  std::chrono::steady_clock::time_point m_started, m_last_draw;
+  unsigned long m_calls = 0, m_next_check = 1, m_stride = 1;
+  std::chrono::steady_clock::time_point m_started, m_last_draw, m_last_check;
 };
 
 }  // namespace npend::cli
