@@ -96,7 +96,8 @@ std::filesystem::path output_folder(const std::string& out, std::string_view opt
     throw input_error(fmt::format("{}: '{}' exists and is not a directory", option, out));
   std::filesystem::create_directories(dir, ec);
   if (ec) throw input_error(fmt::format("{}: cannot create '{}': {}", option, out, ec.message()));
-  return dir;
+  // "run/" names the folder "run": without the trailing separator, messages read "run/x.png".
+  return dir.has_filename() || !dir.has_relative_path() ? dir : dir.parent_path();
 }
 
 std::filesystem::path output_stem(const std::string& out, std::string_view option) {
