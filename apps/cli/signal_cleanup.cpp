@@ -1,6 +1,7 @@
 #include "signal_cleanup.hpp"
 
 #include <array>
+#include <atomic>
 #include <csignal>
 #include <cstring>
 #include <unistd.h>
@@ -42,7 +43,8 @@ signal_cleanup::signal_cleanup(const std::filesystem::path& path) noexcept : m_s
   for (int i = 0; i < slot_count; ++i) {
     if (in_use[i] != 0) continue;
     std::memcpy(paths[i].data(), name.c_str(), name.size() + 1);
-    in_use[i] = 1;  // only now may the handler read the slot
+    std::atomic_signal_fence(std::memory_order_release);  // the path is written before ...
+    in_use[i] = 1;  // ... the handler may read it
     m_slot = i;
     return;
   }
