@@ -37,7 +37,7 @@ std::filesystem::path temporary_sibling(const std::filesystem::path& path) {
 atomic_output_file::atomic_output_file(std::filesystem::path path)
     : m_path(std::move(path)),
       m_temporary(temporary_sibling(m_path)),
-      m_cleanup(std::make_unique<signal_cleanup>(m_temporary)) {
+      m_cleanup(std::in_place, m_temporary) {
   m_stream = std::fopen(m_temporary.c_str(), "wb");
   if (m_stream == nullptr) {
     const int error = errno;

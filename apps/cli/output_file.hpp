@@ -6,7 +6,7 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -41,7 +41,7 @@ class atomic_output_file {
   void discard() noexcept;
 
   std::filesystem::path m_path, m_temporary;
-  std::unique_ptr<signal_cleanup> m_cleanup;
+  std::optional<signal_cleanup> m_cleanup;
   std::FILE* m_stream = nullptr;
 };
 

@@ -92,7 +92,7 @@ void energy_table(double t_end) {
 
 // Part 2: throughput at n = 2, 3, 6; each round runs every stepper once (side by side).
 void throughput_table(double t_sim, int rounds) {
-  fmt::print("## Throughput: all angles 1.5 rad, p = 0, dt = 1e-3, t = 0 ... {:g} s per run\n\n",
+  fmt::print("## Integration throughput: all angles 1.5 rad, p = 0, dt = 1e-3, t = 0 ... {:g} s per run\n\n",
              t_sim);
   fmt::print(
       "Median wall time of {} interleaved rounds (each round runs every stepper once). "
@@ -180,16 +180,18 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  const double long_run = quick ? 10.0 : 1000.0, short_run = quick ? 1.0 : 10.0;
+  const int rounds = quick ? 3 : 7;
   if (throughput_only) {
-    throughput_table(quick ? 1.0 : 10.0, quick ? 3 : 7);
+    throughput_table(short_run, rounds);
     return 0;
   }
   fmt::print(
       "# npend integrator benchmark\n\nMachine: {}; compiler: g++ {}; flags -O3 -march=native "
       "(kernels, runtime and benchmark).\n\n",
       cpu_model(), __VERSION__);
-  energy_table(quick ? 10.0 : 1000.0);
-  throughput_table(quick ? 1.0 : 10.0, quick ? 3 : 7);
-  newton_table(quick ? 10.0 : 1000.0);
+  energy_table(long_run);
+  throughput_table(short_run, rounds);
+  newton_table(long_run);
   return 0;
 }
