@@ -95,7 +95,7 @@ TEST_CASE("truncated_acceleration: the paper's printed triple-pendulum equations
 
 TEST_CASE("exact_acceleration: solves the exact Euler-Lagrange equations") {
   // Σ_j A_ij φ̈_j + Σ_j μ_max(i,j) l_i l_j sin(φ_i − φ_j) φ̇_j² + μ_i g l_i sin φ_i = 0 with
-  // A_ij = μ_max(i,j) l_i l_j cos(φ_i − φ_j), μ_j = m_j + … + m_n (PAPER-NOTES conventions).
+  // A_ij = μ_max(i,j) l_i l_j cos(φ_i − φ_j), μ_j = m_j + … + m_n (docs/paper.md, conventions).
   std::mt19937_64 rng(53);
   for (int n = 1; n <= 5; ++n) {
     const auto p = npend::test::random_parameters(n, rng);

@@ -1,5 +1,5 @@
-// Generated equations against the paper's own formulas (PAPER-NOTES.md §6.3.2), typed in
-// by hand, with the paper's typos corrected where PAPER-NOTES.md lists them.
+// Generated equations against the paper's own formulas (docs/paper.md §6.3.2), typed in
+// by hand, with the paper's typos corrected where docs/paper.md lists them.
 #include "npend/chain.hpp"
 #include "support/test_support.hpp"
 

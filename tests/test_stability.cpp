@@ -1,5 +1,5 @@
 // Equilibria, normal modes and the Toda–Brumer criterion against the paper's closed forms
-// (PAPER-NOTES.md §6.4, §6.5, with error 3 corrected) and against Eigen's eigenvalues of the
+// (docs/paper.md §6.4, §6.5, with error 3 corrected) and against Eigen's eigenvalues of the
 // generated Jacobian.
 #include "npend/analysis/equilibria.hpp"
 #include "npend/analysis/normal_modes.hpp"
