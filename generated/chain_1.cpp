@@ -8,33 +8,29 @@ namespace npend::generated::chain_1 {
 void rhs(const double* x, const double* params, double* dxdt) noexcept {
   const double t0 = 1.0 / params[1];
   const double t1 = std::sin(x[0]);
-  dxdt[0] = t0 * (1.0 / params[0] * (t0 * x[1]));
+  dxdt[0] = t0 * (t0 * x[1] * (1.0 / params[0]));
   dxdt[1] = -(t1 * (params[2] * (params[0] * params[1])));
 }
 
 void jacobian(const double* x, const double* params, double* jac) noexcept {
-  const double t0 = 1.0 / params[0];
-  const double t1 = 1.0 / params[1];
-  const double t2 = t1 * x[1];
-  const double t3 = t0 * t2;
-  const double t4 = std::cos(x[0]);
-  const double t5 = t3 * (params[0] * t3) - t2 * t3 - t4 * (params[2] * (params[0] * params[1]));
+  const double t0 = 1.0 / params[1];
+  const double t1 = std::cos(x[0]);
   jac[0] = 0.0;
-  jac[1] = t0 * (t1 * t1);
-  jac[2] = t5;
+  jac[1] = 1.0 / params[0] * (t0 * t0);
+  jac[2] = -(t1 * (params[2] * (params[0] * params[1])));
   jac[3] = 0.0;
 }
 
 double hamiltonian(const double* x, const double* params) noexcept {
   const double t0 = std::cos(x[0]);
-  const double t1 = 1.0 / params[1] * x[1];
-  const double t2 = params[0] * (params[1] * (params[2] * (1.0 - t0))) + t1 * (1.0 / params[0] * t1) * 0.5;
+  const double t1 = 1.0 / params[1] * x[1] * (1.0 / params[0]);
+  const double t2 = params[0] * (params[1] * (params[2] * (1.0 - t0))) + params[0] * (t1 * t1) * 0.5;
   return t2;
 }
 
 void velocities(const double* phi, const double* p, const double* params, double* dphi) noexcept {
   const double t0 = 1.0 / params[1];
-  dphi[0] = t0 * (1.0 / params[0] * (t0 * p[0]));
+  dphi[0] = t0 * (t0 * p[0] * (1.0 / params[0]));
 }
 
 void momenta(const double* phi, const double* dphi, const double* params, double* p) noexcept {
@@ -61,8 +57,7 @@ void mass_matrix(const double* phi, const double* params, double* A) noexcept {
 }
 
 double det_mass_matrix(const double* phi, const double* params) noexcept {
-  const double t0 = params[0] * params[1];
-  return 1.0 / params[0] * (t0 * t0);
+  return params[0] * (params[1] * params[1]);
 }
 
 void potential_gradient(const double* phi, const double* params, double* grad) noexcept {

@@ -12,7 +12,7 @@ inline constexpr int state_size = 8;
 inline constexpr int param_size = 9;
 
 /// Hamilton's equations f(x): dxdt = [dphi/dt (dim n), dp/dt (dim n)].
-/// phi' = A^-1 p through the rods' tensions (one tridiagonal solve), p' = -dH/dphi.
+/// phi' = A^-1 p by an O(n) articulated-body elimination (no inverse masses), p' = -dH/dphi.
 void rhs(const double* x, const double* params, double* dxdt) noexcept;
 
 /// Exact Jacobian J = df/dx of rhs, row-major (2n x 2n): J[i*2n + j] = df_i/dx_j.
@@ -40,7 +40,7 @@ double potential_energy(const double* phi, const double* params) noexcept;
 /// Mass matrix A = d^2T/d(dphi)^2, row-major (n x n).
 void mass_matrix(const double* phi, const double* params, double* A) noexcept;
 
-/// det A(phi) = (prod m_i)^2 (prod l_i)^2 det Z (Z the scaled tension matrix).
+/// det A(phi) = (prod l_i)^2 prod d_i, d_i the pivots of the articulated-body elimination.
 double det_mass_matrix(const double* phi, const double* params) noexcept;
 
 /// Gradient dV/dphi (dim n).

@@ -1,7 +1,7 @@
 #include "chain_functions.hpp"
 
+#include "articulated_form.hpp"
 #include "polynomial.hpp"
-#include "tension_form.hpp"
 
 #include <string>
 
@@ -60,15 +60,15 @@ emitted_function rhs_function(int n, const polynomial_space& space, const chain_
   emitted_function f = make(
       "rhs", argument_layout::state,
       {"Hamilton's equations f(x): dxdt = [dphi/dt (dim n), dp/dt (dim n)].",
-       "phi' = A^-1 p through the rods' tensions (one tridiagonal solve), p' = -dH/dphi."},
+       "phi' = A^-1 p by an O(n) articulated-body elimination (no inverse masses), "
+       "p' = -dH/dphi."},
       "dxdt");
   expr_graph& g = *f.graph;
-  const tension_form form(n, g);
-  const auto flow = form.solve(inputs(g, input_kind::p, n));
+  const articulated_form form(n, g);
+  const auto motion = form.solve(inputs(g, input_kind::p, n));
   const auto force = potential_force(space, mech, g);
-  for (int i = 0; i < n; ++i) f.outputs.push_back(flow.omega[u(i)] * form.inv_length[u(i)]);
-  for (int i = 0; i < n; ++i)
-    f.outputs.push_back(flow.omega[u(i)] * flow.tau[u(i)] + force[u(i)]);
+  for (int i = 0; i < n; ++i) f.outputs.push_back(motion.omega[u(i)] * form.inv_length[u(i)]);
+  for (int i = 0; i < n; ++i) f.outputs.push_back(motion.kinetic_force[u(i)] + force[u(i)]);
   return f;
 }
 
@@ -80,67 +80,37 @@ emitted_function jacobian_function(int n, const polynomial_space& space,
        "Hamiltonian structure: J = [[B, A^-1], [C, -B^T]] with C symmetric."},
       "jac");
   expr_graph& g = *f.graph;
-  const tension_form form(n, g);
-  const auto flow = form.solve(inputs(g, input_kind::p, n));
-  const auto& tau = flow.tau;
-  const auto& omega = flow.omega;
-  const auto M = form.z_inverse();
-  auto m_at = [&](int i, int k) { return M[u(i * n + k)]; };
-
-  // X̂ = M Q̂ᵀ: column k of Q̂ᵀ has Q̂_{k,k+1} = q_off_k at row k+1, −q_off_{k−1} at row k−1.
-  std::vector<sx> X(u(n * n));
-  for (int i = 0; i < n; ++i)
-    for (int k = 0; k < n; ++k) {
-      sx x = g.constant(0);
-      if (k + 1 < n) x = x + m_at(i, k + 1) * form.q_off[u(k)];
-      if (k > 0) x = x - m_at(i, k - 1) * form.q_off[u(k - 1)];
-      X[u(i * n + k)] = x;
-    }
-  auto x_at = [&](int i, int k) { return X[u(i * n + k)]; };
-
-  // Ŵ = Ẑ − Q̂ X̂ (symmetric; = diag(l) A⁻¹ diag(l)).
-  std::vector<sx> W(u(n * n));
-  for (int i = 0; i < n; ++i)
-    for (int k = i; k < n; ++k) {
-      sx z = g.constant(0);
-      if (k == i) z = form.z_diag[u(i)];
-      if (k == i + 1) z = form.z_off[u(i)];
-      sx qx = g.constant(0);
-      if (i > 0) qx = qx - form.q_off[u(i - 1)] * x_at(i - 1, k);
-      if (i + 1 < n) qx = qx + form.q_off[u(i)] * x_at(i + 1, k);
-      W[u(i * n + k)] = W[u(k * n + i)] = z - qx;
-    }
-  auto w_at = [&](int i, int k) { return W[u(i * n + k)]; };
-
+  const articulated_form form(n, g);
+  const auto p = inputs(g, input_kind::p, n);
   const std::vector<sx> vars = variable_nodes(space, g);
   const int dim = 2 * n;
   f.outputs.assign(u(dim * dim), sx{});
   auto out = [&](int row, int col) -> sx& { return f.outputs[u(row * dim + col)]; };
 
-  // β_ik = X̂_ki ω_k + Ŵ_ik τ_k, so that B_ik = −β_ik / l_i.
-  std::vector<sx> beta(u(n * n));
-  for (int i = 0; i < n; ++i)
-    for (int k = 0; k < n; ++k) beta[u(i * n + k)] = x_at(k, i) * omega[u(k)] + w_at(i, k) * tau[u(k)];
-
-  for (int i = 0; i < n; ++i)
-    for (int k = 0; k < n; ++k) {
-      const sx b = -(beta[u(i * n + k)] * form.inv_length[u(i)]);
+  // Along q_k = p_k / l_k: W_ik = ∂φ̇_i/∂p_k for i ≤ k (mirrored), which needs the pass
+  // from the pivot only down to link k.
+  for (int k = 0; k < n; ++k) {
+    const auto t = form.along_scaled_momentum(p, k);
+    for (int i = 0; i <= k; ++i)
+      out(i, n + k) = out(k, n + i) =
+          t.omega[u(i)] * (form.inv_length[u(i)] * form.inv_length[u(k)]);
+  }
+  // Along φ_k: B_ik = ∂φ̇_i/∂φ_k, D = −Bᵀ, and C_ik = ∂ṗ_i/∂φ_k for i ≥ k (mirrored), the
+  // kinetic part plus −∂²V/∂φ_i∂φ_k (see articulated_form.hpp for why these entries).
+  for (int k = 0; k < n; ++k) {
+    const auto t = form.along_angle(p, k);
+    for (int i = 0; i < n; ++i) {
+      const sx b = t.omega[u(i)] * form.inv_length[u(i)];
       out(i, k) = b;
       out(n + k, n + i) = -b;
     }
-  for (int i = 0; i < n; ++i)
-    for (int k = i; k < n; ++k)
-      out(i, n + k) = out(k, n + i) =
-          w_at(i, k) * (form.inv_length[u(i)] * form.inv_length[u(k)]);
-  for (int i = 0; i < n; ++i)
-    for (int k = i; k < n; ++k) {
-      sx cik = omega[u(i)] * (m_at(i, k) * omega[u(k)] - x_at(i, k) * tau[u(k)]) -
-               tau[u(i)] * beta[u(i * n + k)];
-      if (i == k) cik = cik - omega[u(i)] * flow.q[u(i)];
+    for (int i = k; i < n; ++i) {
+      sx cik = t.kinetic_force[u(i)];
       const auto hess = space.canonical(mech.hess_potential(u(i), u(k)));
       if (!hess.empty()) cik = cik - to_graph(hess, vars, g);
       out(n + i, k) = out(n + k, i) = cik;
     }
+  }
   return f;
 }
 
@@ -149,13 +119,11 @@ emitted_function hamiltonian_function(int n, const polynomial_space& space,
   emitted_function f = make("hamiltonian", argument_layout::state,
                             {"Hamiltonian H(phi, p) = 1/2 p^T A^-1 p + V (total energy)."});
   expr_graph& g = *f.graph;
-  const tension_form form(n, g);
-  const auto flow = form.solve(inputs(g, input_kind::p, n));
-  // ½ pᵀ φ̇ = ½ Σ q_i ω_i, since p_i φ̇_i = (p_i / l_i)(l_i φ̇_i).
-  sx twice_t = g.constant(0);
-  for (int i = 0; i < n; ++i) twice_t = twice_t + flow.q[u(i)] * flow.omega[u(i)];
+  const articulated_form form(n, g);
+  const auto motion = form.solve(inputs(g, input_kind::p, n));
+  // T = ½ Σ m_k |v_k|²: a sum of positive terms, so H = T + V does not cancel.
   const std::vector<sx> vars = variable_nodes(space, g);
-  f.outputs.push_back(g.constant(GiNaC::numeric(1, 2)) * twice_t +
+  f.outputs.push_back(form.kinetic_energy(motion) +
                       to_graph(space.canonical(mech.potential), vars, g));
   return f;
 }
@@ -164,22 +132,19 @@ emitted_function velocities_function(int n) {
   emitted_function f = make("velocities", argument_layout::phi_p,
                             {"Inverse Legendre transform: dphi = A^-1 p (dim n)."}, "dphi");
   expr_graph& g = *f.graph;
-  const tension_form form(n, g);
-  const auto flow = form.solve(inputs(g, input_kind::p, n));
-  for (int i = 0; i < n; ++i) f.outputs.push_back(flow.omega[u(i)] * form.inv_length[u(i)]);
+  const articulated_form form(n, g);
+  const auto motion = form.solve(inputs(g, input_kind::p, n));
+  for (int i = 0; i < n; ++i) f.outputs.push_back(motion.omega[u(i)] * form.inv_length[u(i)]);
   return f;
 }
 
 emitted_function det_function(int n) {
   emitted_function f = make("det_mass_matrix", argument_layout::phi,
-                            {"det A(phi) = (prod m_i)^2 (prod l_i)^2 det Z (Z the scaled "
-                             "tension matrix)."});
+                            {"det A(phi) = (prod l_i)^2 prod d_i, d_i the pivots of the "
+                             "articulated-body elimination."});
   expr_graph& g = *f.graph;
-  const tension_form form(n, g);
-  sx scale = g.constant(1);
-  for (int i = 0; i < n; ++i)
-    scale = scale * g.input(input_kind::mass, i) * g.input(input_kind::length, i);
-  f.outputs.push_back(scale * scale * form.z_determinant());
+  const articulated_form form(n, g);
+  f.outputs.push_back(form.mass_matrix_determinant());
   return f;
 }
 

@@ -1,7 +1,7 @@
 // The functions emitted for one link count: each one a small expression graph with its
 // outputs, built from the GiNaC derivation (energies, momenta, mass matrix, positions,
-// potential derivatives, closed-form H) or from the tension formulation (Hamilton's
-// equations, their Jacobian, velocities, H, det A).
+// potential derivatives, closed-form H) or from the articulated-body formulation (Hamilton's
+// equations, their Jacobian, velocities, H, det A; see articulated_form.hpp).
 #pragma once
 
 #include "chain_model.hpp"

@@ -1,5 +1,5 @@
 // The planar n-link pendulum as GiNaC sees it: symbols, kinematics, energies, and the
-// Lagrangian mechanics derived from them (paper §6.2–6.3, PAPER-NOTES.md "Conventions").
+// Lagrangian mechanics derived from them (paper §6.2–6.3; docs/paper.md, "Conventions").
 //
 // Everything here is *derived*: positions from the chain's geometry (eq. 6.1), T and V from
 // the positions, L = T − V, p = ∂L/∂φ̇ (the Legendre transform), A = ∂p/∂φ̇. Nothing is

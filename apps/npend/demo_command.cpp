@@ -26,7 +26,7 @@ void demo_equations(const demo_context& demo) {
   const std::vector<double> f = c.rhs(x);
   const double h = c.hamiltonian(x), h_closed = c.hamiltonian_closed_form(x);
   fmt::print("state x = [phi_1..3, p_1..3] = {}\n", x);
-  fmt::print("H (O(n) tension kernel) = {:.17g} J\n", h);
+  fmt::print("H (O(n) articulated-body kernel) = {:.17g} J\n", h);
   fmt::print("H (closed form, 1/(2 det A) p^T adj(A) p + V) = {:.17g} J   (difference {:.2g})\n",
              h_closed, h - h_closed);
   fmt::print("dphi/dt = {}\n", std::vector<double>(f.begin(), f.begin() + 3));

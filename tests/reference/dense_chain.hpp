@@ -1,5 +1,5 @@
 // An independent, hand-written numeric implementation of the n-link chain, straight from
-// the formulas in PAPER-NOTES.md ("Conventions"): dense A_ij = μ_max(i,j) l_i l_j
+// the formulas in docs/paper.md ("Conventions"): dense A_ij = μ_max(i,j) l_i l_j
 // cos(φ_i − φ_j), an LDLᵀ solve for φ̇, the explicit ṗ formula, and a hand-derived
 // analytic Jacobian. It shares no code with the generator: the tests compare the two, and
 // the benchmarks time it as "what a careful user would write with Eigen" — so the
