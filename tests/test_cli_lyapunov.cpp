@@ -114,3 +114,59 @@ TEST_CASE("npend lyapunov: a progress bar on a terminal, and Ctrl-C stops the ru
   CHECK(on_terminal.out.find("s left") != std::string::npos);
   CHECK(on_terminal.out.find("npend lyapunov: interrupted at t = ") != std::string::npos);
 }
+
+TEST_CASE("npend lyapunov: the uncertainty is a block standard error, or an ensemble's") {
+  const auto r = run_npend("lyapunov --links 3 --energy 14.7 --t-end 50 --dt 0.01 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["uncertainty_method"] == "block standard error");
+  CHECK(j["blocks"]["count"] == 10);
+  CHECK(j["uncertainty"].get<double>() == j["standard_errors"][0].get<double>());
+  CHECK(j["blocks"]["exponents"].size() == 10);
+
+  const auto e = run_npend(
+      "lyapunov --links 3 --phi 0.72,-0.72,0.72 --t-end 50 --dt 0.01 --maximal --ensemble 3 "
+      "--json");
+  REQUIRE(e.exit_code == 0);
+  const auto k = nlohmann::json::parse(e.out);
+  CHECK(k["uncertainty_method"] == "ensemble standard error");
+  CHECK(k["ensemble"]["members"] == 3);
+  CHECK(k["ensemble"]["starts"].size() == 3);
+  CHECK(k["maximal_exponent"].get<double>() == k["ensemble"]["mean"][0].get<double>());
+  CHECK(k["uncertainty"].get<double>() == k["ensemble"]["standard_error"][0].get<double>());
+
+  const auto text = run_npend("lyapunov --links 2 --phi 2,-1 --t-end 20 --dt 0.01");
+  REQUIRE(text.exit_code == 0);
+  CHECK(text.out.find("+- is the standard error from 10 blocks of 2 s") != std::string::npos);
+}
+
+TEST_CASE("npend lyapunov --input: the maximal exponent of a measured series, with its curve") {
+  const auto dir = std::filesystem::path(npend::test::temporary_directory("cli-lyapunov-series"));
+  const std::string trajectory = (dir / "weak.csv").string();
+  REQUIRE(run_npend("simulate --links 3 --phi 0.2,-0.2,0.2 --t-end 300 --dt 0.01 --out " +
+                    trajectory)
+              .exit_code == 0);
+  const auto r = run_npend("lyapunov --input " + trajectory + " --column x_3 --json --out " +
+                           (dir / "s.csv").string());
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["method"] == "Kantz");
+  CHECK(j["signal"] == "x_3");
+  CHECK(j["dt"].get<double>() == doctest::Approx(0.01));
+  // Regular motion: no stretching.
+  CHECK(std::fabs(j["maximal_exponent"].get<double>()) < 0.02);
+  CHECK(j["uncertainty"].get<double>() >= 0);
+  CHECK(j["curve"]["t"].size() == j["curve"]["s"][0].size());
+  CHECK(j["fit_range_method"] == "automatic");
+  CHECK(npend::test::directory_listing(dir.string()) ==
+        std::vector<std::string>{"s.csv", "s.gp", "s.png", "weak.csv"});
+
+  const auto given = run_npend("lyapunov --input " + trajectory +
+                               " --column x_3 --tau 0.5 --dim 4 --fit 2:10 --json");
+  REQUIRE(given.exit_code == 0);
+  const auto g = nlohmann::json::parse(given.out);
+  CHECK(g["fit_range_method"] == "given");
+  CHECK(g["fit_range"][1].get<double>() == 10);
+  CHECK(g["dimension"] == 4);
+  CHECK(g["tau"].get<double>() == doctest::Approx(0.5));
+}

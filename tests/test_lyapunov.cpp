@@ -307,3 +307,83 @@ TEST_CASE("lyapunov_spectrum: bad arguments are refused with the reason") {
   CHECK_THROWS_WITH_AS(lyapunov_spectrum(c, x0, o), Contains("forwards in time"),
                        std::invalid_argument);
 }
+
+TEST_CASE("lyapunov_spectrum: the blocks split the averaging time, their standard error") {
+  const chain c(chain_parameters::uniform(3));
+  auto o = short_run(100);
+  o.blocks = 8;
+  const auto r = npend::lyapunov_spectrum(c, zigzag(c, 1.5), o);
+  REQUIRE(r.block_exponents.size() == 8);
+  REQUIRE(r.block_edges.size() == 9);
+  CHECK(r.block_edges.front() == doctest::Approx(0));
+  CHECK(r.block_edges.back() == doctest::Approx(100));
+  // The exponents are the length-weighted means of the blocks' (Σ ln R_ii telescopes).
+  for (std::size_t i = 0; i < 6; ++i) {
+    double mean = 0;
+    for (std::size_t b = 0; b < 8; ++b)
+      mean += r.block_exponents[b][i] * (r.block_edges[b + 1] - r.block_edges[b]);
+    CHECK(mean / 100 == doctest::Approx(r.exponents[i]).epsilon(1e-9));
+    CHECK(r.block_standard_error[i] > 0);
+  }
+  // Chaos: the blocks' λ_1 scatter, by more than round-off.
+  CHECK(r.block_standard_error[0] > 1e-3);
+  o.blocks = 1;
+  CHECK_THROWS_WITH_AS(npend::lyapunov_spectrum(c, zigzag(c, 1.5), o), doctest::Contains("blocks"),
+                       std::invalid_argument);
+}
+
+TEST_CASE("energy_surface_neighbours: x0 first, the others nearby at exactly its energy") {
+  std::mt19937_64 rng(47);
+  const chain c(npend::test::random_parameters(3, rng));
+  for (const auto& x0 : {zigzag(chain(chain_parameters::uniform(3)), 1.5),
+                         npend::test::random_state(3, rng, 1.0)}) {
+    const chain& model = x0[3] == 0 ? chain(chain_parameters::uniform(3)) : c;
+    const auto starts = npend::energy_surface_neighbours(model, x0, 5, 1e-4, 7);
+    REQUIRE(starts.size() == 5);
+    CHECK(starts[0] == x0);
+    const double h0 = model.hamiltonian(x0);
+    for (std::size_t k = 1; k < 5; ++k) {
+      CHECK(std::fabs(model.hamiltonian(starts[k]) - h0) <= 1e-14 * std::max(1.0, std::fabs(h0)));
+      double distance = 0;
+      for (std::size_t i = 0; i < 6; ++i) distance += std::pow(starts[k][i] - x0[i], 2);
+      CHECK(std::sqrt(distance) > 1e-5);
+      CHECK(std::sqrt(distance) < 1e-3);
+      CHECK(starts[k] != starts[k - 1]);
+    }
+  }
+  const std::vector<double> hanging(6, 0.0);
+  CHECK_THROWS_WITH_AS(npend::energy_surface_neighbours(chain(chain_parameters::uniform(3)),
+                                                        hanging, 3, 1e-6),
+                       doctest::Contains("equilibrium"), std::invalid_argument);
+}
+
+TEST_CASE("lyapunov_ensemble: its standard error covers the exponents of runs at two dt") {
+  // The demo's strong start: at dt = 0.01 and 0.005 the trajectories part after some tens of
+  // seconds, and so do their finite-time exponents. Each ensemble's mean comes with a
+  // standard error; the two means must agree within it (3 sigma of the difference).
+  const chain c(chain_parameters::uniform(3));
+  const auto x0 = zigzag(c, 1.5);
+  npend::lyapunov_ensemble_options e;
+  e.members = 6;
+  e.maximal = true;
+  const auto coarse = npend::lyapunov_ensemble(c, x0, short_run(200, stepper_kind::gauss6, 0.01), e);
+  const auto fine = npend::lyapunov_ensemble(c, x0, short_run(200, stepper_kind::gauss6, 0.005), e);
+  REQUIRE(coarse.runs.size() == 6);
+  REQUIRE(fine.mean.size() == 1);
+  CHECK(coarse.starts == fine.starts);
+  CAPTURE(coarse.mean[0]);
+  CAPTURE(fine.mean[0]);
+  CAPTURE(coarse.standard_error[0]);
+  CAPTURE(fine.standard_error[0]);
+  CHECK(coarse.mean[0] > 0.2);
+  CHECK(std::fabs(coarse.mean[0] - fine.mean[0]) <=
+        3 * std::hypot(coarse.standard_error[0], fine.standard_error[0]));
+  // The members scatter (the finite-time values are not one number), and the standard error
+  // is the standard deviation / sqrt(K).
+  CHECK(coarse.standard_deviation[0] > 0.005);
+  CHECK(coarse.standard_error[0] ==
+        doctest::Approx(coarse.standard_deviation[0] / std::sqrt(6.0)));
+  e.members = 1;
+  CHECK_THROWS_WITH_AS(npend::lyapunov_ensemble(c, x0, short_run(10), e),
+                       doctest::Contains("members"), std::invalid_argument);
+}

@@ -1,15 +1,20 @@
 // npend lyapunov: the Lyapunov spectrum (or the maximal exponent) of a trajectory, with its
-// convergence (paper §6.5.1).
+// uncertainty (paper §6.5.1) — or, with --input, the maximal exponent of a measured time series
+// by Kantz's method.
 #include "chain_options.hpp"
 #include "command.hpp"
+#include "csv_table.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
 #include "interrupt_guard.hpp"
 #include "progress_bar.hpp"
 #include "series_output.hpp"
 #include "start_options.hpp"
+#include "time_series_source.hpp"
 
+#include "npend/analysis/delay_embedding.hpp"
 #include "npend/analysis/lyapunov.hpp"
+#include "npend/analysis/series_lyapunov.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -17,6 +22,8 @@
 
 #include <cmath>
 #include <iostream>
+#include <numeric>
+#include <optional>
 
 namespace npend::app {
 
@@ -27,10 +34,30 @@ struct lyapunov_command_options {
   cli::start_options start;
   cli::integrator_options integrator;
   std::string transient, renormalise, fraction;
+  std::string ensemble, ensemble_radius, seed, blocks;
   bool maximal = false;
   bool json = false;
   std::string out;
+  // A measured series (--input).
+  std::string input, column, tau = "auto", dim, theiler, horizon, fit, radii;
+  const CLI::App* command = nullptr;
 };
+
+constexpr std::size_t min_series_samples = 64;
+
+bool given(const lyapunov_command_options& o, const char* name) {
+  const CLI::Option* option = o.command->get_option_no_throw(name);
+  return option != nullptr && option->count() > 0;
+}
+
+// A whole number in [low, high] from an option's text.
+std::size_t whole_number(const std::string& text, const char* option, double low, double high) {
+  const double k = cli::parse_number(text, option);
+  if (k != std::floor(k) || k < low || k > high)
+    throw cli::input_error(
+        fmt::format("{}: must be a whole number {:g}..{:g}, got {}", option, low, high, text));
+  return static_cast<std::size_t>(k);
+}
 
 lyapunov_options make_options(const lyapunov_command_options& o) {
   lyapunov_options l;
@@ -60,6 +87,7 @@ lyapunov_options make_options(const lyapunov_command_options& o) {
       throw cli::input_error(
           fmt::format("--convergence-fraction: must be in (0, 1], got {}", l.convergence_fraction));
   }
+  if (!o.blocks.empty()) l.blocks = whole_number(o.blocks, "--blocks", 2, 1000);
   return l;
 }
 
@@ -114,32 +142,88 @@ void write_files(series_output& files, const lyapunov_result& r, const chain& c,
        .panels = {panel}});
 }
 
-int run_lyapunov(const lyapunov_command_options& o) {
+// "± x (what it is)" for the text output.
+std::string uncertainty_label(bool ensemble, std::size_t count, double length) {
+  return ensemble ? fmt::format("standard error of the mean over an ensemble of {} nearby starts "
+                                "on the same energy surface",
+                                count)
+                  : fmt::format("standard error from {} blocks of {:.4g} s of the run (block "
+                                "exponents' standard deviation / sqrt({}))",
+                                count, length, count);
+}
+
+int run_equations(const lyapunov_command_options& o) {
+  for (const char* name : {"--column", "--tau", "--dim", "--theiler", "--horizon", "--fit",
+                           "--radius"})
+    if (given(o, name))
+      throw cli::input_error(fmt::format(
+          "{}: only for a measured series (--input F.csv), not with --links", name));
+  if (o.integrator.t_end.empty())
+    throw cli::input_error("--t-end is required with --links (see npend lyapunov --help)");
   const chain c = o.chain.make_chain();
   const std::vector<double> x0 = o.start.make_state(c);
   const lyapunov_options options = make_options(o);
+  std::optional<lyapunov_ensemble_options> ensemble;
+  if (!o.ensemble.empty()) {
+    ensemble.emplace();
+    ensemble->members = whole_number(o.ensemble, "--ensemble", 2, 10000);
+    ensemble->maximal = o.maximal;
+    if (!o.ensemble_radius.empty()) {
+      ensemble->radius = cli::parse_number(o.ensemble_radius, "--ensemble-radius");
+      if (!(ensemble->radius > 0 && ensemble->radius <= 0.1))
+        throw cli::input_error(fmt::format("--ensemble-radius: must be in (0, 0.1] rad, got {}",
+                                           o.ensemble_radius));
+    }
+    if (!o.seed.empty()) ensemble->seed = whole_number(o.seed, "--seed", 0, 9.0e15);
+  } else {
+    for (const char* name : {"--ensemble-radius", "--seed"})
+      if (given(o, name))
+        throw cli::input_error(fmt::format("{}: only with --ensemble K", name));
+  }
   series_output files(o.out);
 
   cli::interrupt_guard interrupt;
-  cli::progress_bar progress(options.integration.t_start, options.integration.t_end);
-  const auto observer = [&](double t, std::span<const double>) {
-    progress.update(t);
-    return interrupt.interrupted() ? observer_action::stop : observer_action::proceed;
-  };
+  const double run_length = options.integration.t_end - options.integration.t_start;
+  const std::size_t members = ensemble ? ensemble->members : 1;
+  cli::progress_bar progress(0, run_length * static_cast<double>(members));
   lyapunov_result r;
+  lyapunov_ensemble_result e;
   try {
-    r = o.maximal ? maximal_lyapunov_exponent(c, x0, options, observer)
-                  : lyapunov_spectrum(c, x0, options, observer);
+    if (ensemble) {
+      e = lyapunov_ensemble(c, x0, options, *ensemble,
+                            [&](std::size_t member, double t, std::span<const double>) {
+                              progress.update(static_cast<double>(member) * run_length + t);
+                              return interrupt.interrupted() ? observer_action::stop
+                                                             : observer_action::proceed;
+                            });
+      if (!e.stopped) r = e.runs.front();
+    } else {
+      const auto observer = [&](double t, std::span<const double>) {
+        progress.update(t);
+        return interrupt.interrupted() ? observer_action::stop : observer_action::proceed;
+      };
+      r = o.maximal ? maximal_lyapunov_exponent(c, x0, options, observer)
+                    : lyapunov_spectrum(c, x0, options, observer);
+    }
   } catch (const std::invalid_argument& e) {
     // What the options above cannot see, e.g. a transient that rounds up to --t-end.
     throw cli::input_error(e.what());
   }
   progress.finish();
-  if (r.stopped) {
-    fmt::print(stderr, "npend lyapunov: interrupted at t = {} s\n", r.t);
+  if (r.stopped || e.stopped) {
+    fmt::print(stderr, "npend lyapunov: interrupted at t = {} s{}\n", r.stopped ? r.t : 0.0,
+               e.stopped ? fmt::format(" of ensemble member {}", e.runs.size() + 1) : "");
     return 128 + interrupt.signal();
   }
   if (files.enabled()) write_files(files, r, c, o.maximal);
+
+  // The reported exponents and their uncertainty.
+  const std::vector<double> exponents = ensemble ? e.mean : r.exponents;
+  const std::vector<double> errors = ensemble ? e.standard_error : r.block_standard_error;
+  const std::size_t blocks = r.block_exponents.size();
+  const double block_length = blocks > 0 ? r.averaging_time / static_cast<double>(blocks) : 0;
+  const std::string label = ensemble ? uncertainty_label(true, e.runs.size(), 0)
+                                     : uncertainty_label(false, blocks, block_length);
 
   const double window = options.convergence_fraction * r.averaging_time;
   if (o.json) {
@@ -157,14 +241,35 @@ int run_lyapunov(const lyapunov_command_options& o) {
     j["transient"] = r.transient;
     j["renormalisation_interval"] = r.renormalisation_interval;
     j["renormalisations"] = r.renormalisations;
-    j["exponents"] = r.exponents;
-    j["maximal_exponent"] = r.exponents.front();
+    j["exponents"] = exponents;
+    j["maximal_exponent"] = exponents.front();
+    j["standard_errors"] = numbers(errors);
+    j["uncertainty"] = std::isfinite(errors.front()) ? nlohmann::json(errors.front())
+                                                     : nlohmann::json();
+    j["uncertainty_method"] = ensemble ? "ensemble standard error" : "block standard error";
+    j["uncertainty_description"] = label;
     if (!o.maximal) {
-      j["sum"] = r.sum;
-      j["pair_sums"] = pair_sums(r.exponents);
+      j["sum"] = std::accumulate(exponents.begin(), exponents.end(), 0.0);
+      j["pair_sums"] = pair_sums(exponents);
     }
     j["spread"] = numbers(r.spread);
     j["convergence_window"] = window;
+    j["blocks"] = {{"count", blocks},
+                   {"length", block_length},
+                   {"exponents", r.block_exponents},
+                   {"standard_errors", numbers(r.block_standard_error)}};
+    if (ensemble) {
+      nlohmann::json runs = nlohmann::json::array();
+      for (const auto& run : e.runs) runs.push_back(run.exponents);
+      j["ensemble"] = {{"members", e.runs.size()},
+                       {"radius", ensemble->radius},
+                       {"seed", ensemble->seed},
+                       {"starts", e.starts},
+                       {"exponents", runs},
+                       {"mean", e.mean},
+                       {"standard_deviation", numbers(e.standard_deviation)},
+                       {"standard_error", numbers(e.standard_error)}};
+    }
     j["max_rel_energy_error"] = r.max_rel_energy_error;
     files.add_to(j);
     std::cout << j.dump(2) << "\n";
@@ -173,20 +278,271 @@ int run_lyapunov(const lyapunov_command_options& o) {
   fmt::print("{} of the {}-link chain from x0 = [{:.6g}] (E = {:.6g} J)\n",
              o.maximal ? "Maximal Lyapunov exponent" : "Lyapunov spectrum", c.links(),
              fmt::join(x0, ", "), c.hamiltonian(x0));
-  fmt::print("{}, dt = {} s, averaged over t = {} ... {} s; {}, re-orthonormalised every {} s\n\n",
+  fmt::print("{}, dt = {} s, averaged over t = {} ... {} s; {}, re-orthonormalised every {} s\n",
              stepper_name(options.integration.stepper), options.integration.dt, r.transient, r.t,
              r.method, r.renormalisation_interval);
-  fmt::print("{:>4}  {:>16}  {:>22}\n", "i", "lambda_i (1/s)",
-             fmt::format("spread (last {:.3g} s)", window));
-  for (std::size_t i = 0; i < r.exponents.size(); ++i)
-    fmt::print("{:>4}  {:>16.6g}  {:>22.3g}\n", i + 1, r.exponents[i], r.spread[i]);
+  if (ensemble)
+    fmt::print(
+        "ensemble: {} starts (x0 and {} others, angles moved by {:g} rad, back on H = H(x0)); "
+        "lambda_i is their mean\n",
+        e.runs.size(), e.runs.size() - 1, ensemble->radius);
+  fmt::print("+- is the {}\n\n", label);
+  fmt::print("{:>4}  {:>16}  {:>12}  {:>22}\n", "i", "lambda_i (1/s)", "+-",
+             fmt::format("spread{} (last {:.3g} s)", ensemble ? " of x0's run" : "", window));
+  for (std::size_t i = 0; i < exponents.size(); ++i)
+    fmt::print("{:>4}  {:>16.6g}  {:>12.3g}  {:>22.3g}\n", i + 1, exponents[i], errors[i],
+               r.spread[i]);
+  if (ensemble)
+    fmt::print("\nsingle runs scatter by (standard deviation): [{::.3g}]\n", e.standard_deviation);
   if (!o.maximal) {
-    fmt::print("\nsum = {:.3g} (0 for a Hamiltonian flow: div f = 0)\n", r.sum);
-    fmt::print("pairs lambda_i + lambda_(2n+1-i) = {::.3g}\n", pair_sums(r.exponents));
+    fmt::print("\nsum = {:.3g} (0 for a Hamiltonian flow: div f = 0)\n",
+               std::accumulate(exponents.begin(), exponents.end(), 0.0));
+    fmt::print("pairs lambda_i + lambda_(2n+1-i) = {::.3g}\n", pair_sums(exponents));
   }
   fmt::print("max |H - H0| / H0 = {:.2g}\n", r.max_rel_energy_error);
   files.print();
   return 0;
+}
+
+// --fit a:b (s).
+std::pair<double, double> fit_range(const std::string& text) {
+  const auto colon = text.find(':');
+  if (colon == std::string::npos)
+    throw cli::input_error(fmt::format("--fit: '{}' is not FROM:TO (seconds)", text));
+  const double from = cli::parse_number(text.substr(0, colon), "--fit");
+  const double to = cli::parse_number(text.substr(colon + 1), "--fit");
+  if (!(from >= 0 && to > from))
+    throw cli::input_error(fmt::format("--fit: '{}' needs 0 <= FROM < TO", text));
+  return {from, to};
+}
+
+int run_series(const lyapunov_command_options& o) {
+  for (const char* name :
+       {"--masses", "--lengths", "--g", "--phi", "--p", "--dphi", "--energy", "--excitation",
+        "--t-end", "--stepper", "--abs-tol", "--rel-tol", "--transient", "--renormalise-every",
+        "--convergence-fraction", "--maximal", "--ensemble", "--ensemble-radius", "--seed",
+        "--blocks"})
+    if (given(o, name))
+      throw cli::input_error(
+          fmt::format("{}: only for the equations (--links N), not with --input", name));
+  std::optional<double> spacing;
+  if (!o.integrator.dt.empty()) {
+    spacing = cli::parse_number(o.integrator.dt, "--dt");
+    if (!(*spacing > 0)) throw cli::input_error(fmt::format("--dt: must be positive, got {}", o.integrator.dt));
+  }
+  std::size_t dimension = 6;
+  if (!o.dim.empty()) dimension = whole_number(o.dim, "--dim", 1, 20);
+  std::optional<std::pair<double, double>> fit;
+  if (!o.fit.empty()) fit = fit_range(o.fit);
+  std::vector<double> radii;
+  if (!o.radii.empty()) {
+    radii = cli::parse_number_list(o.radii, "--radius");
+    for (double r : radii)
+      if (!(r > 0)) throw cli::input_error(fmt::format("--radius: must be positive, got {}", r));
+  }
+  series_output files(o.out);
+  const std::string text = cli::read_text_file(o.input, "--input");
+  const cli::sampled_signals signals = cli::signals_from_csv(
+      cli::parse_csv(text, o.input), o.input, spacing, min_series_samples);
+  const cli::time_series x = cli::select_signal(signals, o.column, "--column");
+  const double dt = x.dt;
+
+  // τ: a rule of npend embed, or seconds.
+  std::size_t tau = 0;
+  std::string tau_method = "given";
+  if (const auto method = delay_method_from_name(o.tau)) {
+    const delay_choice choice = choose_delay(x.values, dt, *method);
+    if (!choice.found)
+      throw cli::input_error(fmt::format(
+          "--tau {}: the series has no such feature (no spectral peak, zero or minimum within "
+          "the lags searched); choose another method or give tau in seconds",
+          o.tau));
+    tau = choice.samples;
+    tau_method = std::string(delay_method_name(choice.method));
+  } else {
+    double seconds = 0;
+    try {
+      seconds = cli::parse_number(o.tau, "--tau");
+    } catch (const cli::input_error&) {
+      throw cli::input_error(fmt::format(
+          "--tau: '{}' is not auto, T/4, acf-zero, acf-min, ami or a delay in seconds", o.tau));
+    }
+    const double samples = std::round(seconds / dt);
+    if (!(samples >= 1 && samples < static_cast<double>(x.values.size())))
+      throw cli::input_error(fmt::format(
+          "--tau: {} s is not between dt = {:.6g} s and the series' length", o.tau, dt));
+    tau = static_cast<std::size_t>(samples);
+  }
+  const std::size_t n = x.values.size();
+  series_lyapunov_options options;
+  auto& s = options.stretching;
+  s.delay = tau;
+  s.dimension = dimension;
+  s.theiler_window = std::max<std::size_t>(1, dimension - 1) * tau;
+  if (!o.theiler.empty()) {
+    const double seconds = cli::parse_number(o.theiler, "--theiler");
+    if (!(seconds >= 0)) throw cli::input_error("--theiler: must be at least 0");
+    s.theiler_window = static_cast<std::size_t>(std::round(seconds / dt));
+  }
+  s.horizon = std::min<std::size_t>(40 * tau, n / 4);
+  if (!o.horizon.empty()) {
+    const double seconds = cli::parse_number(o.horizon, "--horizon");
+    if (!(seconds >= dt))
+      throw cli::input_error(fmt::format("--horizon: must be at least dt = {:.6g} s", dt));
+    s.horizon = static_cast<std::size_t>(std::round(seconds / dt));
+  }
+  s.horizon = std::max<std::size_t>(s.horizon, 2);
+  s.step = std::max<std::size_t>(1, s.horizon / 200);
+  s.radii = radii;
+  if (fit) {
+    if (fit->second > static_cast<double>(s.horizon) * dt * (1 + 1e-12))
+      throw cli::input_error(fmt::format("--fit: {} s lies beyond the horizon {:.6g} s (--horizon)",
+                                         fit->second, static_cast<double>(s.horizon) * dt));
+    options.fit_from = fit->first;
+    options.fit_to = fit->second;
+  }
+  series_lyapunov_result r;
+  try {
+    r = series_lyapunov_exponent(x.values, dt, options);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(e.what());
+  }
+  std::vector<double> t;
+  for (std::size_t k : r.stretching.steps) t.push_back(static_cast<double>(k) * dt);
+  // How far the middle curve rises: a few units of ln means the neighbourhoods are too
+  // coarse for a linear region.
+  const auto& middle = r.stretching.curves[r.stretching.curves.size() / 2].s;
+  double low = INFINITY, high = -INFINITY;
+  for (double v : middle)
+    if (std::isfinite(v)) {
+      low = std::min(low, v);
+      high = std::max(high, v);
+    }
+  const double rise = high - low;
+  std::vector<std::string> notes;
+  if (rise < 3)
+    notes.push_back(fmt::format(
+        "the stretching curve rises by only {:.2g} (ln units) over the horizon: either nearby "
+        "states do not separate (regular motion, exponent 0) or the neighbours are too far "
+        "apart for a linear region (a series too short for its dimension), and then the slope "
+        "need not be the maximal exponent",
+        rise));
+  if (r.uncertainty > 0.25 * std::fabs(r.maximal_exponent) && r.maximal_exponent > 0)
+    notes.push_back("the uncertainty is more than a quarter of the exponent: the curve has no "
+                    "clear linear region in the fit range (see --fit)");
+
+  if (files.enabled()) {
+    std::vector<std::string> names{"t"};
+    std::vector<std::vector<double>> columns{t};
+    for (const auto& c : r.stretching.curves) {
+      names.push_back(fmt::format("S_eps_{:.4g}", c.radius));
+      columns.push_back(c.s);
+    }
+    const std::string data = files.write_csv("", names, columns);
+    cli::plot_panel panel{
+        .title = fmt::format("Stretching curve of {} (Kantz; m = {}, tau = {:.4g} s): slope {:.4g} "
+                             "+- {:.2g} 1/s over {:.4g} ... {:.4g} s",
+                             x.name, dimension, static_cast<double>(tau) * dt,
+                             r.maximal_exponent, r.uncertainty, r.fit_from, r.fit_to),
+        .xlabel = "Δt (s)",
+        .ylabel = "S(Δt) = <ln mean distance>",
+        .commands = {fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2",
+                                 r.fit_from),
+                     fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2", r.fit_to),
+                     "set key left top"}};
+    for (std::size_t q = 0; q < r.stretching.curves.size(); ++q) {
+      panel.curves.push_back({data, fmt::format("1:{}", q + 2), "lines lw 1.5",
+                              fmt::format("ε = {:.3g}", r.stretching.curves[q].radius)});
+    }
+    const auto& f = r.fits[r.fits.size() / 2];
+    panel.commands.push_back(fmt::format("f(x) = {} + {} * x", f.intercept, f.slope));
+    panel.curves.push_back(
+        {data, fmt::format("1:(($1 >= {} && $1 <= {}) ? f($1) : 1/0)", r.fit_from, r.fit_to),
+         "lines lw 3 dt 3", fmt::format("fit, slope {:.4g} /s", f.slope)});
+    files.write_plot(
+        {.description = {fmt::format("npend lyapunov: stretching curves of {}", series_summary(x)),
+                         fmt::format("data: {} (t, S for each radius)", data)},
+         .panels = {panel}});
+  }
+
+  if (o.json) {
+    nlohmann::json j = describe_series(x);
+    j["method"] = "Kantz";
+    j["maximal_exponent"] = r.maximal_exponent;
+    j["uncertainty"] = r.uncertainty;
+    j["uncertainty_parts"] = {{"statistical", std::isfinite(r.statistical_uncertainty)
+                                                  ? nlohmann::json(r.statistical_uncertainty)
+                                                  : nlohmann::json()},
+                              {"radius", r.radius_uncertainty},
+                              {"range", r.range_uncertainty}};
+    j["fit_range"] = {r.fit_from, r.fit_to};
+    j["fit_range_method"] = r.automatic_range ? "automatic" : "given";
+    j["tau"] = static_cast<double>(tau) * dt;
+    j["tau_samples"] = tau;
+    j["tau_method"] = tau_method;
+    j["dimension"] = dimension;
+    j["theiler_window"] = static_cast<double>(s.theiler_window) * dt;
+    j["horizon"] = static_cast<double>(s.horizon) * dt;
+    j["rise"] = rise;
+    nlohmann::json fits = nlohmann::json::array(), curve_s = nlohmann::json::array();
+    for (std::size_t q = 0; q < r.fits.size(); ++q) {
+      const auto& f = r.fits[q];
+      const auto& c = r.stretching.curves[q];
+      fits.push_back({{"radius", f.radius},
+                      {"slope", f.slope},
+                      {"standard_error", std::isfinite(f.standard_error)
+                                             ? nlohmann::json(f.standard_error)
+                                             : nlohmann::json()},
+                      {"group_standard_error", std::isfinite(f.group_standard_error)
+                                                   ? nlohmann::json(f.group_standard_error)
+                                                   : nlohmann::json()},
+                      {"references", c.references},
+                      {"mean_neighbours", c.mean_neighbours}});
+      curve_s.push_back(numbers(c.s));
+    }
+    j["fits"] = fits;
+    nlohmann::json radii_json = nlohmann::json::array();
+    for (const auto& c : r.stretching.curves) radii_json.push_back(c.radius);
+    j["curve"] = {{"t", t}, {"radii", radii_json}, {"s", curve_s}};
+    if (!notes.empty()) j["warnings"] = notes;
+    files.add_to(j);
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  fmt::print("Maximal Lyapunov exponent of {} (Kantz's method)\n\n", series_summary(x));
+  fmt::print("delay embedding: m = {}, tau = {:.6g} s ({} samples; {}), Theiler window {:.6g} s\n",
+             dimension, static_cast<double>(tau) * dt, tau, tau_method,
+             static_cast<double>(s.theiler_window) * dt);
+  fmt::print("stretching curve S(dt) up to {:.6g} s; slope fitted over {:.6g} ... {:.6g} s ({})\n\n",
+             static_cast<double>(s.horizon) * dt, r.fit_from, r.fit_to,
+             r.automatic_range ? "chosen automatically" : "given");
+  fmt::print("{:>12}  {:>12}  {:>12}  {:>11}\n", "radius", "slope (1/s)", "references",
+             "neighbours");
+  for (std::size_t q = 0; q < r.fits.size(); ++q)
+    fmt::print("{:>12.4g}  {:>12.5g}  {:>12}  {:>11.3g}\n", r.fits[q].radius, r.fits[q].slope,
+               r.stretching.curves[q].references, r.stretching.curves[q].mean_neighbours);
+  fmt::print("\nmaximal exponent = {:.5g} +- {:.2g} 1/s\n", r.maximal_exponent, r.uncertainty);
+  fmt::print(
+      "+- = sqrt(statistical^2 + radius^2 + range^2) = sqrt({:.2g}^2 + {:.2g}^2 + {:.2g}^2): the "
+      "slopes' standard error over {} groups of reference points, half the slopes' range over "
+      "the radii, and half the difference of the slopes over the two halves of the fit range\n",
+      r.statistical_uncertainty, r.radius_uncertainty, r.range_uncertainty, s.groups);
+  for (const auto& note : notes) fmt::print("warning: {}\n", note);
+  files.print();
+  return 0;
+}
+
+int run_lyapunov(const lyapunov_command_options& o) {
+  const bool from_file = !o.input.empty();
+  if (from_file && o.chain.links != 0)
+    throw cli::input_error(
+        "--input and --links exclude each other: a measured series or the equations");
+  if (from_file) return run_series(o);
+  if (!given(o, "--links"))
+    throw cli::input_error(
+        "--links is required (or --input F.csv for a measured series; see npend lyapunov "
+        "--help)");
+  return run_equations(o);
 }
 
 }  // namespace
@@ -194,10 +550,17 @@ int run_lyapunov(const lyapunov_command_options& o) {
 void add_lyapunov_command(CLI::App& app, command_list& commands) {
   auto o = std::make_shared<lyapunov_command_options>();
   CLI::App* cmd = app.add_subcommand(
-      "lyapunov", "Lyapunov spectrum (or the maximal exponent) of a trajectory, with convergence");
-  o->chain.add_to(*cmd);
+      "lyapunov",
+      "Lyapunov spectrum (or the maximal exponent) of a trajectory with its uncertainty, or the "
+      "maximal exponent of a measured series (--input)");
+  o->command = cmd;
+  o->chain.add_to(*cmd, false);
   o->start.add_to(*cmd);
-  o->integrator.add_to(*cmd);
+  cmd->add_option("--t-end", o->integrator.t_end, "Integrate from t = 0 to this time in s");
+  cmd->add_option("--dt", o->integrator.dt,
+                  "Output step in s (default: 0.001); with --input the sample spacing (needed "
+                  "without a time column)");
+  o->integrator.add_stepper_options(*cmd);
   cmd->add_option("--transient", o->transient,
                   "Integrate this long (s) before averaging starts (default: 0)");
   cmd->add_option("--renormalise-every", o->renormalise,
@@ -206,12 +569,44 @@ void add_lyapunov_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--convergence-fraction", o->fraction,
                   "The spread of the running values is taken over this last fraction of the "
                   "averaging time (default: 0.25)");
+  cmd->add_option("--blocks", o->blocks,
+                  "Cut the averaging time into this many blocks; the uncertainty without "
+                  "--ensemble is their standard error (default: 10)");
+  cmd->add_option("--ensemble", o->ensemble,
+                  "Run K starts (the given one and K - 1 nearby on the same energy surface); "
+                  "report their mean and its standard error");
+  cmd->add_option("--ensemble-radius", o->ensemble_radius,
+                  "How far (rad) the ensemble's starts are moved from the given one (default: "
+                  "1e-6)");
+  cmd->add_option("--seed", o->seed, "Seed of the ensemble's random starts (default: 1)");
   cmd->add_flag("--maximal", o->maximal,
                 "Only the maximal exponent, from one tangent vector (cheaper)");
+  cmd->add_option("--input", o->input,
+                  "A measured time series: a CSV file (a column per signal, header names, a "
+                  "column t or time for the sample times); its maximal exponent by Kantz's "
+                  "method");
+  cmd->add_option("--column", o->column,
+                  "With --input: the signal, a column name or number (default: the first "
+                  "signal)");
+  cmd->add_option("--tau", o->tau,
+                  "With --input: the embedding delay, auto, T/4, acf-zero, acf-min, ami or "
+                  "seconds (default: auto, as npend embed)");
+  cmd->add_option("--dim", o->dim, "With --input: the embedding dimension (default: 6)");
+  cmd->add_option("--theiler", o->theiler,
+                  "With --input: neighbours closer in time than this (s) are not used "
+                  "(default: (dim - 1) tau)");
+  cmd->add_option("--horizon", o->horizon,
+                  "With --input: the stretching curve's longest time in s (default: 40 tau, at "
+                  "most a quarter of the series)");
+  cmd->add_option("--fit", o->fit,
+                  "With --input: fit the slope over FROM:TO (s) (default: chosen on the curve)");
+  cmd->add_option("--radius", o->radii,
+                  "With --input: neighbourhood radii eps1,eps2,.. in the signal's unit (default: "
+                  "1, 2, 4 times the median nearest-neighbour distance)");
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->add_option("--out", o->out,
-                  "Write the running values to FILE.csv (t, lambda_1..) and their plot FILE.png "
-                  "with its gnuplot script FILE.gp");
+                  "Write the running values (with --input: the stretching curves) to FILE.csv "
+                  "and their plot FILE.png with its gnuplot script FILE.gp");
   commands.push_back({cmd, [o] { return run_lyapunov(*o); }});
 }
 

@@ -14,6 +14,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <random>
 #include <stdexcept>
 
 namespace npend {
@@ -37,6 +38,9 @@ void lyapunov_options::validate() const {
   if (max_history < 2)
     throw std::invalid_argument(
         fmt::format("lyapunov: max_history is {}: it must be at least 2", max_history));
+  if (blocks < 2)
+    throw std::invalid_argument(
+        fmt::format("lyapunov: blocks is {}: it must be at least 2", blocks));
   if (integration.stepper == stepper_kind::rosenbrock4)
     throw std::invalid_argument(
         "lyapunov: the rosenbrock4 stepper cannot integrate the variational equations (its "
@@ -123,9 +127,7 @@ tangent_advance make_advance(const chain& c, const integration_options& o, Eigen
   }
 }
 
-lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const lyapunov_options& o,
-                             Eigen::MatrixXd W, const lyapunov_observer& observer) {
-  o.validate();
+void check_start(const chain& c, std::span<const double> x0) {
   const auto d = static_cast<std::size_t>(c.state_size());
   if (x0.size() != d)
     throw std::invalid_argument(fmt::format(
@@ -133,6 +135,13 @@ lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const l
   for (std::size_t i = 0; i < d; ++i)
     if (!std::isfinite(x0[i]))
       throw std::invalid_argument(fmt::format("start state entry {} is not finite", i + 1));
+}
+
+lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const lyapunov_options& o,
+                             Eigen::MatrixXd W, const lyapunov_observer& observer) {
+  o.validate();
+  check_start(c, x0);
+  const auto d = static_cast<std::size_t>(c.state_size());
 
   const double dt = o.integration.dt, t0 = o.integration.t_start;
   const std::size_t total = output_steps(o.integration);
@@ -148,13 +157,16 @@ lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const l
         o.transient, static_cast<double>(transient_steps) * dt, o.integration.t_end));
   const std::size_t averaging_chunks = (total - transient_steps + chunk - 1) / chunk;
   const std::size_t stride = (averaging_chunks + o.max_history - 1) / o.max_history;
+  // Block b holds the averaging chunks [b A / B, (b + 1) A / B).
+  const std::size_t blocks = std::min(o.blocks, averaging_chunks);
+  const auto block_end = [&](std::size_t b) { return (b + 1) * averaging_chunks / blocks; };
 
   lyapunov_result r;
   r.renormalisation_interval = static_cast<double>(chunk) * dt;
   r.transient = static_cast<double>(transient_steps) * dt;
   const tangent_advance advance = make_advance(c, o.integration, W.cols(), r.method);
   const auto k = static_cast<std::size_t>(W.cols());
-  std::vector<double> x(x0.begin(), x0.end()), sums(k, 0.0), running;
+  std::vector<double> x(x0.begin(), x0.end()), sums(k, 0.0), running, block_sums(k, 0.0);
   const double h0 = c.hamiltonian(x);
   const double t_average = t0 + r.transient;
 
@@ -180,9 +192,20 @@ lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const l
     if (done > transient_steps) {
       ++r.renormalisations;
       running.resize(k);
+      if (r.block_edges.empty()) r.block_edges.push_back(t_average);
       for (std::size_t i = 0; i < k; ++i) {
-        sums[i] += std::log(std::fabs(diagonal(static_cast<Eigen::Index>(i))));
+        const double growth = std::log(std::fabs(diagonal(static_cast<Eigen::Index>(i))));
+        sums[i] += growth;
+        block_sums[i] += growth;
         running[i] = sums[i] / (r.t - t_average);
+      }
+      if (r.renormalisations == block_end(r.block_exponents.size())) {
+        const double length = r.t - r.block_edges.back();
+        std::vector<double> block(k);
+        for (std::size_t i = 0; i < k; ++i) block[i] = block_sums[i] / length;
+        r.block_exponents.push_back(std::move(block));
+        r.block_edges.push_back(r.t);
+        block_sums.assign(k, 0.0);
       }
       if (r.renormalisations % stride == 0 || done == total) {
         r.history_t.push_back(r.t);
@@ -199,6 +222,7 @@ lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const l
   if (running.empty()) {  // stopped during the transient: nothing averaged
     r.exponents.assign(k, std::numeric_limits<double>::quiet_NaN());
     r.spread.assign(k, std::numeric_limits<double>::quiet_NaN());
+    r.block_standard_error.assign(k, std::numeric_limits<double>::quiet_NaN());
     r.sum = std::numeric_limits<double>::quiet_NaN();
     return r;
   }
@@ -219,6 +243,17 @@ lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const l
   };
   r.exponents = permuted(running);
   for (auto& h : r.history) h = permuted(h);
+  for (auto& b : r.block_exponents) b = permuted(b);
+  r.block_standard_error.assign(k, std::numeric_limits<double>::quiet_NaN());
+  if (const std::size_t count = r.block_exponents.size(); count >= 2)
+    for (std::size_t i = 0; i < k; ++i) {
+      double mean = 0, squares = 0;
+      for (const auto& b : r.block_exponents) mean += b[i];
+      mean /= static_cast<double>(count);
+      for (const auto& b : r.block_exponents) squares += (b[i] - mean) * (b[i] - mean);
+      r.block_standard_error[i] =
+          std::sqrt(squares / static_cast<double>(count - 1) / static_cast<double>(count));
+    }
   r.sum = std::accumulate(r.exponents.begin(), r.exponents.end(), 0.0);
 
   const double tail_start = t_average + (1 - o.convergence_fraction) * r.averaging_time;
@@ -266,6 +301,130 @@ lyapunov_result maximal_lyapunov_exponent(const chain& c, std::span<const double
   return run_benettin(c, x0, options,
                       Eigen::MatrixXd::Constant(d, 1, 1.0 / std::sqrt(static_cast<double>(d))),
                       observer);
+}
+
+namespace {
+
+// ∇H = (−ṗ, φ̇) from Hamilton's equations f = (∂H/∂p, −∂H/∂φ).
+std::vector<double> energy_gradient(const chain& c, std::span<const double> x) {
+  const std::vector<double> f = c.rhs(x);
+  const std::size_t n = static_cast<std::size_t>(c.links());
+  std::vector<double> g(2 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    g[i] = -f[n + i];
+    g[n + i] = f[i];
+  }
+  return g;
+}
+
+// x moved along ∇H(x) until H = energy: Newton on s ↦ H(x + s ∇H(x)), whose derivative is
+// ∇H(x + s∇H) · ∇H(x).
+std::vector<double> onto_energy_surface(const chain& c, std::vector<double> x, double energy) {
+  const std::vector<double> direction = energy_gradient(c, x);
+  double norm = 0;
+  for (double v : direction) norm += v * v;
+  if (!(norm > 0))
+    throw std::invalid_argument(
+        "energy_surface_neighbours: the gradient of H vanishes at a perturbed start");
+  const double tolerance = 8 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::fabs(energy));
+  std::vector<double> y = x;
+  double s = 0;
+  for (int iteration = 0; iteration < 50; ++iteration) {
+    for (std::size_t i = 0; i < x.size(); ++i) y[i] = x[i] + s * direction[i];
+    const double defect = c.hamiltonian(y) - energy;
+    if (std::fabs(defect) <= tolerance) return y;
+    const std::vector<double> g = energy_gradient(c, y);
+    double slope = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) slope += g[i] * direction[i];
+    if (!(slope != 0) || !std::isfinite(slope)) break;
+    s -= defect / slope;
+  }
+  throw std::invalid_argument(fmt::format(
+      "energy_surface_neighbours: could not bring a perturbed start back to H = {} J; use a "
+      "smaller radius",
+      energy));
+}
+
+}  // namespace
+
+std::vector<std::vector<double>> energy_surface_neighbours(const chain& c,
+                                                           std::span<const double> x0,
+                                                           std::size_t count, double radius,
+                                                           std::uint64_t seed) {
+  check_start(c, x0);
+  if (count == 0) throw std::invalid_argument("energy_surface_neighbours: count must be at least 1");
+  if (!(radius > 0) || !std::isfinite(radius))
+    throw std::invalid_argument(fmt::format(
+        "energy_surface_neighbours: radius is {}: it must be positive and finite", radius));
+  std::vector<std::vector<double>> starts{std::vector<double>(x0.begin(), x0.end())};
+  if (count == 1) return starts;
+  const std::vector<double> gradient = energy_gradient(c, x0);
+  double scale = 0;
+  for (double v : gradient) scale = std::max(scale, std::fabs(v));
+  if (!(scale > 0))
+    throw std::invalid_argument(
+        "energy_surface_neighbours: x0 is an equilibrium (grad H = 0): no nearby state has its "
+        "energy");
+  const double energy = c.hamiltonian(x0);
+  const std::size_t n = static_cast<std::size_t>(c.links());
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal;
+  while (starts.size() < count) {
+    std::vector<double> direction(n);
+    double norm = 0;
+    for (double& v : direction) {
+      v = normal(rng);
+      norm += v * v;
+    }
+    norm = std::sqrt(norm);
+    if (!(norm > 0)) continue;
+    std::vector<double> x(x0.begin(), x0.end());
+    for (std::size_t i = 0; i < n; ++i) x[i] += radius * direction[i] / norm;
+    starts.push_back(onto_energy_surface(c, std::move(x), energy));
+  }
+  return starts;
+}
+
+lyapunov_ensemble_result lyapunov_ensemble(const chain& c, std::span<const double> x0,
+                                           const lyapunov_options& options,
+                                           const lyapunov_ensemble_options& ensemble,
+                                           const lyapunov_ensemble_observer& observer) {
+  options.validate();
+  if (ensemble.members < 2)
+    throw std::invalid_argument(fmt::format(
+        "lyapunov_ensemble: members is {}: it must be at least 2", ensemble.members));
+  lyapunov_ensemble_result r;
+  r.starts = energy_surface_neighbours(c, x0, ensemble.members, ensemble.radius, ensemble.seed);
+  for (std::size_t m = 0; m < r.starts.size(); ++m) {
+    lyapunov_observer member;
+    if (observer)
+      member = [&observer, m](double t, std::span<const double> running) {
+        return observer(m, t, running);
+      };
+    lyapunov_result run = ensemble.maximal
+                              ? maximal_lyapunov_exponent(c, r.starts[m], options, member)
+                              : lyapunov_spectrum(c, r.starts[m], options, member);
+    r.stopped = run.stopped;
+    if (!run.stopped) r.runs.push_back(std::move(run));
+    if (r.stopped) break;
+  }
+  const std::size_t k = ensemble.maximal ? 1 : static_cast<std::size_t>(c.state_size());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  r.mean.assign(k, nan);
+  r.standard_deviation.assign(k, nan);
+  r.standard_error.assign(k, nan);
+  const std::size_t count = r.runs.size();
+  if (count < 2) return r;
+  for (std::size_t i = 0; i < k; ++i) {
+    double mean = 0, squares = 0;
+    for (const auto& run : r.runs) mean += run.exponents[i];
+    mean /= static_cast<double>(count);
+    for (const auto& run : r.runs) squares += (run.exponents[i] - mean) * (run.exponents[i] - mean);
+    r.mean[i] = mean;
+    r.standard_deviation[i] = std::sqrt(squares / static_cast<double>(count - 1));
+    r.standard_error[i] = r.standard_deviation[i] / std::sqrt(static_cast<double>(count));
+  }
+  return r;
 }
 
 }  // namespace npend

@@ -6,6 +6,7 @@
 #include "npend/integrate.hpp"
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <span>
 #include <string>
@@ -46,6 +47,11 @@ struct lyapunov_options {
   double convergence_fraction = 0.25;
   /// At most this many running values are kept in the result (evenly spaced, ≥ 2).
   std::size_t max_history = 1000;
+  /// The averaging time is cut into this many blocks of (nearly) equal length, whole
+  /// renormalisation intervals each (≥ 2, at most the number of renormalisations): each
+  /// block gives its own exponents, and their standard deviation / √blocks is the
+  /// block_standard_error of the result.
+  std::size_t blocks = 10;
 
   /// Throws std::invalid_argument naming the field (see integration_options::validate too).
   void validate() const;
@@ -62,6 +68,19 @@ struct lyapunov_result {
   /// last convergence_fraction of the averaging time (1/s) — the convergence estimate; NaN
   /// when fewer than two running values fall there.
   std::vector<double> spread;
+  /// The exponents of each block of the averaging time (block b: Σ ln|R_ii| over its
+  /// renormalisations / its length), in the order of `exponents`: blocks × k values. The
+  /// exponents are their length-weighted mean. Only complete blocks (all when the run was
+  /// not stopped).
+  std::vector<std::vector<double>> block_exponents;
+  /// The blocks' start and end times (s), blocks + 1 values.
+  std::vector<double> block_edges;
+  /// Per exponent: the standard deviation of the block exponents / √blocks (1/s) — the
+  /// standard error of the exponent if the blocks were independent finite-time samples. For
+  /// chaotic motion with quiet and wild phases they are correlated and this underestimates
+  /// the error; lyapunov_ensemble gives an independent estimate. NaN with fewer than two
+  /// complete blocks.
+  std::vector<double> block_standard_error;
   /// The running values: times (s) and, per time, the estimates in the order of
   /// `exponents` (at most max_history + 1 of them, the last at `t`).
   std::vector<double> history_t;
@@ -108,5 +127,56 @@ lyapunov_result lyapunov_spectrum(const chain& c, std::span<const double> x0,
 lyapunov_result maximal_lyapunov_exponent(const chain& c, std::span<const double> x0,
                                           const lyapunov_options& options,
                                           const lyapunov_observer& observer = {});
+
+/// `count` start states near x0 on its energy surface: the first is x0 itself; each other is
+/// x0 with its angles moved by a random vector of Euclidean length `radius` (rad; a uniformly
+/// random direction from a std::mt19937_64 seeded with `seed`), then moved along ∇H (Newton
+/// on the line x + s ∇H) until H equals H(x0) to a few units of round-off. Throws
+/// std::invalid_argument for x0 of the wrong size or non-finite, count = 0, a radius that is
+/// not positive and finite, an x0 where ∇H = 0 (an equilibrium: no nearby state has its
+/// energy), and when the projection does not converge.
+std::vector<std::vector<double>> energy_surface_neighbours(const chain& c,
+                                                           std::span<const double> x0,
+                                                           std::size_t count, double radius,
+                                                           std::uint64_t seed = 1);
+
+/// How an ensemble of Lyapunov runs is set up.
+struct lyapunov_ensemble_options {
+  /// Members K ≥ 2: x0 and K − 1 starts near it (energy_surface_neighbours).
+  std::size_t members = 8;
+  /// How far the starts are moved (rad, Euclidean length of the change of the angles). For
+  /// chaotic motion the runs part after ~ln(1/radius)/λ_1 and their exponents become
+  /// independent finite-time samples.
+  double radius = 1e-6;
+  std::uint64_t seed = 1;
+  /// Each member computes only the maximal exponent (maximal_lyapunov_exponent).
+  bool maximal = false;
+};
+
+/// K Lyapunov computations from nearby starts on one energy surface, and the statistics of
+/// their exponents.
+struct lyapunov_ensemble_result {
+  std::vector<std::vector<double>> starts;  ///< K × 2n; starts[0] = x0
+  std::vector<lyapunov_result> runs;        ///< one per start (their exponents descending)
+  /// Per exponent (2n, or 1 with maximal), over the K runs: the mean, the sample standard
+  /// deviation (what a single run's finite-time value scatters by) and the standard error
+  /// of the mean, standard deviation / √K (1/s).
+  std::vector<double> mean, standard_deviation, standard_error;
+  /// True if the observer stopped the run (the statistics then cover the runs finished, and
+  /// are NaN with fewer than two).
+  bool stopped = false;
+};
+
+/// Called like lyapunov_observer, with the member's index (0-based) in front.
+using lyapunov_ensemble_observer =
+    std::function<observer_action(std::size_t member, double t, std::span<const double> running)>;
+
+/// The ensemble: energy_surface_neighbours(c, x0, members, radius, seed), each followed by
+/// lyapunov_spectrum (or maximal_lyapunov_exponent) with `options`, one after the other.
+/// Throws what those throw, and std::invalid_argument for members < 2.
+lyapunov_ensemble_result lyapunov_ensemble(const chain& c, std::span<const double> x0,
+                                           const lyapunov_options& options,
+                                           const lyapunov_ensemble_options& ensemble,
+                                           const lyapunov_ensemble_observer& observer = {});
 
 }  // namespace npend

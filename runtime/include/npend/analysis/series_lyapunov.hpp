@@ -1,0 +1,118 @@
+// The maximal Lyapunov exponent of a measured time series (Kantz 1994): how fast nearby
+// delay vectors separate on average — the stretching curve S(Δt) and its slope.
+//
+// For a reference vector y_i of the delay embedding and its neighbourhood U_i (the vectors
+// within a radius ε of it, outside a Theiler window in time),
+//
+//   S(Δn) = ⟨ ln( (1/|U_i|) Σ_{j ∈ U_i} ‖y_{i+Δn} − y_{j+Δn}‖ ) ⟩_i ,
+//
+// averaged over the reference points that have neighbours. Where the separations are small
+// and aligned with the most unstable direction, S grows like λ_1 · Δn dt; it saturates at the
+// size of the attractor. The slope of S in that linear region is the maximal exponent.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace npend {
+
+/// How the stretching curves are computed.
+struct stretching_options {
+  std::size_t delay = 1;      ///< τ in samples (≥ 1)
+  std::size_t dimension = 6;  ///< m (≥ 1)
+  /// Neighbours closer in time than this (|i − j| ≤ w samples) are not used: they lie on the
+  /// same piece of trajectory and separate along it, not across.
+  std::size_t theiler_window = 0;
+  /// The curve is evaluated at Δn = 0, step, 2·step, … up to `horizon` samples (horizon ≥ 1,
+  /// step ≥ 1; the last point is the largest multiple of step ≤ horizon).
+  std::size_t horizon = 100;
+  std::size_t step = 1;
+  /// Neighbourhood radii ε (Euclidean, units of x). Empty: three radii, 1, 2 and 4 times the
+  /// median distance of a reference vector to its nearest admissible neighbour.
+  std::vector<double> radii;
+  /// At most this many reference vectors, evenly spaced in time (0: all).
+  std::size_t max_references = 2000;
+  /// Of the neighbours within ε, the nearest this many are used (bounds the cost).
+  std::size_t max_neighbours = 32;
+  /// The reference vectors are also cut into this many groups consecutive in time (≥ 2),
+  /// each with its own curve: their scatter gives the statistical uncertainty.
+  std::size_t groups = 8;
+};
+
+/// S(Δn) for one radius.
+struct stretching_curve {
+  double radius = 0;            ///< ε
+  std::vector<double> s;        ///< S at each Δn of the result (NaN: no reference point)
+  std::size_t references = 0;   ///< reference vectors with at least one neighbour
+  double mean_neighbours = 0;   ///< mean |U_i| over them
+  /// S of each group of reference vectors (groups × steps; NaN where a group has none).
+  std::vector<std::vector<double>> group_s;
+};
+
+struct stretching_result {
+  std::vector<std::size_t> steps;        ///< Δn in samples: 0, step, 2·step, …
+  std::vector<stretching_curve> curves;  ///< one per radius, ascending ε
+  std::size_t vectors = 0;               ///< delay vectors that can serve (with Δn ≤ horizon ahead)
+};
+
+/// The stretching curves of x (dim N). Throws std::invalid_argument for a non-finite
+/// sample, a constant series, options out of range (naming them), non-positive radii, or a
+/// series too short: the delay vectors that have `horizon` samples ahead must number at least
+/// 2w + 3 and 2·groups.
+stretching_result stretching_curves(std::span<const double> x, const stretching_options& options);
+
+/// How the slope is fitted.
+struct series_lyapunov_options {
+  stretching_options stretching;
+  /// The fit range in s of Δt = Δn·dt; none: chosen automatically (see
+  /// series_lyapunov_exponent).
+  std::optional<double> fit_from, fit_to;
+};
+
+/// A straight line through S(Δt) for one radius over the fit range.
+struct stretching_fit {
+  double radius = 0;
+  double slope = 0;           ///< 1/s
+  double intercept = 0;
+  double standard_error = 0;  ///< of the slope, from the residuals (ordinary least squares)
+  /// The slopes over the first and the second half of the fit range (1/s).
+  double slope_first_half = 0, slope_second_half = 0;
+  /// The slopes of the groups' curves, and their standard deviation / √groups (1/s).
+  std::vector<double> group_slopes;
+  double group_standard_error = 0;
+};
+
+/// What series_lyapunov_exponent found.
+struct series_lyapunov_result {
+  stretching_result stretching;
+  double dt = 0;                    ///< s
+  double fit_from = 0, fit_to = 0;  ///< the fit range (s)
+  bool automatic_range = false;
+  std::vector<stretching_fit> fits;  ///< one per radius, as stretching.curves
+  /// The mean slope over the radii (1/s).
+  double maximal_exponent = 0;
+  /// √(statistical² + radius² + range²) (1/s):
+  /// statistical — the mean over the radii of the groups' standard error;
+  /// radius — half the range (max − min) of the slopes over the radii;
+  /// range — the mean over the radii of half |first-half slope − second-half slope|, which
+  ///         is large when S is curved over the fit range (no linear region).
+  double uncertainty = 0;
+  double statistical_uncertainty = 0, radius_uncertainty = 0, range_uncertainty = 0;
+};
+
+/// The maximal Lyapunov exponent of x_j = x(t₀ + j dt) (dim N, dt > 0 in s) by Kantz's
+/// method: stretching_curves, then on each radius's curve a least-squares line over the fit
+/// range. Without a range given, the range is chosen on the curve of the middle radius (the
+/// mean of the two middle ones for an even count): from the first Δn ≥ max(1, (m − 1)τ) —
+/// the embedding window, during which the separations still turn into the unstable direction
+/// — to where the curve first reaches half-way from its value there to its largest value
+/// after it (the saturation level, ln of the attractor's size); to the end of the curve if
+/// it rises by less than 1 after the window (no growth to speak of). Throws std::invalid_argument as stretching_curves does, for dt ≤ 0, a fit
+/// range that is not 0 ≤ from < to ≤ horizon·dt or holds fewer than 3 points of the curve,
+/// and when the curves have no point with reference vectors.
+series_lyapunov_result series_lyapunov_exponent(std::span<const double> x, double dt,
+                                                const series_lyapunov_options& options = {});
+
+}  // namespace npend
