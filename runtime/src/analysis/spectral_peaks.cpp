@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
+#include <numbers>
 #include <stdexcept>
 
 namespace npend {
@@ -23,6 +25,24 @@ double base_towards(const std::vector<double>& p, std::size_t k, int step) {
     lowest = std::min(lowest, v);
   }
   return lowest;
+}
+
+// How much higher than the highest bin a spectral line can really be: the inverse of the
+// window's scalloping gain |W(½)/W(0)|², the power its main lobe keeps half a bin off centre
+// (2.47 for the rectangular window, 1.39 for Hann). A refined density above this bound is
+// an artefact of the parabola, not of the signal. It hardly depends on the segment length,
+// so the limit of long segments (1024 samples) serves every spectrum.
+double scalloping_bound(spectral_window window) {
+  constexpr std::size_t length = 1024;
+  const std::vector<double> w = window_coefficients(window, length);
+  std::complex<double> at_half_bin = 0;
+  double at_centre = 0;
+  for (std::size_t j = 0; j < length; ++j) {
+    at_centre += w[j];
+    at_half_bin += w[j] * std::polar(1.0, -std::numbers::pi * static_cast<double>(j) /
+                                               static_cast<double>(length));
+  }
+  return at_centre * at_centre / std::norm(at_half_bin);
 }
 
 }  // namespace
@@ -51,6 +71,7 @@ std::vector<spectral_peak> find_spectral_peaks(const power_spectrum_result& spec
       strongest = std::max(strongest, p[k]);
     }
 
+  const double bound = scalloping_bound(spectrum.window);
   std::vector<spectral_peak> peaks;
   for (const std::size_t k : maxima) {
     if (p[k] < options.threshold * strongest) continue;
@@ -61,13 +82,19 @@ std::vector<spectral_peak> find_spectral_peaks(const power_spectrum_result& spec
     peak.prominence = prominence;
     peak.omega = spectrum.omega[k];
     peak.power = p[k];
-    // Parabolic interpolation of ln ρ; needs positive neighbours (they are, unless a window
-    // null falls exactly on a bin, in which case the bin value stands).
-    if (p[k - 1] > 0 && p[k + 1] > 0) {
+    // Parabolic interpolation of ln ρ. It needs positive neighbours (they are, unless a
+    // window null falls exactly on a bin) and none at ω = 0: every segment has its mean
+    // removed, so the DC bin holds rounding noise, and ln of it would throw the vertex
+    // anywhere. In those cases, and where the vertex would rise above what a sampled line
+    // can (the scalloping bound), the bin value stands.
+    if (k >= 2 && p[k - 1] > 0 && p[k + 1] > 0) {
       const double a = std::log(p[k - 1]), b = std::log(p[k]), c = std::log(p[k + 1]);
       const double delta = detail::parabola_vertex_offset(a, b, c);
-      peak.omega = spectrum.omega[k] + delta * (spectrum.omega[k + 1] - spectrum.omega[k]);
-      peak.power = std::exp(b - 0.25 * (a - c) * delta);
+      const double vertex = std::exp(b - 0.25 * (a - c) * delta);
+      if (vertex <= bound * p[k]) {
+        peak.omega = spectrum.omega[k] + delta * (spectrum.omega[k + 1] - spectrum.omega[k]);
+        peak.power = vertex;
+      }
     }
     peaks.push_back(peak);
   }

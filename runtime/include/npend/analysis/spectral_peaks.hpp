@@ -30,7 +30,9 @@ struct peak_options {
 /// the higher of the lowest densities between k and the nearest higher bin on either side (or
 /// the end of the spectrum). Its frequency and density are refined by the parabola through
 /// ln ρ at k−1, k, k+1 (exact for Gaussian lobes; within a few hundredths of a bin for a Hann
-/// window). Throws std::invalid_argument for fewer than 3 bins, omega and power of different
+/// window) — except next to the DC bin (emptied by the mean removal), next to a zero bin, and
+/// where the refined density would exceed ρ_k by more than the window's scalloping bound
+/// |W(0)/W(½)|² (2.47 rectangular, 1.39 Hann): there the bin's own ω_k and ρ_k stand. Throws std::invalid_argument for fewer than 3 bins, omega and power of different
 /// sizes, or options out of range.
 std::vector<spectral_peak> find_spectral_peaks(const power_spectrum_result& spectrum,
                                                const peak_options& options = {});
