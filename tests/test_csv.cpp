@@ -41,6 +41,26 @@ TEST_CASE("parse_csv: a first line of numbers is data, not a header") {
   CHECK(t.columns[1] == std::vector<double>{2, 4});
 }
 
+TEST_CASE("parse_csv: whitespace-separated files read as their comma-separated twins") {
+  // TISEAN's and most data loggers' format: runs of spaces and tabs, with or without a
+  // header, comments allowed.
+  const auto comma = parse_csv("t,x,y\n0,1.5,-2\n0.1,-2e-3,4\n0.2,3,5\n", "c.csv");
+  const auto spaced = parse_csv("# logger v2\n t   x \t y\n0 1.5  -2\n0.1\t-2e-3\t4\n  0.2 3 5  \r\n",
+                                "w.dat");
+  CHECK(spaced.names == comma.names);
+  CHECK(spaced.columns == comma.columns);
+  const auto bare = parse_csv("0 1.5 -2\n0.1 -2e-3 4\n0.2 3 5\n", "b.dat");
+  CHECK(bare.names.empty());
+  CHECK(bare.columns == comma.columns);
+  CHECK(bare.lines == std::vector<std::size_t>{1, 2, 3});
+  // A single column has no separator at all: the same either way.
+  CHECK(parse_csv("x\n1\n2\n", "s.dat").columns == std::vector<std::vector<double>>{{1, 2}});
+  CHECK(error_of([] { parse_csv("1 2 3\n4 5\n", "d.dat"); }) ==
+        "d.dat:2: 2 cells, but the first line has 3");
+  CHECK(error_of([] { parse_csv("t x\n0 1\n0.1 abc\n", "d.dat"); }) ==
+        "d.dat:3: column 'x': 'abc' is not a number");
+}
+
 TEST_CASE("parse_csv: every malformed input gets a one-line message with its line") {
   CHECK(error_of([] { parse_csv("t,x\n0,1\n0.1,abc\n", "d.csv"); }) ==
         "d.csv:3: column 'x': 'abc' is not a number");

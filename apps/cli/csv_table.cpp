@@ -11,7 +11,28 @@ namespace npend::cli {
 
 namespace {
 
-std::vector<std::string_view> split_cells(std::string_view line) {
+// Comma-separated, or — as TISEAN and most data loggers write — separated by runs of spaces
+// and tabs. The first line that is neither blank nor a comment decides for the whole file.
+enum class separator { comma, whitespace };
+
+separator separator_of(std::string_view first_line) {
+  return first_line.find(',') == std::string_view::npos ? separator::whitespace
+                                                         : separator::comma;
+}
+
+std::vector<std::string_view> split_on_whitespace(std::string_view line) {
+  std::vector<std::string_view> cells;
+  constexpr std::string_view blanks = " \t";
+  for (std::size_t start = line.find_first_not_of(blanks); start != std::string_view::npos;) {
+    const std::size_t end = line.find_first_of(blanks, start);
+    cells.push_back(line.substr(start, end == std::string_view::npos ? end : end - start));
+    start = end == std::string_view::npos ? end : line.find_first_not_of(blanks, end);
+  }
+  return cells;
+}
+
+std::vector<std::string_view> split_cells(std::string_view line, separator sep) {
+  if (sep == separator::whitespace) return split_on_whitespace(line);
   std::vector<std::string_view> cells;
   for (std::size_t start = 0;;) {
     const std::size_t comma = line.find(',', start);
@@ -45,6 +66,7 @@ csv_table parse_csv(std::string_view text, std::string_view source) {
   csv_table table;
   std::size_t width = 0;
   bool first = true;
+  separator sep = separator::comma;
   std::size_t line_number = 0;
   for (std::size_t start = 0; start <= text.size();) {
     std::size_t end = text.find('\n', start);
@@ -56,7 +78,8 @@ csv_table parse_csv(std::string_view text, std::string_view source) {
     const std::string_view content = trim(line);
     if (content.empty() || content.front() == '#') continue;
 
-    const auto cells = split_cells(line);
+    if (first) sep = separator_of(content);
+    const auto cells = split_cells(line, sep);
     if (first) {
       first = false;
       width = cells.size();

@@ -16,8 +16,10 @@ struct csv_table {
   std::vector<std::size_t> lines;            ///< 1-based source line of each data row
 };
 
-/// Parses comma-separated numbers. Lines may end in \n or \r\n; blank lines and lines whose
-/// first non-blank character is '#' are skipped; cells are trimmed of spaces and tabs. The
+/// Parses a table of numbers, comma-separated or — when the first line that is neither blank
+/// nor a comment has no comma — separated by runs of spaces and tabs (TISEAN's and most data
+/// loggers' format). Lines may end in \n or \r\n; blank lines and lines whose first
+/// non-blank character is '#' are skipped; cells are trimmed of spaces and tabs. The
 /// first remaining line is a header when any of its cells is not a number (header cells may
 /// be double-quoted). Every data row must have as many cells as the first line, each a finite
 /// number. Throws input_error naming `source`, the line and the column, e.g.

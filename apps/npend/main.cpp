@@ -31,6 +31,20 @@ void report_parse_error(const CLI::App& app, int argc, char** argv, const CLI::P
   fmt::print(stderr, "npend: error: {} (see npend --help)\n", e.what());
 }
 
+// CLI11 takes `--stepper ''` as a given option with an empty value, and most commands then
+// fall back to their default as if the option were absent: refuse it instead, naming the
+// option, for every option that takes a value.
+void refuse_empty_values(const CLI::App& command) {
+  for (const CLI::Option* option : command.get_options()) {
+    if (option->get_type_size() == 0 || option->count() == 0) continue;
+    for (const std::string& value : option->results())
+      if (value.find_first_not_of(" \t") == std::string::npos)
+        throw npend::cli::input_error(
+            fmt::format("{}: empty value (give a value or leave the option out)",
+                        option->get_name()));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -70,6 +84,7 @@ int main(int argc, char** argv) {
     if (!c.options->parsed()) continue;
     const std::string name = "npend " + c.options->get_name();
     try {
+      refuse_empty_values(*c.options);
       return c.run();
     } catch (const npend::cli::input_error& e) {
       fmt::print(stderr, "{}: error: {}\n", name, e.what());
