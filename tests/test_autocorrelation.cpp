@@ -72,3 +72,33 @@ TEST_CASE("autocorrelation: bad arguments throw naming them") {
                        std::invalid_argument);
   CHECK_THROWS_AS(autocorrelation(x, -1), std::invalid_argument);
 }
+
+TEST_CASE("autocorrelation: the unbiased estimate divides lag k by N - k") {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 2);
+  std::vector<double> x(257);
+  for (auto& v : x) v = u(rng);
+  const double n = static_cast<double>(x.size());
+  double mean = 0;
+  for (double v : x) mean += v / n;
+  double variance = 0;  // Σ y² / N
+  for (double v : x) variance += (v - mean) * (v - mean) / n;
+  const auto c = autocorrelation(x, 0.1, 200, autocorrelation_estimator::unbiased);
+  for (std::size_t k = 0; k <= 200; ++k) {
+    double direct = 0;
+    for (std::size_t j = 0; j + k < x.size(); ++j) direct += (x[j] - mean) * (x[j + k] - mean);
+    direct /= n - static_cast<double>(k);
+    CHECK(c.value[k] == doctest::Approx(direct / variance).epsilon(1e-11).scale(1));
+  }
+  // For a sine of whole periods there is no (1 − τ/T) taper: C(τ) = cos(ωτ) up to the
+  // edge effects of the finite window (a few per cent at half the series).
+  const double dt = 0.001, omega = 2 * std::numbers::pi * 4.0;
+  const auto s = test::sum_of_sines({{1.0, omega, 0.0}}, 8000, dt, 0.0);
+  const auto biased = autocorrelation(s, dt, 4000);
+  const auto unbiased = autocorrelation(s, dt, 4000, autocorrelation_estimator::unbiased);
+  const std::size_t half = 4000;  // τ = 4 s, a whole number of periods: cos = 1
+  CHECK(unbiased.value[half] == doctest::Approx(1).epsilon(0.02));
+  CHECK(biased.value[half] == doctest::Approx(0.5).epsilon(0.02));
+  CHECK(autocorrelation_estimator_from_name("unbiased") == autocorrelation_estimator::unbiased);
+  CHECK(!autocorrelation_estimator_from_name("fair"));
+}

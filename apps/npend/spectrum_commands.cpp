@@ -117,6 +117,7 @@ int run_spectrum(const spectrum_options& o) {
 struct autocorrelation_options {
   cli::series_options series;
   std::string max_lag;
+  std::string estimator = "biased";
   bool json = false;
   std::string out;
 };
@@ -136,7 +137,11 @@ int run_autocorrelation(const autocorrelation_options& o) {
                       x.dt, x.dt * static_cast<double>(n - 1), o.max_lag));
     lags = static_cast<std::size_t>(samples);
   }
-  const auto c = autocorrelation(x.values, x.dt, lags);
+  const auto estimator = autocorrelation_estimator_from_name(o.estimator);
+  if (!estimator)
+    throw cli::input_error(fmt::format(
+        "--estimator: unknown estimator '{}': choose biased or unbiased", o.estimator));
+  const auto c = autocorrelation(x.values, x.dt, lags, *estimator);
 
   if (files.enabled())
     files.write_plot({.description = {fmt::format("npend autocorrelation of {}", series_summary(x)),
@@ -147,14 +152,15 @@ int run_autocorrelation(const autocorrelation_options& o) {
     nlohmann::json j = describe_series(x);
     j.update(
         {{"max_lag", c.lag.back()},
+         {"estimator", o.estimator},
          {"first_zero", c.first_zero ? nlohmann::json(*c.first_zero) : nlohmann::json()},
          {"first_minimum", c.first_minimum ? nlohmann::json(*c.first_minimum) : nlohmann::json()}});
     files.add_to(j);
     std::cout << j.dump(2) << "\n";
     return 0;
   }
-  fmt::print("Autocorrelation C_xx(tau) of {}, lags up to {:.6g} s\n\n", series_summary(x),
-             c.lag.back());
+  fmt::print("Autocorrelation C_xx(tau) of {}, lags up to {:.6g} s, {} estimate\n\n",
+             series_summary(x), c.lag.back(), o.estimator);
   if (c.first_zero)
     fmt::print("first zero:    tau = {:.6g} s\n", *c.first_zero);
   else
@@ -204,6 +210,10 @@ void add_spectrum_commands(CLI::App& app, command_list& commands) {
         "Autocorrelation C_xx(tau) of a time series, its first zero and minimum");
     o->series.add_to(*cmd);
     cmd->add_option("--max-lag", o->max_lag, "Largest lag in s (default: half the series)");
+    cmd->add_option("--estimator", o->estimator,
+                    "biased (lag k summed over N - k products, divided by N; the default, as "
+                    "TISEAN) or unbiased (divided by N - k: no taper, noisier at long lags)")
+        ->capture_default_str();
     cmd->add_flag("--json", o->json, "Print JSON");
     cmd->add_option(
         "--out", o->out,

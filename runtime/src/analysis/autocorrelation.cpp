@@ -6,12 +6,34 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace npend {
 
-autocorrelation_result autocorrelation(std::span<const double> x, double dt, std::size_t max_lag) {
+namespace {
+constexpr std::array estimator_names{
+    std::pair{autocorrelation_estimator::biased, std::string_view{"biased"}},
+    std::pair{autocorrelation_estimator::unbiased, std::string_view{"unbiased"}},
+};
+}  // namespace
+
+std::string_view autocorrelation_estimator_name(autocorrelation_estimator e) {
+  for (const auto& [estimator, name] : estimator_names)
+    if (estimator == e) return name;
+  throw std::invalid_argument("autocorrelation_estimator_name: unknown estimator");
+}
+
+std::optional<autocorrelation_estimator> autocorrelation_estimator_from_name(std::string_view name) {
+  for (const auto& [estimator, known] : estimator_names)
+    if (known == name) return estimator;
+  return std::nullopt;
+}
+
+autocorrelation_result autocorrelation(std::span<const double> x, double dt, std::size_t max_lag,
+                                       autocorrelation_estimator estimator) {
   const std::size_t n = x.size();
   detail::require_finite_series(x, "x", 2);
   detail::require_sample_spacing(dt);
@@ -41,6 +63,8 @@ autocorrelation_result autocorrelation(std::span<const double> x, double dt, std
   for (std::size_t k = 0; k <= max_lag; ++k) {
     r.lag[k] = static_cast<double>(k) * dt;
     r.value[k] = y[k] / zero_lag;
+    if (estimator == autocorrelation_estimator::unbiased)
+      r.value[k] *= static_cast<double>(n) / static_cast<double>(n - k);
   }
   r.first_zero = detail::first_zero_crossing(r.value, dt);
   r.first_minimum = detail::first_local_minimum(r.value, dt);
