@@ -14,6 +14,7 @@
 #include "npend/analysis/spectral_peaks.hpp"
 
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -21,6 +22,8 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <optional>
+#include <sstream>
 
 namespace fs = std::filesystem;
 using npend::test::run_npend;
@@ -191,7 +194,8 @@ TEST_CASE("npend embed: --json tau and dimension of a sine") {
   CHECK(run_npend("embed --input " + file + " --column y --out " + (dir / "e.csv").string())
             .exit_code == 0);
   CHECK(listing(dir) ==
-        std::vector<std::string>{"e.csv", "e.gp", "e.png", "e_dimension.csv", "sines.csv"});
+        std::vector<std::string>{"e.csv", "e.gp", "e.png", "e_ami.csv", "e_dimension.csv",
+                                 "sines.csv"});
 }
 
 TEST_CASE("npend time series: each bad input gets its message and exit status 2") {
@@ -298,4 +302,106 @@ TEST_CASE("npend time series: --help names every option") {
     for (const auto& o : options)
       CHECK_MESSAGE(r.out.find(o) != std::string::npos, command, " ", o);
   }
+}
+
+TEST_CASE("npend embed: a given dimension needs no dimension scan") {
+  // 20 s at 1 ms with τ = 6 s: the scan up to --max-dim 10 would need 10 τ plus a Theiler
+  // window of samples; two delay coordinates need just more than τ.
+  const fs::path dir = temporary_directory("cli-embed-given");
+  const std::string file = write_sines(dir, 20000);
+  const auto scan = run_npend("embed --input " + file + " --column y --tau 6 --json");
+  CHECK(scan.exit_code == 2);
+  const auto r = run_npend("embed --input " + file + " --column y --tau 6 --dim 2 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["dimension"] == 2);
+  CHECK(j["vectors"] == 20000 - 6000);
+  CHECK(j["false_neighbours"].is_null());
+  CHECK(j["cao_e1"].is_null());
+}
+
+TEST_CASE("npend embed: the tau found by ami survives a failing dimension step") {
+  const fs::path dir = temporary_directory("cli-embed-keep-tau");
+  const std::string file = write_sines(dir, 2000);
+  const auto found = nlohmann::json::parse(
+      run_npend("embed --input " + file + " --column y --tau ami --dim 2 --json").out);
+  const double tau = found["tau"].get<double>();
+  const auto r = run_npend("embed --input " + file + " --column y --tau ami --max-dim 20");
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find(fmt::format("pass --tau {:.6g} to keep it", tau)) != std::string::npos);
+}
+
+TEST_CASE("npend embed: the mutual information curve, its bins and its first local minimum") {
+  // A rotating arm: the unwrapped φ₃ of the chain started at 1.5, 1.5, 1.5 rad. Its I(τ)
+  // has a first local minimum near 17 s and a deeper one later; the first is the one
+  // Fraser & Swinney's rule takes (the former rule, a minimum on the scale of its own lag,
+  // skipped it and reported 49.7 s).
+  const fs::path dir = temporary_directory("cli-embed-ami");
+  const auto r = run_npend(
+      "embed --links 3 --phi 1.5,1.5,1.5 --coordinate phi3 --samples 65536 --dt 0.01 "
+      "--tau ami --dim 2 --json --out " + (dir / "e.csv").string());
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  const auto& ami = j["mutual_information"];
+  const auto tau = ami["tau"].get<std::vector<double>>();
+  const auto info = ami["information"].get<std::vector<double>>();
+  const auto h = ami["minimum_window"].get<std::size_t>();
+  REQUIRE(tau.size() == info.size());
+  // The first lag below its predecessor and lowest within ±h lags, scanned here afresh.
+  std::optional<double> first;
+  for (std::size_t k = 1; k + h < info.size() && !first; ++k) {
+    bool lowest = info[k] < info[k - 1];
+    for (std::size_t i = k > h ? k - h : 0; i <= k + h; ++i) lowest = lowest && info[i] >= info[k];
+    if (lowest) first = tau[k];
+  }
+  REQUIRE(first);
+  CHECK(ami["first_minimum"].get<double>() == doctest::Approx(*first));
+  CHECK(j["tau"].get<double>() == doctest::Approx(*first));
+  CHECK(*first < 25);
+  // The written curve is the JSON's.
+  const auto table = npend::cli::parse_csv(
+      [&] {
+        std::ifstream in(dir / "e_ami.csv");
+        std::stringstream s;
+        s << in.rdbuf();
+        return s.str();
+      }(),
+      "e_ami.csv");
+  CHECK(table.names == std::vector<std::string>{"tau", "I"});
+  CHECK(table.columns[1].size() == info.size());
+  // I(0) is the entropy of the binned series, at most log₂ of the bins.
+  const auto coarse = nlohmann::json::parse(
+      run_npend("embed --links 3 --phi 1.5,1.5,1.5 --coordinate phi3 --samples 4096 --dt 0.01 "
+                "--tau ami --bins 4 --dim 2 --json")
+          .out);
+  CHECK(coarse["mutual_information"]["bins"] == 4);
+  CHECK(coarse["mutual_information"]["information"][0].get<double>() <= 2 + 1e-12);
+}
+
+TEST_CASE("npend embed: false-neighbour tolerances and their per-criterion fractions") {
+  const fs::path dir = temporary_directory("cli-embed-fnn");
+  const std::string file = write_sines(dir);
+  const auto at = [&](const std::string& options) {
+    return nlohmann::json::parse(
+        run_npend("embed --input " + file + " --column x --tau 0.1 --max-dim 4 --json " + options)
+            .out);
+  };
+  const auto base = at("");
+  CHECK(base["false_neighbours_options"]["rtol"] == 15.0);
+  const auto fraction = base["false_neighbours"].get<std::vector<double>>();
+  const auto by_distance = base["false_neighbours_distance"].get<std::vector<double>>();
+  const auto by_attractor = base["false_neighbours_attractor"].get<std::vector<double>>();
+  REQUIRE(fraction.size() == 4);
+  for (std::size_t m = 0; m < 4; ++m) {
+    // Either criterion: at least each one alone, at most both together.
+    CHECK(fraction[m] >= std::max(by_distance[m], by_attractor[m]) - 1e-15);
+    CHECK(fraction[m] <= by_distance[m] + by_attractor[m] + 1e-15);
+  }
+  // A huge R_tol and A_tol flag nothing; a tiny R_tol flags every neighbour in 1 dimension
+  // whose added coordinate differs at all.
+  const auto lax = at("--rtol 1e9 --atol 1e9");
+  for (const double f : lax["false_neighbours"].get<std::vector<double>>()) CHECK(f == 0);
+  const auto strict = at("--rtol 1e-9 --references 500");
+  CHECK(strict["false_neighbours_options"]["reference_points"] == 500);
+  CHECK(strict["false_neighbours_distance"][0].get<double>() > 0.99);
 }

@@ -25,14 +25,18 @@ struct embed_options {
   cli::series_options series;
   std::string tau = "auto", dim = "auto", dim_method = "fnn", theiler;
   std::size_t max_dim = 10;
+  std::size_t bins = 16;
+  double rtol = 15, atol = 2;
+  std::size_t references = 4000;
   bool json = false;
   std::string out;
 };
 
 // τ from --tau: a method name, or a delay in seconds.
-delay_choice delay_from_option(const std::string& text, const cli::time_series& x) {
+delay_choice delay_from_option(const std::string& text, const cli::time_series& x,
+                               std::size_t bins) {
   if (const auto method = delay_method_from_name(text)) {
-    const delay_choice c = choose_delay(x.values, x.dt, *method);
+    const delay_choice c = choose_delay(x.values, x.dt, *method, {.bins = bins});
     if (!c.found)
       throw cli::input_error(fmt::format(
           "--tau {}: the series has no such feature (no spectral peak, zero or minimum within "
@@ -59,36 +63,71 @@ delay_choice delay_from_option(const std::string& text, const cli::time_series& 
   return c;
 }
 
-int run_embed(const embed_options& o) {
+// The options checked before any work is done.
+std::optional<std::size_t> checked_fixed_dimension(const embed_options& o) {
   if (o.dim_method != "fnn" && o.dim_method != "cao")
     throw cli::input_error(fmt::format("--dim-method: '{}' is not fnn or cao", o.dim_method));
   if (o.max_dim < 2 || o.max_dim > 20)
     throw cli::input_error(fmt::format("--max-dim: must be 2..20, got {}", o.max_dim));
-  std::optional<std::size_t> fixed_dim;
-  if (o.dim != "auto") {
-    const double k = cli::parse_number(o.dim, "--dim");
-    if (k != std::floor(k) || k < 1 || k > 20)
-      throw cli::input_error(fmt::format("--dim: '{}' is not auto or a dimension 1..20", o.dim));
-    fixed_dim = static_cast<std::size_t>(k);
-  }
+  if (o.bins < 2 || o.bins > 1024)
+    throw cli::input_error(fmt::format("--bins: must be 2..1024, got {}", o.bins));
+  if (!(o.rtol > 0) || !std::isfinite(o.rtol))
+    throw cli::input_error(fmt::format("--rtol: must be positive, got {}", o.rtol));
+  if (!(o.atol > 0) || !std::isfinite(o.atol))
+    throw cli::input_error(fmt::format("--atol: must be positive, got {}", o.atol));
+  if (o.dim == "auto") return std::nullopt;
+  const double k = cli::parse_number(o.dim, "--dim");
+  if (k != std::floor(k) || k < 1 || k > 20)
+    throw cli::input_error(fmt::format("--dim: '{}' is not auto or a dimension 1..20", o.dim));
+  return static_cast<std::size_t>(k);
+}
+
+std::string delay_description(const embed_options& o, const delay_choice& tau) {
+  return delay_method_from_name(o.tau)
+             ? fmt::format("{} estimate {:.6g} s", delay_method_name(tau.method), tau.estimate)
+             : std::string("given");
+}
+
+nlohmann::json nullable(bool present, const std::vector<double>& values) {
+  return present ? nlohmann::json(values) : nlohmann::json();
+}
+
+int run_embed(const embed_options& o) {
+  const std::optional<std::size_t> fixed_dim = checked_fixed_dimension(o);
   series_output files(o.out);
   const cli::time_series x = o.series.load_one(min_samples);
-  const delay_choice tau = delay_from_option(o.tau, x);
+  const delay_choice tau = delay_from_option(o.tau, x, o.bins);
   std::size_t theiler = tau.samples;
   if (!o.theiler.empty()) {
     const double seconds = cli::parse_number(o.theiler, "--theiler");
     if (!(seconds >= 0)) throw cli::input_error("--theiler: must be at least 0");
     theiler = static_cast<std::size_t>(std::round(seconds / x.dt));
   }
+  // What the delay step found is part of every later error: a failing dimension step must
+  // not lose it (finding it may have taken the longest).
+  const std::string tau_found =
+      delay_method_from_name(o.tau)
+          ? fmt::format("; tau = {:.6g} s ({}) was found: pass --tau {:.6g} to keep it",
+                        tau.seconds, delay_description(o, tau), tau.seconds)
+          : std::string();
 
+  // A given dimension needs no scan over dimensions.
+  const bool scanned = !fixed_dim;
   false_neighbours_result fnn;
   cao_result cao;
-  try {
-    fnn = false_nearest_neighbours(x.values, tau.samples, o.max_dim, {.theiler_window = theiler});
-    cao = cao_embedding(x.values, tau.samples, o.max_dim, {.theiler_window = theiler});
-  } catch (const std::invalid_argument& e) {
-    // The one data-dependent failure: too short a series for --max-dim at this τ.
-    throw cli::input_error(fmt::format("--max-dim: {}", e.what()));
+  if (scanned) {
+    try {
+      fnn = false_nearest_neighbours(x.values, tau.samples, o.max_dim,
+                                     {.distance_ratio = o.rtol,
+                                      .attractor_ratio = o.atol,
+                                      .theiler_window = theiler,
+                                      .reference_points = o.references});
+      cao = cao_embedding(x.values, tau.samples, o.max_dim,
+                          {.theiler_window = theiler, .reference_points = o.references});
+    } catch (const std::invalid_argument& e) {
+      // The one data-dependent failure: too short a series for --max-dim at this τ.
+      throw cli::input_error(fmt::format("--max-dim: {}{}", e.what(), tau_found));
+    }
   }
   const bool by_cao = o.dim_method == "cao";
   const bool found = fixed_dim || (by_cao ? cao.found : fnn.found);
@@ -97,20 +136,37 @@ int run_embed(const embed_options& o) {
                                           : 0;
   // The delay vectors written and plotted: in the dimension found, at least 2 for the plot.
   const std::size_t shown = std::max<std::size_t>(2, found ? dimension : o.max_dim);
+  if (x.values.size() <= (shown - 1) * tau.samples)
+    throw cli::input_error(fmt::format(
+        "--dim: delay vectors of dimension {} at tau = {} samples need more than {} samples, "
+        "the series has {}{}",
+        shown, tau.samples, (shown - 1) * tau.samples, x.values.size(), tau_found));
   const delay_vectors v = delay_embedding(x.values, tau.samples, shown);
+  const bool has_information = !tau.mutual_information.lag.empty();
 
   if (files.enabled()) {
-    const auto [delay_plot, dimension_plot] = embedding_figure(
-        files, "", x, tau, v, fnn, cao, found ? std::optional(dimension) : std::nullopt,
-        fixed_dim ? "given" : o.dim_method);
-    files.write_plot(
-        {.description = {fmt::format("npend embed: delay coordinates of {}", series_summary(x)),
-                         fmt::format("data: {} (delay vectors), {} (dimension criteria)",
-                                     files.file_name(""), files.file_name("dimension"))},
-         .width = 1300,
-         .height = 620,
-         .columns = 2,
-         .panels = {delay_plot, dimension_plot}});
+    cli::figure figure{
+        .description = {fmt::format("npend embed: delay coordinates of {}", series_summary(x)),
+                        fmt::format("data: {} (delay vectors)", files.file_name(""))},
+        .width = 650,
+        .height = 620,
+        .columns = 1,
+        .panels = {delay_plot_panel(files, "", x, tau, v)}};
+    if (scanned) {
+      figure.panels.push_back(embedding_dimension_panel(
+          files, "dimension", fnn, cao, found ? std::optional(dimension) : std::nullopt,
+          o.dim_method));
+      figure.description.push_back(
+          fmt::format("dimension criteria: {}", files.file_name("dimension")));
+    }
+    if (has_information) {
+      figure.panels.push_back(mutual_information_panel(files, "ami", x, tau.mutual_information));
+      figure.description.push_back(
+          fmt::format("mutual information: {}", files.file_name("ami")));
+    }
+    figure.columns = static_cast<int>(figure.panels.size());
+    figure.width = 650 * figure.columns;
+    files.write_plot(figure);
   }
 
   if (o.json) {
@@ -122,23 +178,46 @@ int run_embed(const embed_options& o) {
          {"dimension", found ? nlohmann::json(dimension) : nlohmann::json()},
          {"dimension_method", fixed_dim ? "given" : o.dim_method},
          {"theiler_window", static_cast<double>(theiler) * x.dt},
-         {"false_neighbours", fnn.fraction},
-         {"cao_e1", cao.e1},
-         {"cao_e2", cao.e2},
+         {"false_neighbours", nullable(scanned, fnn.fraction)},
+         {"false_neighbours_distance", nullable(scanned, fnn.fraction_distance)},
+         {"false_neighbours_attractor", nullable(scanned, fnn.fraction_attractor)},
+         {"false_neighbours_options",
+          {{"rtol", o.rtol}, {"atol", o.atol}, {"reference_points", o.references}}},
+         {"cao_e1", nullable(scanned, cao.e1)},
+         {"cao_e2", nullable(scanned, cao.e2)},
          {"vectors", v.count}});
+    if (has_information) {
+      const auto& ami = tau.mutual_information;
+      j["mutual_information"] = {
+          {"bins", o.bins},
+          {"minimum_window", ami.window},
+          {"tau", ami.lag},
+          {"information", ami.information},
+          {"first_minimum", ami.first_minimum ? nlohmann::json(*ami.first_minimum)
+                                              : nlohmann::json()}};
+    }
     files.add_to(j);
     std::cout << j.dump(2) << "\n";
     return 0;
   }
   fmt::print("Delay embedding of {}\n\n", series_summary(x));
   fmt::print("delay tau = {:.6g} s ({} samples; {})\n", tau.seconds, tau.samples,
-             delay_method_from_name(o.tau)
-                 ? fmt::format("{} estimate {:.6g} s", delay_method_name(tau.method), tau.estimate)
-                 : std::string("given"));
-  fmt::print("\n{:>4}  {:>16}  {:>10}  {:>10}\n", "m", "false neighbours", "Cao E1", "Cao E2");
-  for (std::size_t d = 0; d < o.max_dim; ++d)
-    fmt::print("{:>4}  {:>16.4f}  {:>10.4f}  {:>10.4f}\n", d + 1, fnn.fraction[d], cao.e1[d],
-               cao.e2[d]);
+             delay_description(o, tau));
+  if (has_information)
+    fmt::print("mutual information ({} bins): evaluated on lags up to {:.6g} s{}\n", o.bins,
+               tau.mutual_information.lag.back(),
+               tau.mutual_information.first_minimum
+                   ? fmt::format(", first local minimum at {:.6g} s",
+                                 *tau.mutual_information.first_minimum)
+                   : std::string(", no local minimum"));
+  if (scanned) {
+    fmt::print("\n{:>4}  {:>16}  {:>10}  {:>10}  {:>10}  {:>10}\n", "m", "false neighbours",
+               "by R_tol", "by A_tol", "Cao E1", "Cao E2");
+    for (std::size_t d = 0; d < o.max_dim; ++d)
+      fmt::print("{:>4}  {:>16.4f}  {:>10.4f}  {:>10.4f}  {:>10.4f}  {:>10.4f}\n", d + 1,
+                 fnn.fraction[d], fnn.fraction_distance[d], fnn.fraction_attractor[d], cao.e1[d],
+                 cao.e2[d]);
+  }
   if (fixed_dim)
     fmt::print("\nembedding dimension {} (given)\n", dimension);
   else if (found)
@@ -172,7 +251,22 @@ void add_embed_command(CLI::App& app, command_list& commands) {
                   "fnn (false nearest neighbours: first m with fewer than 1%) or cao (first m "
                   "where E1 >= 0.85 changes by less than 10%)")
       ->capture_default_str();
-  cmd->add_option("--max-dim", o->max_dim, "Largest dimension tested")->capture_default_str();
+  cmd->add_option("--max-dim", o->max_dim, "Largest dimension tested (not with a given --dim)")
+      ->capture_default_str();
+  cmd->add_option("--bins", o->bins,
+                  "Mutual information (--tau ami or auto): equal-width histogram bins per axis")
+      ->capture_default_str();
+  cmd->add_option("--rtol", o->rtol,
+                  "False neighbours: R_tol, false if the added coordinate's gap exceeds R_tol "
+                  "times the distance")
+      ->capture_default_str();
+  cmd->add_option("--atol", o->atol,
+                  "False neighbours: A_tol, false if the distance in m + 1 dimensions exceeds "
+                  "A_tol times the series' standard deviation")
+      ->capture_default_str();
+  cmd->add_option("--references", o->references,
+                  "False neighbours and Cao: test at most this many evenly spaced points (0: all)")
+      ->capture_default_str();
   cmd->add_option("--theiler", o->theiler,
                   "Neighbours closer in time than this (s) are ignored (default: tau)");
   cmd->add_flag("--json", o->json, "Print JSON");

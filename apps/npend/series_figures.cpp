@@ -126,6 +126,23 @@ cli::plot_panel spectrum_panel(series_output& files, std::string_view table,
   return panel;
 }
 
+cli::plot_panel mutual_information_panel(series_output& files, std::string_view table,
+                                         const cli::time_series& x,
+                                         const mutual_information_result& ami) {
+  const std::string data = files.write_csv(table, std::vector<std::string>{"tau", "I"},
+                                           std::vector{ami.lag, ami.information});
+  cli::plot_panel panel{.title = fmt::format("Average mutual information of {}", x.name),
+                        .xlabel = "lag τ (s)",
+                        .ylabel = "I(τ) (bit)",
+                        .commands = {"set key off"},
+                        .curves = {{data, "1:2", "lines lw 1.5 lc rgb '#1f5fa8'", ""}}};
+  if (ami.first_minimum)
+    panel.commands.push_back(fmt::format(
+        "set arrow from {0},graph 0 to {0},graph 1 nohead dt 2 lw 1.5 lc rgb '#d62728'",
+        *ami.first_minimum));
+  return panel;
+}
+
 cli::plot_panel autocorrelation_panel(series_output& files, std::string_view table,
                                       const cli::time_series& x, const autocorrelation_result& c) {
   const std::string data =
@@ -211,11 +228,10 @@ recurrence_panels recurrence_figure(series_output& files, std::string_view table
                    .curves = {{spectrum, "1:2", "lines lw 1.5 lc rgb '#1f5fa8'", ""}}}};
 }
 
-std::pair<cli::plot_panel, cli::plot_panel> embedding_figure(
-    series_output& files, std::string_view table, const cli::time_series& x,
-    const delay_choice& tau, const delay_vectors& v, const false_neighbours_result& fnn,
-    const cao_result& cao, std::optional<std::size_t> dimension, std::string_view method) {
-  const std::size_t shown = v.dimension, max_dim = fnn.fraction.size();
+cli::plot_panel delay_plot_panel(series_output& files, std::string_view table,
+                                 const cli::time_series& x, const delay_choice& tau,
+                                 const delay_vectors& v) {
+  const std::size_t shown = v.dimension;
   std::vector<std::string> names{"t"};
   std::vector<std::vector<double>> columns(shown + 1);
   for (std::size_t c = 0; c < shown; ++c)
@@ -225,18 +241,24 @@ std::pair<cli::plot_panel, cli::plot_panel> embedding_figure(
     for (std::size_t c = 0; c < shown; ++c) columns[c + 1].push_back(v.points[i * shown + c]);
   }
   const std::string data = files.write_csv(table, names, columns);
+  return {.title = fmt::format("Delay plot of {}, τ = {:.4g} s", x.name, tau.seconds),
+          .xlabel = value_label(x, "t"),
+          .ylabel = value_label(x, "t − τ"),
+          .commands = {"set size square", "set key off"},
+          .curves = {{data, "2:3", "lines lw 0.8 lc rgb '#1f5fa8'", ""}}};
+}
+
+cli::plot_panel embedding_dimension_panel(series_output& files, std::string_view table,
+                                          const false_neighbours_result& fnn, const cao_result& cao,
+                                          std::optional<std::size_t> dimension,
+                                          std::string_view method) {
+  const std::size_t max_dim = fnn.fraction.size();
   std::vector<double> m;
   for (std::size_t d = 1; d <= max_dim; ++d) m.push_back(static_cast<double>(d));
   const std::string criteria = files.write_csv(
-      table_name(table, "dimension"),
+      table,
       std::vector<std::string>{"m", "fnn", "fnn_distance", "fnn_attractor", "cao_e1", "cao_e2"},
       std::vector{m, fnn.fraction, fnn.fraction_distance, fnn.fraction_attractor, cao.e1, cao.e2});
-  cli::plot_panel delay_plot{
-      .title = fmt::format("Delay plot of {}, τ = {:.4g} s", x.name, tau.seconds),
-      .xlabel = value_label(x, "t"),
-      .ylabel = value_label(x, "t − τ"),
-      .commands = {"set size square", "set key off"},
-      .curves = {{data, "2:3", "lines lw 0.8 lc rgb '#1f5fa8'", ""}}};
   cli::plot_panel dimension_plot{
       .title = dimension ? fmt::format("Embedding dimension {} ({})", *dimension, method)
                          : fmt::format("No embedding dimension up to {} ({})", max_dim, method),
@@ -251,7 +273,16 @@ std::pair<cli::plot_panel, cli::plot_panel> embedding_figure(
   if (dimension)
     dimension_plot.commands.push_back(fmt::format(
         "set arrow from {0},0 to {0},1.6 nohead dt 2 lw 1.5 lc rgb '#d62728'", *dimension));
-  return {delay_plot, dimension_plot};
+  return dimension_plot;
+}
+
+std::pair<cli::plot_panel, cli::plot_panel> embedding_figure(
+    series_output& files, std::string_view table, const cli::time_series& x,
+    const delay_choice& tau, const delay_vectors& v, const false_neighbours_result& fnn,
+    const cao_result& cao, std::optional<std::size_t> dimension, std::string_view method) {
+  return {delay_plot_panel(files, table, x, tau, v),
+          embedding_dimension_panel(files, table_name(table, "dimension"), fnn, cao, dimension,
+                                    method)};
 }
 
 cli::plot_panel poincare_panel(series_output& files, std::string_view table, const chain& c,

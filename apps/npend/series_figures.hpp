@@ -43,6 +43,12 @@ cli::plot_panel spectrum_panel(series_output& files, std::string_view table,
 cli::plot_panel autocorrelation_panel(series_output& files, std::string_view table,
                                       const cli::time_series& x, const autocorrelation_result& c);
 
+/// The average mutual information I(τ) with its first local minimum marked: writes `table`
+/// (tau, I). `ami` as choose_delay evaluated it (not empty).
+cli::plot_panel mutual_information_panel(series_output& files, std::string_view table,
+                                         const cli::time_series& x,
+                                         const mutual_information_result& ami);
+
 /// The recurrence statistics' three panels.
 struct recurrence_panels {
   cli::plot_panel intervals, distribution, spectrum;
@@ -56,7 +62,20 @@ recurrence_panels recurrence_figure(series_output& files, std::string_view table
                                     std::string_view what, std::span<const double> times,
                                     const recurrence_statistics& stats);
 
-/// The delay plot x(t) against x(t − τ), and the false-neighbour fraction and Cao's E1, E2
+/// The delay plot x(t) against x(t − τ): writes `table` (t and the delay vectors `v`).
+cli::plot_panel delay_plot_panel(series_output& files, std::string_view table,
+                                 const cli::time_series& x, const delay_choice& tau,
+                                 const delay_vectors& v);
+
+/// The false-neighbour fraction and Cao's E1, E2 against m (m = 1..the length of
+/// fnn.fraction), the dimension found or given marked: writes `table` (m, fnn, fnn_distance,
+/// fnn_attractor, cao_e1, cao_e2).
+cli::plot_panel embedding_dimension_panel(series_output& files, std::string_view table,
+                                          const false_neighbours_result& fnn, const cao_result& cao,
+                                          std::optional<std::size_t> dimension,
+                                          std::string_view method);
+
+/// Both of the above: the delay plot x(t) against x(t − τ), and the false-neighbour fraction and Cao's E1, E2
 /// against m (m = 1..the length of fnn.fraction): writes `table` (t and the delay vectors
 /// `v`) and _dimension. `dimension` is the one found or given (none if none was found),
 /// `method` how ("fnn", "cao" or "given").

@@ -34,16 +34,18 @@ std::optional<double> quarter_period(std::span<const double> x, double dt) {
 
 // First minimum of the mutual information, widening the lag range (doubling) until the
 // minimum lies inside it, up to N/2.
-std::optional<double> mutual_information_minimum(std::span<const double> x, double dt) {
+mutual_information_result mutual_information_to_minimum(std::span<const double> x, double dt,
+                                                        const mutual_information_options& options) {
   const std::size_t limit = x.size() / 2;
   for (std::size_t lags = std::min<std::size_t>(64, limit);; lags = std::min(2 * lags, limit)) {
-    const auto ami = average_mutual_information(x, dt, lags);
-    if (ami.first_minimum) return ami.first_minimum;
-    if (lags == limit) return std::nullopt;
+    auto ami = average_mutual_information(x, dt, lags, options);
+    if (ami.first_minimum || lags == limit) return ami;
   }
 }
 
-std::optional<double> estimate(std::span<const double> x, double dt, delay_method method) {
+std::optional<double> estimate(std::span<const double> x, double dt, delay_method method,
+                               const mutual_information_options& information,
+                               delay_choice& choice) {
   switch (method) {
     case delay_method::quarter_period:
       return quarter_period(x, dt);
@@ -52,7 +54,8 @@ std::optional<double> estimate(std::span<const double> x, double dt, delay_metho
     case delay_method::acf_minimum:
       return autocorrelation(x, dt).first_minimum;
     case delay_method::mutual_information:
-      return mutual_information_minimum(x, dt);
+      choice.mutual_information = mutual_information_to_minimum(x, dt, information);
+      return choice.mutual_information.first_minimum;
     case delay_method::automatic:
       break;
   }
@@ -92,7 +95,8 @@ std::optional<delay_method> delay_method_from_name(std::string_view name) {
   return std::nullopt;
 }
 
-delay_choice choose_delay(std::span<const double> x, double dt, delay_method method) {
+delay_choice choose_delay(std::span<const double> x, double dt, delay_method method,
+                          const mutual_information_options& information) {
   detail::require_finite_series(x, "x", 4);
   detail::require_sample_spacing(dt);
   detail::require_varying(x, "x", "it has no delay structure");
@@ -104,7 +108,7 @@ delay_choice choose_delay(std::span<const double> x, double dt, delay_method met
   delay_choice choice;
   choice.method = method;
   for (const delay_method m : tries) {
-    const auto value = estimate(x, dt, m);
+    const auto value = estimate(x, dt, m, information, choice);
     if (!value) continue;
     choice.found = true;
     choice.method = m;

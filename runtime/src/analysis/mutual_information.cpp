@@ -11,6 +11,23 @@
 
 namespace npend {
 
+namespace {
+
+// The lags a series typically takes to move by one of `cells` equal cells over its range:
+// the cell width over the median step |x_{j+1} − x_j| (at least 1).
+std::size_t cell_crossing_lags(std::span<const double> x, std::size_t cells) {
+  std::vector<double> steps(x.size() - 1);
+  for (std::size_t j = 0; j + 1 < x.size(); ++j) steps[j] = std::fabs(x[j + 1] - x[j]);
+  auto middle = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
+  std::nth_element(steps.begin(), middle, steps.end());
+  const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
+  const double width = (*hi - *lo) / static_cast<double>(cells);
+  if (!(*middle > 0)) return 1;
+  return std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(width / *middle)));
+}
+
+}  // namespace
+
 mutual_information_result average_mutual_information(std::span<const double> x, double dt,
                                                      std::size_t max_lag,
                                                      const mutual_information_options& options) {
@@ -93,7 +110,8 @@ mutual_information_result average_mutual_information(std::span<const double> x, 
     r.lag[k] = static_cast<double>(k) * dt;
     r.information[k] = information / (total * static_cast<double>(shifts * shifts));
   }
-  r.first_minimum = detail::first_wide_minimum(r.information, dt);
+  r.window = options.minimum_window > 0 ? options.minimum_window : cell_crossing_lags(x, fine);
+  r.first_minimum = detail::first_local_minimum_within(r.information, dt, r.window);
   return r;
 }
 

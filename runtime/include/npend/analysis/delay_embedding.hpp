@@ -2,6 +2,8 @@
 // the choice of the delay τ.
 #pragma once
 
+#include "npend/analysis/mutual_information.hpp"
+
 #include <cstddef>
 #include <optional>
 #include <span>
@@ -30,7 +32,7 @@ enum class delay_method {
   quarter_period,      ///< T/4, T = 2π/ω of the strongest spectral peak (Hann window)
   acf_zero,            ///< first zero of the autocorrelation C_xx
   acf_minimum,         ///< first minimum of C_xx
-  mutual_information,  ///< first minimum of the average mutual information (16 bins)
+  mutual_information,  ///< first local minimum of the average mutual information
 };
 
 /// "auto", "T/4", "acf-zero", "acf-min", "ami" (the command line's names).
@@ -44,14 +46,19 @@ struct delay_choice {
   double estimate = 0;                            ///< the method's unrounded delay in s
   std::size_t samples = 0;  ///< τ in samples: round(estimate / dt), at least 1
   double seconds = 0;       ///< samples · dt
+  /// The mutual information I(τ) as evaluated, when the method tried it (ami, auto): on lags
+  /// 0..63, doubled until its first minimum lies inside, at most N/2. Empty otherwise.
+  mutual_information_result mutual_information;
 };
 
 /// The delay for embedding x_j = x(t₀ + j dt) (dim N ≥ 4, dt > 0 in s) by `method`. The
-/// mutual information is evaluated on lags up to N/2, the autocorrelation on all lags.
+/// mutual information (with the histogram of `information`) is evaluated on lags up to N/2,
+/// the autocorrelation on all lags.
 /// When the feature is absent (no zero, no minimum, no spectral peak) found is false; for
 /// automatic only when all three fail. Throws std::invalid_argument for N < 4, dt ≤ 0, a
 /// non-finite sample or a constant series.
 delay_choice choose_delay(std::span<const double> x, double dt,
-                          delay_method method = delay_method::automatic);
+                          delay_method method = delay_method::automatic,
+                          const mutual_information_options& information = {});
 
 }  // namespace npend

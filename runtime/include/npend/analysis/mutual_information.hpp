@@ -16,15 +16,24 @@ struct mutual_information_options {
   /// grid-alignment noise a single histogram shows on smooth signals (a sine's pairs lie on
   /// a curve, and its single-grid I(τ) zigzags by ~0.1 bit from lag to lag). 1: one grid.
   std::size_t shifts = 4;
+  /// The first minimum is the first lag whose I is below the previous lag's and the smallest
+  /// within ± this many lags: Fraser & Swinney's first local minimum, made deaf to the
+  /// histogram estimate's jitter (1: the plain first local minimum). 0, the default: the
+  /// lags the series takes to move by one fine histogram cell, (max − min)/(bins·shifts)
+  /// divided by the median |x_{j+1} − x_j| — the estimate cannot resolve a change of lag that
+  /// moves no sample to another cell, and on oversampled data it steps up and down on that
+  /// scale.
+  std::size_t minimum_window = 0;
 };
 
 struct mutual_information_result {
   std::vector<double> lag;          ///< τ_k = k dt in s, k = 0..max_lag
   std::vector<double> information;  ///< I(τ_k) in bits
-  /// First minimum of I on the scale of its lag (s): the first τ_k with I(τ_k) the smallest
-  /// on [τ_k − h, τ_k + h], h = max(dt, ⌈k/4⌉ dt), and below I(τ_{k−1}) — so the estimate's
-  /// lag-to-lag jitter on oversampled data is not taken for the minimum. None if there is none.
+  /// The first local minimum of I (s; Fraser & Swinney): the first τ_k with I(τ_k) below
+  /// I(τ_{k−1}) and the smallest on [τ_{k−h}, τ_{k+h}], h = `window`. None if there is none
+  /// among the lags evaluated.
   std::optional<double> first_minimum;
+  std::size_t window = 1;  ///< h in lags: options.minimum_window, or as found for 0
 };
 
 /// I(τ) = Σ_ab p_ab log₂(p_ab / (p_a p_b)) for the pairs (x_j, x_{j+k}), j = 0..N−1−k, with

@@ -22,15 +22,11 @@ std::optional<double> first_local_minimum(std::span<const double> y, double dx) 
   return std::nullopt;
 }
 
-std::optional<double> first_wide_minimum(std::span<const double> y, double dx) {
-  for (std::size_t k = 1; k < y.size(); ++k) {
-    const std::size_t h = std::max<std::size_t>(1, (k + 3) / 4);
-    if (k < h || k + h >= y.size()) {
-      if (k + h >= y.size()) break;
-      continue;
-    }
+std::optional<double> first_local_minimum_within(std::span<const double> y, double dx,
+                                                 std::size_t h) {
+  for (std::size_t k = 1; k + h < y.size(); ++k) {
     bool lowest = y[k] < y[k - 1];
-    for (std::size_t j = k - h; lowest && j <= k + h; ++j) lowest = y[j] >= y[k];
+    for (std::size_t j = k > h ? k - h : 0; lowest && j <= k + h; ++j) lowest = y[j] >= y[k];
     if (lowest) return static_cast<double>(k) * dx;
   }
   return std::nullopt;
