@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <numbers>
 #include <filesystem>
 #include <fstream>
 
@@ -171,12 +172,18 @@ TEST_CASE("npend analyze: an arm going over the top is a note on the unwrapped a
   const fs::path dir = fs::path(temporary_directory("cli-analyze-flip")) / "run";
   // A start whose arm goes over at t ≈ 5 s, before chaos can amplify the kernels' rounding
   // (from 0.9,-0.6,1.2 the first flip came at 113 s, or never, as the last bits fell).
-  const auto r = run_npend(
-      "analyze --links 3 --phi 1.4,-0.6,1.2 --samples 1024 --t-end 200 "
-      "--json --out " +
-      dir.string());
+  const std::string start = "analyze --links 3 --phi 1.4,-0.6,1.2 --samples 1024 --t-end 200 --json ";
+  // On the circle (the default) a flip changes nothing about the sections: no note.
+  const auto circle = run_npend(start + "--out " + dir.string() + "-circle");
+  REQUIRE(circle.exit_code == 0);
+  const auto c = nlohmann::json::parse(circle.out);
+  CHECK(c["angles"] == "circle");
+  for (const auto& note : c["notes"])
+    CHECK(note.get<std::string>().find("an arm passed the upright position") == std::string::npos);
+  const auto r = run_npend(start + "--unwrapped --out " + dir.string());
   REQUIRE(r.exit_code == 0);
   const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["angles"] == "unwrapped");
   REQUIRE(!j["notes"].empty());
   CHECK(j["notes"][0].get<std::string>().find("an arm passed the upright position") == 0);
   CHECK(read(dir / "index.md").find("> Note: an arm passed the upright position") !=
@@ -257,4 +264,32 @@ TEST_CASE("npend poincare, analyze and demo: --help names every option") {
     for (const auto& o : options)
       CHECK_MESSAGE(r.out.find(o) != std::string::npos, command, " ", o);
   }
+}
+
+TEST_CASE("npend poincare: sections of angles are on the circle unless --unwrapped") {
+  // Above the flip energy the arms turn over: φ₃ = 0 on the circle is passed every turn,
+  // while the plane of the unwrapped angle is met only while φ₃ stays near 0.
+  const std::string run = "poincare --links 3 --phi 1.5,1.5,1.5 --t-end 200 --section phi3=0 --json";
+  const auto circle = nlohmann::json::parse(run_npend(run).out);
+  const auto plane = nlohmann::json::parse(run_npend(run + " --unwrapped").out);
+  CHECK(circle["angles"] == "circle");
+  CHECK(plane["angles"] == "unwrapped");
+  const auto on_circle = circle["count"].get<std::size_t>();
+  const auto on_plane = plane["count"].get<std::size_t>();
+  CHECK(on_circle > 5 * on_plane);
+  // Every crossing of the plane is one of the circle's (the branch j = 0), at the same time.
+  std::vector<double> times;
+  for (const auto& p : circle["points"]) times.push_back(p["t"].get<double>());
+  for (const auto& p : plane["points"]) {
+    const double t = p["t"].get<double>();
+    CHECK(std::any_of(times.begin(), times.end(),
+                      [&](double s) { return std::fabs(s - t) < 1e-9; }));
+  }
+  // The circle's points are reported with their angles in [-π, π], on the section to rounding.
+  for (const auto& p : circle["points"]) {
+    const auto x = p["state"].get<std::vector<double>>();
+    for (std::size_t i = 0; i < 3; ++i) CHECK(std::fabs(x[i]) <= std::numbers::pi);
+    CHECK(std::fabs(x[2]) < 1e-9);
+  }
+  CHECK(circle["max_section_residual"].get<double>() < 1e-9);
 }

@@ -269,3 +269,65 @@ TEST_CASE("section_plane: coordinates, equal coordinates and bad planes") {
       poincare_section(c, strong_start, section_plane{{1, 0, 0, 0, 0, INFINITY}, 0}, run_for(1)),
       std::invalid_argument);
 }
+
+TEST_CASE("poincare_section: a rotating pendulum crosses phi = 0 on the circle once a turn") {
+  // Above the separatrix the single pendulum turns over for ever: φ grows without bound,
+  // and on the circle it passes φ ≡ 0 once a turn, T_rev = ∫₀^{2π} dφ / φ̇(φ) apart with
+  // φ̇ = √(2 (E − g (1 − cos φ))) (m = l = 1). The trapezoid rule on the periodic integrand
+  // converges exponentially: an independent T_rev to rounding.
+  const chain c(chain_parameters::uniform(1));
+  const double g = c.parameters().g;
+  for (const double p0 : {7.0, -7.0}) {  // E = 24.5 J > 2 g: turning either way
+    const std::vector<double> x0{0.1, p0};
+    const double energy = c.hamiltonian(x0);
+    constexpr int nodes = 4096;
+    double revolution = 0;
+    for (int k = 0; k < nodes; ++k) {
+      const double phi = 2 * pi * k / nodes;
+      revolution += (2 * pi / nodes) / std::sqrt(2 * (energy - g * (1 - std::cos(phi))));
+    }
+    const auto direction = p0 > 0 ? crossing_direction::up : crossing_direction::down;
+    const auto circle = poincare_section(c, x0, section_plane::coordinate(1, 0, 0.0), run_for(20),
+                                         {.direction = direction});
+    REQUIRE(circle.crossings.size() >= 10);
+    for (std::size_t j = 0; j < circle.crossings.size(); ++j) {
+      const auto& k = circle.crossings[j];
+      CHECK(k.refined);
+      // On the branch 2πj of the unwrapped angle, to rounding.
+      CHECK(std::fabs(k.state[0] - std::round(k.state[0] / (2 * pi)) * 2 * pi) < 1e-12);
+      if (j > 0)
+        CHECK(k.t - circle.crossings[j - 1].t == doctest::Approx(revolution).epsilon(1e-10));
+    }
+    // None the other way round, and on the unwrapped angle none at all after the start.
+    const auto other = poincare_section(c, x0, section_plane::coordinate(1, 0, 0.0), run_for(20),
+                                        {.direction = p0 > 0 ? crossing_direction::down
+                                                             : crossing_direction::up});
+    CHECK(other.crossings.empty());
+    section_plane unwrapped = section_plane::coordinate(1, 0, 0.0);
+    unwrapped.circular = false;
+    const auto plane = poincare_section(c, x0, unwrapped, run_for(20), {.direction = direction});
+    CHECK(plane.crossings.size() == (p0 > 0 ? 0u : 1u));  // -7: back through 0 once, early
+  }
+}
+
+TEST_CASE("section_plane: circular sections of angles, their branches and bad circular planes") {
+  const auto phi1 = section_plane::coordinate(2, 0, 0.5);
+  CHECK(phi1.circular);
+  CHECK(!section_plane::coordinate(2, 2, 0.5).circular);  // p1: a momentum is no angle
+  CHECK(section_plane::equal_coordinates(2, 0, 1).circular);
+  CHECK(!section_plane::equal_coordinates(2, 0, 3).circular);
+  // The branch crossed between two states, either way; a start on a branch is no crossing.
+  const double turn = 2 * pi;
+  const auto at = [](double phi) { return std::vector<double>{phi, 0, 0, 0}; };
+  CHECK(phi1.branch_level(at(0.5 + turn - 0.01), at(0.5 + turn + 0.01)) == 0.5 + turn);
+  CHECK(phi1.branch_level(at(0.5 - 2 * turn + 0.01), at(0.5 - 2 * turn - 0.01)) ==
+        doctest::Approx(0.5 - 2 * turn).epsilon(1e-15));
+  CHECK(phi1.branch_level(at(0.5 + turn), at(0.5 + turn + 0.01)) == 0.5);  // not crossed
+  CHECK(phi1.value(at(0.5 + 3 * turn + 0.2)) == doctest::Approx(0.2).epsilon(1e-12));
+  const chain c(chain_parameters::uniform(2));
+  section_plane bad = phi1;
+  bad.normal = {0.5, 0, 0, 0};
+  CHECK_THROWS_AS(bad.validate(4), std::invalid_argument);
+  bad.normal = {1, 0, 1, 0};
+  CHECK_THROWS_AS(bad.validate(4), std::invalid_argument);
+}

@@ -94,14 +94,25 @@ std::string coordinate_name(std::size_t index, int links) {
   return index < n ? fmt::format("phi{}", index + 1) : fmt::format("p{}", index - n + 1);
 }
 
-section_plane section_from_spec(const section_spec& spec, int links, std::string_view option) {
+std::string_view angle_mode_name(angle_mode mode) {
+  return mode == angle_mode::circle ? "circle" : "unwrapped";
+}
+
+section_plane section_from_spec(const section_spec& spec, int links, std::string_view option,
+                                angle_mode mode) {
   const std::size_t left = parse_coordinate(spec.left, links, option);
-  if (spec.level) return section_plane::coordinate(links, left, *spec.level);
-  const std::size_t right = parse_coordinate(spec.right, links, option);
-  if (right == left)
-    throw input_error(fmt::format("{}: '{}={}' compares {} with itself", option, spec.left,
-                                  spec.right, coordinate_name(left, links)));
-  return section_plane::equal_coordinates(links, left, right);
+  section_plane plane;
+  if (spec.level) {
+    plane = section_plane::coordinate(links, left, *spec.level);
+  } else {
+    const std::size_t right = parse_coordinate(spec.right, links, option);
+    if (right == left)
+      throw input_error(fmt::format("{}: '{}={}' compares {} with itself", option, spec.left,
+                                    spec.right, coordinate_name(left, links)));
+    plane = section_plane::equal_coordinates(links, left, right);
+  }
+  plane.circular = plane.circular && mode == angle_mode::circle;
+  return plane;
 }
 
 std::pair<std::size_t, std::size_t> parse_projection(std::string_view text, int links,

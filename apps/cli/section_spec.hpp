@@ -36,21 +36,32 @@ std::size_t parse_coordinate(std::string_view name, int links, std::string_view 
 /// The name of state index `index` of an n-link chain: "phi3", "p1".
 std::string coordinate_name(std::size_t index, int links);
 
-/// The hyperplane of `spec` for an n-link chain: x_left − level = 0 or x_left − x_right = 0.
+/// How sections and events of angles are taken.
+enum class angle_mode {
+  circle,     ///< φ = c means φ ≡ c (mod 2π): every passage of the arm (the default)
+  unwrapped,  ///< the plane of the unwrapped angle: φ = c and φ = c + 2π differ (--unwrapped)
+};
+
+/// "circle" or "unwrapped", as the JSON says.
+std::string_view angle_mode_name(angle_mode mode);
+
+/// The hyperplane of `spec` for an n-link chain: x_left − level = 0 or x_left − x_right = 0,
+/// circular (section_plane::circular) when it is of angles only and `mode` is circle.
 /// Throws input_error naming `option` for unknown coordinates or a coordinate compared with
 /// itself.
-section_plane section_from_spec(const section_spec& spec, int links, std::string_view option);
+section_plane section_from_spec(const section_spec& spec, int links, std::string_view option,
+                                angle_mode mode = angle_mode::circle);
 
 /// Two coordinates "A,B" (e.g. "phi3,p3") for a 2-D projection: their state indices.
 /// Throws input_error naming `option` unless there are exactly two, both valid and distinct.
 std::pair<std::size_t, std::size_t> parse_projection(std::string_view text, int links,
                                                      std::string_view option);
 
-/// What to tell a user whose run took an arm over the top, when sections of angles are asked
-/// for.
+/// What to tell a user whose run took an arm over the top, when sections of unwrapped angles
+/// are asked for.
 inline constexpr std::string_view unwrapped_angles_note =
-    "an arm passed the upright position (|phi| > pi): sections are of the unwrapped angles, "
-    "so phi = c and phi = c + 2 pi are different planes";
+    "an arm passed the upright position (|phi| > pi) and the section is of the unwrapped "
+    "angles (--unwrapped), so phi = c and phi = c + 2 pi are different planes";
 
 /// "up", "down" or "both"; input_error naming `option` otherwise.
 crossing_direction parse_direction(std::string_view text, std::string_view option);

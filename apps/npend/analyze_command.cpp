@@ -32,6 +32,7 @@ struct analyze_options {
   std::string section = "phi1=0", direction = "up", event, event_direction = "both", project;
   std::string out;
   bool json = false;
+  bool unwrapped = false;
 };
 
 int run_analyze(const analyze_options& o) {
@@ -43,11 +44,13 @@ int run_analyze(const analyze_options& o) {
   options.coordinate = o.series.column.empty()
                            ? static_cast<std::size_t>(n - 1)
                            : cli::parse_coordinate(o.series.column, n, "--coordinate");
-  options.section =
-      cli::section_from_spec(cli::parse_section_spec(o.section, "--section"), n, "--section");
+  const cli::angle_mode angles = o.unwrapped ? cli::angle_mode::unwrapped : cli::angle_mode::circle;
+  options.section = cli::section_from_spec(cli::parse_section_spec(o.section, "--section"), n,
+                                           "--section", angles);
   options.section_direction = cli::parse_direction(o.direction, "--direction");
   const std::string event = o.event.empty() ? fmt::format("phi{}=0", n) : o.event;
-  options.event = cli::section_from_spec(cli::parse_section_spec(event, "--event"), n, "--event");
+  options.event =
+      cli::section_from_spec(cli::parse_section_spec(event, "--event"), n, "--event", angles);
   options.event_direction = cli::parse_direction(o.event_direction, "--event-direction");
   const auto projection =
       o.project.empty()
@@ -229,6 +232,7 @@ int run_analyze(const analyze_options& o) {
         {"first_zero", optional(a.autocorrelation.first_zero)},
         {"first_minimum", optional(a.autocorrelation.first_minimum)},
         {"section", o.section},
+        {"angles", cli::angle_mode_name(angles)},
         {"crossings", a.section.size()},
         {"max_section_residual", residual},
         {"max_rel_energy_error", energy_error},
@@ -271,6 +275,9 @@ void add_analyze_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--out", o->out,
                   "The folder to write (created if missing; files in it are replaced)")
       ->required();
+  cmd->add_flag("--unwrapped", o->unwrapped,
+                "Sections and events of angles on the unwrapped angle instead of on the circle "
+                "(the default: every passage of the arm)");
   cmd->add_flag("--json", o->json, "Print a JSON summary instead of the table");
   commands.push_back({cmd, [o] { return run_analyze(*o); }});
 }

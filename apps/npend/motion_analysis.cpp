@@ -26,7 +26,14 @@ motion_analysis analyze_motion(const cli::simulated_start& sim,
       a.largest_angle = std::max(a.largest_angle, std::fabs(step.x_end()[i]));
     return observer_action::proceed;
   });
-  if (a.largest_angle > std::numbers::pi) a.notes.emplace_back(cli::unwrapped_angles_note);
+  // Only a plane of unwrapped angles is moved by a flip.
+  const auto on_unwrapped_angles = [&](const section_plane& s) {
+    return !s.circular && std::any_of(s.normal.begin(), s.normal.begin() + static_cast<std::ptrdiff_t>(links),
+                                      [](double w) { return w != 0; });
+  };
+  if (a.largest_angle > std::numbers::pi &&
+      (on_unwrapped_angles(options.section) || on_unwrapped_angles(options.event)))
+    a.notes.emplace_back(cli::unwrapped_angles_note);
   const std::size_t k = options.coordinate;
   a.series = {a.signals.source, a.signals.names[k],  a.signals.t0,
               a.signals.dt,     a.signals.values[k], a.signals.units[k]};

@@ -32,7 +32,18 @@ struct poincare_options {
   cli::integrator_options integrator;
   std::string section, direction = "up", project, max_points, out;
   bool json = false;
+  bool unwrapped = false;
 };
+
+// The crossings as reported: on a circular section with every angle on the circle, [−π, π].
+std::vector<section_crossing> reported(std::vector<section_crossing> crossings,
+                                       const section_plane& section, int links) {
+  if (!section.circular) return crossings;
+  for (auto& x : crossings)
+    for (int i = 0; i < links; ++i)
+      x.state[static_cast<std::size_t>(i)] = wrapped_angle(x.state[static_cast<std::size_t>(i)]);
+  return crossings;
+}
 
 // (phin, pn), or (phi(n−1), p(n−1)) when the section involves phin (its points would all
 // share that coordinate).
@@ -45,8 +56,9 @@ std::pair<std::size_t, std::size_t> default_projection(const section_plane& s, i
 int run_poincare(const poincare_options& o) {
   const chain c = o.chain.make_chain();
   const int n = c.links();
-  const section_plane section =
-      cli::section_from_spec(cli::parse_section_spec(o.section, "--section"), n, "--section");
+  const cli::angle_mode angles = o.unwrapped ? cli::angle_mode::unwrapped : cli::angle_mode::circle;
+  const section_plane section = cli::section_from_spec(
+      cli::parse_section_spec(o.section, "--section"), n, "--section", angles);
   const crossing_direction direction = cli::parse_direction(o.direction, "--direction");
   const auto projection = o.project.empty() ? default_projection(section, n)
                                             : cli::parse_projection(o.project, n, "--project");
@@ -83,7 +95,7 @@ int run_poincare(const poincare_options& o) {
     return 128 + interrupt.signal();
   }
 
-  const auto& crossings = locator.crossings();
+  const std::vector<section_crossing> crossings = reported(locator.crossings(), section, n);
   const double energy = c.hamiltonian(x0);
   double residual = 0, energy_error = 0;
   std::size_t unrefined = 0;
@@ -96,8 +108,8 @@ int run_poincare(const poincare_options& o) {
   const std::string what = fmt::format("{} ({})", o.section, cli::direction_name(direction));
   const std::string projected = fmt::format("{},{}", cli::coordinate_name(projection.first, n),
                                             cli::coordinate_name(projection.second, n));
-  // The section is of the unwrapped angles: say so when an arm went over the top.
-  const bool flipped = largest_angle > std::numbers::pi;
+  // A section of unwrapped angles: say so when an arm went over the top.
+  const bool flipped = largest_angle > std::numbers::pi && o.unwrapped;
   const std::string flip_note(cli::unwrapped_angles_note);
 
   if (files.enabled()) {
@@ -129,6 +141,7 @@ int run_poincare(const poincare_options& o) {
         {"section", o.section},
         {"normal", section.normal},
         {"level", section.level},
+        {"angles", cli::angle_mode_name(angles)},
         {"direction", cli::direction_name(direction)},
         {"projection",
          {cli::coordinate_name(projection.first, n), cli::coordinate_name(projection.second, n)}},
@@ -191,6 +204,10 @@ void add_poincare_command(CLI::App& app, command_list& commands) {
                   "The two coordinates of the plot, e.g. phi3,p3 (default: phin,pn, or "
                   "phi(n-1),p(n-1) when the section involves phin)");
   cmd->add_option("--max-points", o->max_points, "Stop after this many crossings");
+  cmd->add_flag("--unwrapped", o->unwrapped,
+                "Take a section of angles on the unwrapped angle (phi3=0 and phi3=2pi differ) "
+                "instead of on the circle (every passage of the arm; the default; the angles "
+                "of the crossings are then reported in [-pi, pi])");
   cmd->add_flag("--json", o->json,
                 "Print JSON: points (t and the state of each crossing), count, residuals, ...");
   cmd->add_option("--out", o->out,

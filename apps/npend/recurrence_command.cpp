@@ -29,6 +29,7 @@ struct recurrence_options {
   std::string event, direction = "both", interpolation;
   std::size_t bins = 0;
   bool json = false;
+  bool unwrapped = false;
   std::string out;
 };
 
@@ -59,6 +60,11 @@ int run_recurrence(const recurrence_options& o) {
     throw cli::input_error(
         "--interpolation: only for --input; a simulation's events are located on the "
         "integrator's steps");
+  if (!simulation && o.unwrapped)
+    throw cli::input_error(
+        "--unwrapped: only for a simulation; the events of a file's columns are of their values "
+        "as written");
+  const cli::angle_mode angles = o.unwrapped ? cli::angle_mode::unwrapped : cli::angle_mode::circle;
   event_interpolation interpolation = event_interpolation::cubic;
   if (o.interpolation == "linear")
     interpolation = event_interpolation::linear;
@@ -73,7 +79,8 @@ int run_recurrence(const recurrence_options& o) {
   if (simulation) {
     // Located on the steps (dense output and Hénon's trick), like the Poincaré crossings.
     crossing_locator locator(simulation->pendulum,
-                             cli::section_from_spec(spec, simulation->pendulum.links(), "--event"),
+                             cli::section_from_spec(spec, simulation->pendulum.links(), "--event",
+                                                    angles),
                              direction);
     cli::simulate_signals(*simulation, std::ref(locator));
     times = crossing_times(locator.crossings());
@@ -121,6 +128,8 @@ int run_recurrence(const recurrence_options& o) {
                      {"interpolation", simulation                ? "steps"
                                        : o.interpolation.empty() ? std::string("cubic")
                                                                  : o.interpolation},
+                     {"angles", simulation ? nlohmann::json(cli::angle_mode_name(angles))
+                                           : nlohmann::json()},
                      {"count", times.size()},
                      {"times", times},
                      {"intervals", stats.intervals},
@@ -174,6 +183,9 @@ void add_recurrence_command(CLI::App& app, command_list& commands) {
                   "interpolation");
   cmd->add_option("--bins", o->bins, "Histogram bins (0: Freedman-Diaconis)")
       ->capture_default_str();
+  cmd->add_flag("--unwrapped", o->unwrapped,
+                "Simulation: events of angles on the unwrapped angle (phi3=0 and phi3=2pi "
+                "differ) instead of on the circle (every passage of the arm; the default)");
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->add_option("--out", o->out,
                   "Write FILE.csv (index, time, interval), FILE_histogram.csv, FILE_spectrum.csv "

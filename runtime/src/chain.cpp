@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 namespace npend {
@@ -150,5 +152,7 @@ std::vector<double> chain::state_from_velocities(std::span<const double> phi,
   momenta(phi, dphi, std::span<double>(x).subspan(static_cast<std::size_t>(m_links)));
   return x;
 }
+
+double wrapped_angle(double phi) { return std::remainder(phi, 2 * std::numbers::pi); }
 
 }  // namespace npend

@@ -79,4 +79,7 @@ class chain {
   int m_links = 0;
 };
 
+/// An angle on the circle: φ reduced to [−π, π] (the state carries angles unwrapped).
+double wrapped_angle(double phi);
+
 }  // namespace npend

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <numbers>
 #include <stdexcept>
 #include <utility>
 
@@ -54,7 +55,10 @@ class henon_system {
 
 }  // namespace
 
-double section_plane::value(std::span<const double> x) const { return dot(normal, x) - level; }
+double section_plane::value(std::span<const double> x) const {
+  const double g = dot(normal, x) - level;
+  return circular ? wrapped_angle(g) : g;
+}
 
 section_plane section_plane::coordinate(int links, std::size_t index, double level) {
   if (links < 1)
@@ -70,6 +74,7 @@ section_plane section_plane::coordinate(int links, std::size_t index, double lev
   s.normal.assign(size, 0.0);
   s.normal[index] = 1;
   s.level = level;
+  s.circular = index < static_cast<std::size_t>(links);
   return s;
 }
 
@@ -82,7 +87,20 @@ section_plane section_plane::equal_coordinates(int links, std::size_t first, std
     throw std::invalid_argument(
         fmt::format("section_plane: coordinate {} compared with itself", first));
   s.normal[second] = -1;
+  s.circular = s.circular && second < static_cast<std::size_t>(links);
   return s;
+}
+
+double section_plane::branch_level(std::span<const double> a, std::span<const double> b) const {
+  if (!circular) return level;
+  constexpr double turn = 2 * std::numbers::pi;
+  const double ua = dot(normal, a) - level, ub = dot(normal, b) - level;
+  // The multiples of 2π in (ua, ub] going up, or [ub, ua) going down: the nearest to ua.
+  const double j = ub >= ua ? std::floor(ua / turn) + 1 : std::ceil(ua / turn) - 1;
+  const bool crossed = ub >= ua ? j * turn <= ub : j * turn >= ub;
+  // A start exactly on a branch is no crossing of it (as for a plane), so ua = 2πj is
+  // excluded above; the branch a step ends on is included.
+  return crossed ? level + j * turn : level;
 }
 
 void section_plane::validate(std::size_t state_size) const {
@@ -97,6 +115,13 @@ void section_plane::validate(std::size_t state_size) const {
     nonzero = nonzero || normal[i] != 0;
   }
   if (!nonzero) throw std::invalid_argument("section normal is all 0: it defines no hyperplane");
+  if (circular)
+    for (std::size_t i = 0; i < normal.size(); ++i)
+      if (i >= normal.size() / 2 ? normal[i] != 0 : normal[i] != std::round(normal[i]))
+        throw std::invalid_argument(fmt::format(
+            "circular section: normal entry {} is {}; a section of angles on the circle needs "
+            "integer entries on the angles and 0 on the momenta",
+            i + 1, normal[i]));
   if (!std::isfinite(level))
     throw std::invalid_argument(fmt::format("section level {} is not finite", level));
 }
@@ -113,7 +138,10 @@ crossing_locator::crossing_locator(const chain& c, section_plane section,
 }
 
 observer_action crossing_locator::operator()(const integration_step& step) {
-  const double g0 = m_section.value(step.x_begin()), g1 = m_section.value(step.x_end());
+  // On the circle, the plane of this step is the branch w·x = c + 2πj it may cross.
+  const double level = m_section.branch_level(step.x_begin(), step.x_end());
+  const auto value = [&](std::span<const double> x) { return dot(m_section.normal, x) - level; };
+  const double g0 = value(step.x_begin()), g1 = value(step.x_end());
   const bool up = g0 < 0 && g1 >= 0, down = g0 > 0 && g1 <= 0;
   if (!((up && m_direction != crossing_direction::down) ||
         (down && m_direction != crossing_direction::up)))
@@ -135,7 +163,7 @@ observer_action crossing_locator::operator()(const integration_step& step) {
       t = (a * gb - b * ga) / (gb - ga);
       if (!(t > std::min(a, b) && t < std::max(a, b))) t = 0.5 * (a + b);
       step.state_at(t, m_buffer);
-      const double g = m_section.value(m_buffer);
+      const double g = value(m_buffer);
       if (g == 0 || std::fabs(b - a) <= 1e-14 * width) break;
       if ((g < 0) == (gb < 0)) {
         b = t;

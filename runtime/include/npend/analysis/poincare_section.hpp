@@ -17,27 +17,40 @@ namespace npend {
 
 /// The hyperplane g(x) = w·x − c = 0 of the state space x = [φ_1..φ_n, p_1..p_n].
 ///
-/// Angles are not reduced mod 2π in the state, and neither are they here: φ_k = 0 is
-/// crossed when the unwrapped angle φ_k passes 0, not when an arm that has flipped over once
-/// passes 2π (give φ_k = 2π for that). In the paper's regime (no arm flips over) the two
-/// agree.
+/// Angles live on a circle, but the state carries them unwrapped (an arm that went over the
+/// top once has φ near 2π). A `circular` section is taken on the circle: it is the family of
+/// planes w·x = c + 2πj for every integer j, so φ_k = 0 is crossed whenever the arm passes
+/// the downward vertical, however often it has turned. Sections of angles made by
+/// coordinate() and equal_coordinates() are circular; clear the flag for the plane of the
+/// unwrapped angles (the two agree while no arm flips over, the paper's regime).
 struct section_plane {
   std::vector<double> normal;  ///< w (dim 2n), not all 0
   double level = 0;            ///< c, in the unit of w·x
+  /// The section is w·x ≡ c (mod 2π): w must have integer entries on the angles and 0 on
+  /// the momenta (φ_k = c, φ_i = φ_j). Crossing directions are those of w·x.
+  bool circular = false;
 
-  /// g(x) = w·x − c (x: dim of the normal). Does not check sizes.
+  /// g(x) = w·x − c (x: dim of the normal); for a circular section reduced to [−π, π], the
+  /// distance to the nearest branch. Does not check sizes.
   double value(std::span<const double> x) const;
 
   /// Coordinate `index` of the state (0-based: φ_k is k − 1, p_k is n + k − 1) equal to
-  /// `level` (rad or kg m²/s). Throws std::invalid_argument for links < 1, an index ≥ 2n or a
-  /// non-finite level.
+  /// `level` (rad or kg m²/s); circular for an angle. Throws std::invalid_argument for
+  /// links < 1, an index ≥ 2n or a non-finite level.
   static section_plane coordinate(int links, std::size_t index, double level);
   /// Coordinate `first` equal to coordinate `second` (e.g. φ_i = φ_{i+1}: g = x_first −
-  /// x_second). Throws std::invalid_argument for links < 1, indices ≥ 2n, or first = second.
+  /// x_second); circular when both are angles. Throws std::invalid_argument for links < 1,
+  /// indices ≥ 2n, or first = second.
   static section_plane equal_coordinates(int links, std::size_t first, std::size_t second);
 
+  /// The level c + 2πj of the plane a circular section is crossed on between states a and b
+  /// of one step: j with 2πj between w·a − c and w·b − c (the first such j from a on; a step
+  /// turns by far less than 2π). The level itself when not circular or not crossed.
+  double branch_level(std::span<const double> a, std::span<const double> b) const;
+
   /// Throws std::invalid_argument naming the problem: a normal whose size is not
-  /// `state_size`, a non-finite entry or level, a normal that is all 0.
+  /// `state_size`, a non-finite entry or level, a normal that is all 0, a circular normal
+  /// with a non-integer angle entry or a momentum entry.
   void validate(std::size_t state_size) const;
 };
 
