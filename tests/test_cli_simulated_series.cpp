@@ -1,6 +1,7 @@
 // The time-series commands on a simulated start (--links N, a start, --samples, --dt,
 // --coordinate, --stepper): their JSON against the library on the same trajectory, and the
 // message of every bad combination of options.
+#include "csv_table.hpp"
 #include "support/test_support.hpp"
 
 #include "npend/analysis/autocorrelation.hpp"
@@ -18,6 +19,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 
 using namespace npend;
 using npend::test::run_npend;
@@ -157,4 +159,59 @@ TEST_CASE("npend time series: each bad simulated start gets its message and exit
     CHECK(r.err.find("error: " + message) != std::string::npos);
     CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
   }
+}
+
+namespace {
+
+// The series a command analyses, read back from `npend embed --dim 2 --tau dt --out`: the
+// column x(t) of its delay vectors, at t = dt, 2 dt, …
+std::vector<double> analysed_series(const std::string& start, const std::string& coordinate) {
+  const std::string dir = npend::test::temporary_directory("cli-observable-" + coordinate);
+  const std::string out = (std::filesystem::path(dir) / "e.csv").string();
+  const auto r = run_npend("embed " + start + " --coordinate " + coordinate +
+                           " --tau 0.01 --dim 2 --out " + out);
+  REQUIRE(r.exit_code == 0);
+  const auto table = npend::cli::parse_csv(npend::test::read_text(out), out);
+  REQUIRE(table.names.at(1) == "x(t)");
+  return table.columns[1];
+}
+
+}  // namespace
+
+TEST_CASE("npend spectrum/embed: the bounded observables of a rotating chain") {
+  // Above the flip energy: φ₃ winds; sin, cos, the wrapped angle and the bob positions stay
+  // bounded. Each is checked against the trajectory integrated here and eq. 6.1 written out.
+  const std::string start = "--links 3 --lengths 1,0.5,0.8 --phi 1.5,1.5,1.5 --dt 0.01 --samples 512";
+  const chain c(chain_parameters{{1, 1, 1}, {1, 0.5, 0.8}, 9.81});
+  const std::vector<double> x0{1.5, 1.5, 1.5, 0, 0, 0};
+  std::vector<std::vector<double>> phi;
+  for (std::size_t i = 0; i < 3; ++i) phi.push_back(trajectory_coordinate(c, x0, i, 512, 0.01));
+  const auto x3 = analysed_series(start, "x3");
+  const auto y2 = analysed_series(start, "y_2");
+  const auto s3 = analysed_series(start, "sin_phi3");
+  const auto c1 = analysed_series(start, "cos_phi_1");
+  const auto w3 = analysed_series(start, "wrapped_phi3");
+  REQUIRE(x3.size() == 511);
+  for (std::size_t j = 1; j < 512; ++j) {
+    const std::size_t row = j - 1;  // the first delay vector is at t = dt
+    CHECK(x3[row] == doctest::Approx(std::sin(phi[0][j]) + 0.5 * std::sin(phi[1][j]) +
+                                     0.8 * std::sin(phi[2][j])).epsilon(1e-12));
+    CHECK(y2[row] == doctest::Approx(std::cos(phi[0][j]) + 0.5 * std::cos(phi[1][j])).epsilon(1e-12));
+    CHECK(s3[row] == doctest::Approx(std::sin(phi[2][j])).epsilon(1e-12));
+    CHECK(c1[row] == doctest::Approx(std::cos(phi[0][j])).epsilon(1e-12));
+    CHECK(std::fabs(w3[row]) <= std::numbers::pi);
+    const double turns = (phi[2][j] - w3[row]) / (2 * std::numbers::pi);
+    CHECK(std::fabs(turns - std::round(turns)) < 1e-9);
+  }
+}
+
+TEST_CASE("npend spectrum: a winding angle's series is noted on stderr, a bounded one is not") {
+  const std::string rotating = "spectrum --links 3 --phi 1.5,1.5,1.5 --dt 0.01 --samples 4096 --json";
+  const auto winding = run_npend(rotating + " --coordinate phi3");
+  REQUIRE(winding.exit_code == 0);
+  CHECK(winding.err.find("note: phi3 runs from") == 0);
+  CHECK(std::count(winding.err.begin(), winding.err.end(), '\n') == 1);
+  CHECK(run_npend(rotating + " --coordinate x3").err.empty());
+  // The weak start swings without turning over: nothing to note.
+  CHECK(run_npend("spectrum --links 3 --phi 0.1,-0.1,0.1 --dt 0.01 --samples 1024 --json").err.empty());
 }

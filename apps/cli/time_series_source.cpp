@@ -13,7 +13,9 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <numbers>
 #include <sstream>
+#include <tuple>
 
 namespace npend::cli {
 
@@ -197,7 +199,9 @@ void series_options::add_to(CLI::App& command, series_use use) {
     command.add_option("--column,--coordinate", column,
                        "The signal to analyse: a CSV column name or number (1-based, counting the "
                        "time column; default: the first signal), or for a simulation a "
-                       "coordinate phi1..phin, p1..pn (default: phin)");
+                       "coordinate phi1..phin, p1..pn (default: phin) or a bounded observable: "
+                       "sin_phiK, cos_phiK, wrapped_phiK (in [-pi, pi]), xK, yK (bob K's "
+                       "position in m, y down)");
   else if (use == series_use::whole)
     command.add_option("--coordinate,--column", column,
                        "The coordinate whose time series is analysed: phi1..phin, p1..pn "
@@ -294,12 +298,101 @@ sampled_signals series_options::load(std::size_t min_samples) const {
   return signals_from_csv(parse_csv(text, input), input, spacing, min_samples);
 }
 
+namespace {
+
+// The link K (1-based) of "K" or "_K", K = 1..links without leading zeros; 0 if it is not one.
+std::size_t link_number(std::string_view text, int links) {
+  if (text.starts_with("_")) text.remove_prefix(1);
+  if (text.empty() || text.size() > 9 || text.front() == '0' ||
+      !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return 0;
+  std::size_t k = 0;
+  for (const char c : text) k = 10 * k + static_cast<std::size_t>(c - '0');
+  return k <= static_cast<std::size_t>(links) ? k : 0;
+}
+
+// The bounded observables of a simulation, computed from its angles φ_1..φ_n (the first n
+// signals): sin_phiK, cos_phiK, wrapped_phiK (in [−π, π]), and the bob positions xK, yK (m,
+// y down). None if `name` is not one of them.
+std::optional<time_series> bounded_observable(const sampled_signals& s, const npend::chain& c,
+                                              std::string_view name) {
+  const int n = c.links();
+  const auto angle = [&](std::string_view rest) -> std::size_t {
+    if (!rest.starts_with("phi")) return 0;
+    return link_number(rest.substr(3), n);
+  };
+  time_series out{s.source, std::string(name), s.t0, s.dt, {}, ""};
+  const std::size_t samples = s.samples();
+  out.values.resize(samples);
+  for (const auto& [prefix, unit, f] :
+       {std::tuple{std::string_view("sin_"), "1", +[](double v) { return std::sin(v); }},
+        std::tuple{std::string_view("cos_"), "1", +[](double v) { return std::cos(v); }},
+        std::tuple{std::string_view("wrapped_"), "rad", +[](double v) { return wrapped_angle(v); }}}) {
+    if (!name.starts_with(prefix)) continue;
+    const std::size_t k = angle(name.substr(prefix.size()));
+    if (k == 0) return std::nullopt;
+    for (std::size_t j = 0; j < samples; ++j) out.values[j] = f(s.values[k - 1][j]);
+    out.unit = unit;
+    return out;
+  }
+  if (name.starts_with("x") || name.starts_with("y")) {
+    const std::size_t k = link_number(name.substr(1), n);
+    if (k == 0) return std::nullopt;
+    const bool horizontal = name.front() == 'x';
+    const auto& lengths = c.parameters().lengths;
+    for (std::size_t j = 0; j < samples; ++j) {
+      double position = 0;  // x_k = Σ_{i≤k} l_i sin φ_i, y_k = Σ_{i≤k} l_i cos φ_i (eq. 6.1)
+      for (std::size_t i = 0; i < k; ++i)
+        position += lengths[i] * (horizontal ? std::sin(s.values[i][j]) : std::cos(s.values[i][j]));
+      out.values[j] = position;
+    }
+    out.unit = "m";
+    return out;
+  }
+  return std::nullopt;
+}
+
+// One line on stderr when an angle's series winds by more than a turn: its spectrum,
+// autocorrelation and mutual information are then those of a ramp.
+void note_winding_angle(const time_series& x) {
+  std::string_view name = x.name;
+  if (!name.starts_with("phi") || link_number(name.substr(3), 1 << 20) == 0) return;
+  const auto [low, high] = std::minmax_element(x.values.begin(), x.values.end());
+  if (*high - *low <= 2 * std::numbers::pi) return;
+  const std::string k(name.substr(name[3] == '_' ? 4 : 3));
+  fmt::print(stderr,
+             "note: {} runs from {:.4g} to {:.4g} rad, more than a turn (an arm turns over): its "
+             "analysis is that of a ramp; the bounded sin_phi{}, cos_phi{}, wrapped_phi{}, x{} "
+             "or y{} may serve better\n",
+             x.name, *low, *high, k, k, k, k, k);
+}
+
+}  // namespace
+
 time_series series_options::load_one(std::size_t min_samples) const {
-  const sampled_signals signals = load(min_samples);
-  if (!simulated()) return select_signal(signals, column, "--column");
-  const int links = static_cast<int>(signals.names.size() / 2);
-  return signal_at(signals, column.empty() ? signals.default_signal
-                                           : parse_coordinate(column, links, "--coordinate"));
+  const auto simulation = this->simulation(min_samples);
+  time_series x;
+  if (!simulation) {
+    x = select_signal(load(min_samples), column, "--column");
+  } else {
+    const sampled_signals signals = simulate_signals(*simulation);
+    const int links = simulation->pendulum.links();
+    if (column.empty()) {
+      x = signal_at(signals, signals.default_signal);
+    } else if (auto derived = bounded_observable(signals, simulation->pendulum, column)) {
+      x = std::move(*derived);
+    } else {
+      try {
+        x = signal_at(signals, parse_coordinate(column, links, "--coordinate"));
+      } catch (const input_error& e) {
+        throw input_error(fmt::format(
+            "{}; or the bounded sin_phiK, cos_phiK, wrapped_phiK, xK, yK (K = 1..{})", e.what(),
+            links));
+      }
+    }
+  }
+  note_winding_angle(x);
+  return x;
 }
 
 }  // namespace npend::cli
