@@ -1,6 +1,8 @@
 // The maximal Lyapunov exponent of a time series by Kantz's method (series_lyapunov.hpp):
 // maps whose exponent is known (logistic r = 4: ln 2; Hénon: 0.419 per step), a regular
 // pendulum motion (0, as its equations say), and the argument checks.
+#include "support/test_signals.hpp"
+
 #include "npend/analysis/lyapunov.hpp"
 #include "npend/analysis/series_lyapunov.hpp"
 #include "npend/excitation.hpp"
@@ -14,18 +16,6 @@
 
 namespace {
 
-std::vector<double> henon_x(std::size_t n) {
-  std::vector<double> x;
-  double a = 0.1, b = 0.1;
-  for (std::size_t i = 0; i < n + 100; ++i) {
-    const double next = 1 - 1.4 * a * a + b;
-    b = 0.3 * a;
-    a = next;
-    if (i >= 100) x.push_back(a);
-  }
-  return x;
-}
-
 npend::series_lyapunov_options map_options(std::size_t dimension) {
   npend::series_lyapunov_options o;
   o.stretching.delay = 1;
@@ -37,7 +27,7 @@ npend::series_lyapunov_options map_options(std::size_t dimension) {
 }  // namespace
 
 TEST_CASE("series_lyapunov_exponent: the Henon map's 0.419 per step within its uncertainty") {
-  const auto r = npend::series_lyapunov_exponent(henon_x(10000), 1.0, map_options(2));
+  const auto r = npend::series_lyapunov_exponent(npend::test::henon_x(10000), 1.0, map_options(2));
   CAPTURE(r.maximal_exponent);
   CAPTURE(r.uncertainty);
   // The literature value 0.41922 (e.g. Sprott, Chaos and Time-Series Analysis, table A.1).
@@ -104,7 +94,7 @@ TEST_CASE("series_lyapunov_exponent: a regular pendulum motion gives 0, as its e
 
 TEST_CASE("stretching_curves: bad arguments are refused with the reason") {
   using doctest::Contains;
-  const auto x = henon_x(200);
+  const auto x = npend::test::henon_x(200);
   npend::stretching_options o;
   o.delay = 0;
   CHECK_THROWS_WITH_AS(npend::stretching_curves(x, o), Contains("delay"), std::invalid_argument);
@@ -121,6 +111,6 @@ TEST_CASE("stretching_curves: bad arguments are refused with the reason") {
   auto s = map_options(2);
   s.fit_from = 5;
   s.fit_to = 50;
-  CHECK_THROWS_WITH_AS(npend::series_lyapunov_exponent(henon_x(2000), 1.0, s),
+  CHECK_THROWS_WITH_AS(npend::series_lyapunov_exponent(npend::test::henon_x(2000), 1.0, s),
                        Contains("fit range"), std::invalid_argument);
 }
