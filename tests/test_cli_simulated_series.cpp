@@ -215,3 +215,14 @@ TEST_CASE("npend spectrum: a winding angle's series is noted on stderr, a bounde
   // The weak start swings without turning over: nothing to note.
   CHECK(run_npend("spectrum --links 3 --phi 0.1,-0.1,0.1 --dt 0.01 --samples 1024 --json").err.empty());
 }
+
+TEST_CASE("npend spectrum: Ctrl-C during the simulation stops it, analyses nothing, exits 130") {
+  const std::string dir = npend::test::temporary_directory("spectrum-interrupt");
+  const auto r = npend::test::run_shell(
+      "timeout --preserve-status -s INT 2 " + std::string(NPEND_CLI_PATH) +
+      " spectrum --links 6 --energy 50 --samples 4000000 --out " + dir + "/s.csv");
+  INFO(r.err);
+  CHECK(r.exit_code == 130);
+  CHECK(r.err.find("npend spectrum: interrupted at t = ") == 0);
+  CHECK(std::filesystem::is_empty(dir));
+}

@@ -8,10 +8,8 @@
 
 namespace npend::cli {
 
-progress_bar::progress_bar(double t_start, double t_end, std::FILE* stream)
-    : m_t_start(t_start),
-      m_t_end(t_end),
-      m_stream(stream),
+progress_bar::progress_bar(std::FILE* stream)
+    : m_stream(stream),
       m_enabled(::isatty(::fileno(stream)) == 1),
       m_started(std::chrono::steady_clock::now()),
       m_last_draw(m_started),
@@ -19,7 +17,7 @@ progress_bar::progress_bar(double t_start, double t_end, std::FILE* stream)
 
 progress_bar::~progress_bar() { finish(); }
 
-void progress_bar::update(double t) {
+void progress_bar::update(double done, double total) {
   if (!m_enabled || ++m_calls < m_next_check) return;
   const auto now = std::chrono::steady_clock::now();
   // Adapt the number of calls between two looks at the clock to about 10 ms.
@@ -32,18 +30,17 @@ void progress_bar::update(double t) {
   m_last_check = now;
   if (now - m_started < std::chrono::seconds(1)) return;
   if (m_shown && now - m_last_draw < std::chrono::milliseconds(100)) return;
-  draw(t, now);
+  draw(total > 0 ? std::clamp(done / total, 0.0, 1.0) : 0.0, now);
 }
 
-void progress_bar::draw(double t, std::chrono::steady_clock::time_point now) {
-  const double fraction = std::clamp((t - m_t_start) / (m_t_end - m_t_start), 0.0, 1.0);
+void progress_bar::draw(double fraction, std::chrono::steady_clock::time_point now) {
   const double elapsed = std::chrono::duration<double>(now - m_started).count();
   const double remaining = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0;
   constexpr int width = 30;
   const int filled = static_cast<int>(fraction * width);
-  fmt::print(m_stream, "\r[{}{}] {:5.1f}%  t = {:.6g} s  ~{:.0f} s left ",
+  fmt::print(m_stream, "\r[{}{}] {:5.1f}%  ~{:.0f} s left ",
              std::string(static_cast<std::size_t>(filled), '#'),
-             std::string(static_cast<std::size_t>(width - filled), ' '), 100 * fraction, t,
+             std::string(static_cast<std::size_t>(width - filled), ' '), 100 * fraction,
              remaining);
   std::fflush(m_stream);
   m_shown = true;

@@ -1,7 +1,7 @@
 #include "time_series_source.hpp"
 
 #include "input_parsing.hpp"
-#include "progress_bar.hpp"
+#include "terminal_run.hpp"
 #include "section_spec.hpp"
 
 #include <fmt/format.h>
@@ -171,20 +171,26 @@ sampled_signals simulate_signals(const simulated_start& s,
   }
   out.values.assign(out.names.size(), {});
   for (auto& v : out.values) v.reserve(s.samples);
-  progress_bar progress(s.integration.t_start, s.integration.t_end);
+  terminal_run control;
+  integration_options integration = s.integration;
+  integration.control = &control;
   std::size_t recorded = 0;
-  integrate(
-      s.pendulum, s.x0, s.integration,
-      [&](double t, std::span<const double> x) {
+  const integration_result run = integrate(
+      s.pendulum, s.x0, integration,
+      [&](double, std::span<const double> x) {
         if (recorded < s.samples) {
           for (std::size_t i = 0; i < x.size(); ++i) out.values[i].push_back(x[i]);
           ++recorded;
         }
-        progress.update(t);
         return observer_action::proceed;
       },
       step_observer);
-  progress.finish();
+  control.finish();
+  // A series cut short would be analysed as if it were the whole: nothing is.
+  if (control.interrupted())
+    throw interrupted(fmt::format("interrupted at t = {} s of the simulation; nothing analysed",
+                                  run.t),
+                      control.exit_code());
   return out;
 }
 

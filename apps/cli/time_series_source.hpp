@@ -80,7 +80,8 @@ struct simulated_start {
 /// Runs the simulation `s` (to its t_end) and returns its first s.samples grid points as the
 /// signals phi1..phin, p1..pn (t0 = 0, its dt; the default signal is phin), passing every
 /// step to `step_observer` if given (for events located on the steps). Shows a progress bar
-/// on a terminal. Throws npend::integration_error if the integration cannot go on.
+/// on a terminal; Ctrl-C throws cli::interrupted. Throws npend::integration_error if the
+/// integration cannot go on.
 sampled_signals simulate_signals(const simulated_start& s,
                                  const step_observer_function& step_observer = {});
 

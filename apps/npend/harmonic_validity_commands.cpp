@@ -5,6 +5,7 @@
 #include "input_parsing.hpp"
 #include "series_output.hpp"
 #include "start_options.hpp"
+#include "terminal_run.hpp"
 
 #include "npend/analysis/backbone.hpp"
 #include "npend/analysis/harmonic_corrections.hpp"
@@ -191,11 +192,23 @@ int run_backbone(const backbone_command_options& o) {
   for (double a : amplitudes)
     if (!(a > 0 && a < std::numbers::pi))
       throw cli::input_error(fmt::format("--amplitudes: {} rad is not in (0, pi)", a));
-  const backbone_options options = make_backbone_options(o);
+  backbone_options options = make_backbone_options(o);
   series_output files(o.out);
 
+  cli::terminal_run control;
   std::vector<backbone_result> curves;
-  for (int k : modes) curves.push_back(backbone_curve(c, k, amplitudes, options));
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    run_control_part part(&control, i, modes.size());
+    options.control = &part;
+    curves.push_back(backbone_curve(c, modes[i], amplitudes, options));
+    if (curves.back().stopped) {
+      control.finish();
+      fmt::print(stderr, "npend backbone: interrupted in mode {}{}\n", modes[i],
+                 o.out.empty() ? "" : fmt::format("; nothing written to {}", o.out));
+      return control.exit_code();
+    }
+  }
+  control.finish();
   if (files.enabled()) write_backbone_files(files, c, curves);
 
   if (o.json) {

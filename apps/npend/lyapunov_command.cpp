@@ -6,8 +6,7 @@
 #include "csv_table.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
-#include "interrupt_guard.hpp"
-#include "progress_bar.hpp"
+#include "terminal_run.hpp"
 #include "series_output.hpp"
 #include "start_options.hpp"
 #include "time_series_source.hpp"
@@ -162,7 +161,7 @@ int run_equations(const lyapunov_command_options& o) {
     throw cli::input_error("--t-end is required with --links (see npend lyapunov --help)");
   const chain c = o.chain.make_chain();
   const std::vector<double> x0 = o.start.make_state(c);
-  const lyapunov_options options = make_options(o);
+  lyapunov_options options = make_options(o);
   std::optional<lyapunov_ensemble_options> ensemble;
   if (!o.ensemble.empty()) {
     ensemble.emplace();
@@ -182,38 +181,27 @@ int run_equations(const lyapunov_command_options& o) {
   }
   series_output files(o.out);
 
-  cli::interrupt_guard interrupt;
-  const double run_length = options.integration.t_end - options.integration.t_start;
-  const std::size_t members = ensemble ? ensemble->members : 1;
-  cli::progress_bar progress(0, run_length * static_cast<double>(members));
+  cli::terminal_run control;
+  options.integration.control = &control;
   lyapunov_result r;
   lyapunov_ensemble_result e;
   try {
     if (ensemble) {
-      e = lyapunov_ensemble(c, x0, options, *ensemble,
-                            [&](std::size_t member, double t, std::span<const double>) {
-                              progress.update(static_cast<double>(member) * run_length + t);
-                              return interrupt.interrupted() ? observer_action::stop
-                                                             : observer_action::proceed;
-                            });
+      e = lyapunov_ensemble(c, x0, options, *ensemble);
       if (!e.stopped) r = e.runs.front();
     } else {
-      const auto observer = [&](double t, std::span<const double>) {
-        progress.update(t);
-        return interrupt.interrupted() ? observer_action::stop : observer_action::proceed;
-      };
-      r = o.maximal ? maximal_lyapunov_exponent(c, x0, options, observer)
-                    : lyapunov_spectrum(c, x0, options, observer);
+      r = o.maximal ? maximal_lyapunov_exponent(c, x0, options)
+                    : lyapunov_spectrum(c, x0, options);
     }
-  } catch (const std::invalid_argument& e) {
+  } catch (const std::invalid_argument& error) {
     // What the options above cannot see, e.g. a transient that rounds up to --t-end.
-    throw cli::input_error(e.what());
+    throw cli::input_error(error.what());
   }
-  progress.finish();
+  control.finish();
   if (r.stopped || e.stopped) {
     fmt::print(stderr, "npend lyapunov: interrupted at t = {} s{}\n", r.stopped ? r.t : 0.0,
                e.stopped ? fmt::format(" of ensemble member {}", e.runs.size() + 1) : "");
-    return 128 + interrupt.signal();
+    return control.exit_code();
   }
   if (files.enabled()) write_files(files, r, c, o.maximal);
 

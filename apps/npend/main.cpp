@@ -1,7 +1,8 @@
-// npend: the command-line front end (see README.md for every command).
+// npend: the command-line front end (see docs/commands.md for every command).
 #include "command.hpp"
 #include "input_parsing.hpp"
 #include "signal_cleanup.hpp"
+#include "terminal_run.hpp"
 
 #include <fmt/format.h>
 
@@ -89,6 +90,9 @@ int main(int argc, char** argv) {
     } catch (const npend::cli::input_error& e) {
       fmt::print(stderr, "{}: error: {}\n", name, e.what());
       return 2;
+    } catch (const npend::cli::interrupted& e) {
+      fmt::print(stderr, "{}: {}\n", name, e.what());
+      return e.exit_code();
     } catch (const std::exception& e) {
       fmt::print(stderr, "{}: error: {}\n", name, e.what());
       return 1;

@@ -5,8 +5,7 @@
 #include "command.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
-#include "interrupt_guard.hpp"
-#include "progress_bar.hpp"
+#include "terminal_run.hpp"
 #include "section_spec.hpp"
 #include "series_figures.hpp"
 #include "series_output.hpp"
@@ -71,28 +70,27 @@ int run_poincare(const poincare_options& o) {
     max_points = static_cast<std::size_t>(k);
   }
   const std::vector<double> x0 = o.start.make_state(c);
-  const integration_options options = o.integrator.make();
+  integration_options options = o.integrator.make();
   series_output files(o.out);
 
   // Ctrl-C stops the run at its next output step; nothing is written then.
-  cli::interrupt_guard interrupt;
-  cli::progress_bar progress(options.t_start, options.t_end);
+  cli::terminal_run control;
+  options.control = &control;
   crossing_locator locator(c, section, direction, max_points);
   double largest_angle = 0;
   const integration_result run = integrate(
       c, x0, options,
-      [&](double t, std::span<const double> x) {
+      [&](double, std::span<const double> x) {
         for (int i = 0; i < n; ++i)
           largest_angle = std::max(largest_angle, std::fabs(x[static_cast<std::size_t>(i)]));
-        progress.update(t);
-        return interrupt.interrupted() ? observer_action::stop : observer_action::proceed;
+        return observer_action::proceed;
       },
       std::ref(locator));
-  progress.finish();
-  if (interrupt.interrupted()) {
+  control.finish();
+  if (control.interrupted()) {
     fmt::print(stderr, "npend poincare: interrupted at t = {} s{}\n", run.t,
                o.out.empty() ? "" : fmt::format("; nothing written to {}", o.out));
-    return 128 + interrupt.signal();
+    return control.exit_code();
   }
 
   const std::vector<section_crossing> crossings = reported(locator.crossings(), section, n);

@@ -4,8 +4,7 @@
 #include "command.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
-#include "interrupt_guard.hpp"
-#include "progress_bar.hpp"
+#include "terminal_run.hpp"
 #include "start_options.hpp"
 
 #include "npend/integrate.hpp"
@@ -81,12 +80,13 @@ class csv_writer {
 int run_simulate(const simulate_options& o) {
   const chain c = o.chain.make_chain();
   const std::vector<double> x0 = o.start.make_state(c);
-  const integration_options options = o.integrator.make();
+  integration_options options = o.integrator.make();
   const std::size_t every = parse_every(o.every);
 
   // From here on Ctrl-C only stops the run at its next output step, so the temporary file
   // created below is always removed again.
-  cli::interrupt_guard interrupt;
+  cli::terminal_run control;
+  options.control = &control;
   std::optional<cli::atomic_output_file> file;
   if (!o.out.empty()) {
     try {
@@ -106,7 +106,6 @@ int run_simulate(const simulate_options& o) {
   const double energy_initial = c.hamiltonian(x0);
   double energy = energy_initial, max_rel_error = 0;
   std::size_t index = 0, rows = 0;
-  cli::progress_bar progress(options.t_start, options.t_end);
   const integration_result result =
       integrate(c, x0, options, [&](double t, std::span<const double> x) {
         energy = c.hamiltonian(x);
@@ -118,16 +117,14 @@ int run_simulate(const simulate_options& o) {
           ++rows;
         }
         ++index;
-        progress.update(t);
-        return interrupt.interrupted() ? observer_action::stop : observer_action::proceed;
       });
-  progress.finish();
+  control.finish();
 
   if (result.stopped) {
     file.reset();  // removes the temporary file
     fmt::print(stderr, "npend simulate: interrupted at t = {} s{}\n", result.t,
                o.out.empty() ? "" : fmt::format("; nothing written to {}", o.out));
-    return 128 + interrupt.signal();
+    return control.exit_code();
   }
   if (csv) csv->flush();
   if (file) file->commit();

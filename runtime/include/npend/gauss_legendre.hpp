@@ -23,7 +23,7 @@
 
 namespace npend {
 
-/// Work counters of a gauss_legendre stepper since construction (or reset_statistics()).
+/// Work counters of a gauss_legendre stepper since its construction.
 struct gauss_legendre_statistics {
   std::size_t steps = 0;
   std::size_t newton_iterations = 0;
@@ -141,7 +141,6 @@ class gauss_legendre {
   }
 
   const gauss_legendre_statistics& statistics() const { return m_stats; }
-  void reset_statistics() { m_stats = {}; }
   /// Forgets the previous step: the next one starts its Newton iteration from Z = 0 with
   /// a Newton matrix factored afresh.
   void reset() {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "npend/chain.hpp"
+#include "npend/run_control.hpp"
 #include "npend/stepper_kind.hpp"
 
 #include <concepts>
@@ -32,6 +33,10 @@ struct integration_options {
   /// An adaptive stepper whose step falls below min_step_ratio·|dt| stops the integration
   /// (a collapsed step size).
   double min_step_ratio = 1e-9;
+  /// Progress reports (seconds of simulated time done of t_end − t_start) and stop
+  /// requests, polled at every grid point; a stop ends the run like an observer's.
+  /// Not owned; may be null.
+  run_control* control = nullptr;
 
   /// Throws std::invalid_argument naming the field: non-finite values, dt = 0 or pointing
   /// away from t_end, an interval shorter than one dt, negative tolerances or both zero,
@@ -54,7 +59,8 @@ struct integration_result {
   /// Steps the stepper took: N for the fixed-step ones, accepted internal steps for the
   /// adaptive ones.
   std::size_t steps = 0;
-  /// True if an observer (or the step observer) asked to stop before the end of the grid.
+  /// True if an observer, the step observer or the run control asked to stop before the end
+  /// of the grid.
   bool stopped = false;
 };
 

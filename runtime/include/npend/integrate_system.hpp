@@ -1,6 +1,13 @@
-// The integration engine behind npend::integrate, for any implicit system: a pair
-// (rhs, jacobian) in odeint's convention. Analyses that integrate something other than a
-// bare chain (e.g. a chain with its variational equations) call integrate_system directly.
+// The integration engine behind npend::integrate, for any system and any stepper.
+//
+// integrate_with drives any odeint stepper (or ours) over the output grid of
+// integration_options, choosing its loop by the stepper's category as odeint's own
+// integrate functions do: fixed steps from grid point to grid point (stepper_tag,
+// error_stepper_tag), controlled steps cut at the grid points (controlled_stepper_tag), or
+// free steps with dense output at the grid points (dense_output_stepper_tag).
+// integrate_system is the factory on top that turns a stepper_kind (the names users type)
+// into a configured stepper. Analyses that integrate something other than a bare chain
+// (e.g. a chain with its variational equations) call these directly.
 #pragma once
 
 #include "npend/detail/rosenbrock4_dense_output.hpp"
@@ -13,6 +20,7 @@
 #include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
+#include <boost/numeric/odeint/stepper/stepper_categories.hpp>
 #include <boost/numeric/odeint/util/odeint_error.hpp>
 
 #include <algorithm>
@@ -23,6 +31,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -30,14 +39,26 @@ namespace npend {
 
 namespace detail {
 
-/// The bookkeeping every stepper loop shares: the grid, the observers, the result.
+/// How error messages name the stepper: by the name users type for the steppers of
+/// integrate_system, neutrally for a stepper handed to integrate_with.
+struct stepper_label {
+  /// "rk4", or "supplied stepper's": "the state became non-finite in the <step> step".
+  std::string step;
+  /// "dopri5", or "the supplied stepper": "the adaptive step size of <owner> collapsed".
+  std::string owner;
+  bool adaptive = false;
+};
+
+/// The bookkeeping every stepper loop shares: the grid, the observers, the run control, the
+/// result.
 class integration_run {
  public:
   integration_run(const integration_options& options, const observer_function& observer,
-                  const step_observer_function& step_observer)
+                  const step_observer_function& step_observer, stepper_label label)
       : m_options(options),
         m_observer(observer),
         m_step_observer(step_observer),
+        m_label(std::move(label)),
         m_steps(output_steps(options)) {}
 
   std::size_t grid_steps() const { return m_steps; }
@@ -49,16 +70,21 @@ class integration_run {
   double min_step() const { return m_options.min_step_ratio * std::fabs(m_options.dt); }
   integration_result& result() { return m_result; }
 
-  /// Passes grid point k to the observer and records it; false if the observer stops.
+  /// Passes grid point k to the observer and the run control and records it; false if
+  /// either stops the run.
   bool observe(std::size_t k, std::span<const double> x) {
     m_result.t = grid_time(k);
     ++m_result.outputs;
-    if (m_observer && m_observer(m_result.t, x) == observer_action::stop) {
+    bool stop = m_observer && m_observer(m_result.t, x) == observer_action::stop;
+    if (run_control* control = m_options.control; control != nullptr) {
+      control->progress(static_cast<double>(k), static_cast<double>(m_steps));
+      stop = stop || control->stop_requested();
+    }
+    if (stop) {
       m_result.stopped = true;
       m_result.state.assign(x.begin(), x.end());
-      return false;
     }
-    return true;
+    return !stop;
   }
 
   /// Whether a step observer wants to see the steps.
@@ -81,9 +107,9 @@ class integration_run {
       if (!std::isfinite(v)) {
         std::ostringstream msg;
         msg.precision(10);
-        msg << "the state became non-finite in the " << stepper_name(m_options.stepper)
-            << " step from t = " << from << " to t = " << t << "; try "
-            << (is_adaptive(m_options.stepper)
+        msg << "the state became non-finite in the " << m_label.step << " step from t = " << from
+            << " to t = " << t << "; try "
+            << (m_label.adaptive
                     ? "tighter tolerances or a smaller dt"
                     : "a smaller dt or an adaptive stepper (dopri5, rkf78)");
         throw integration_error(msg.str(), from);
@@ -94,8 +120,7 @@ class integration_run {
   [[noreturn]] void step_collapsed(double t, double step, const char* detail = nullptr) const {
     std::ostringstream msg;
     msg.precision(6);
-    msg << "the adaptive step size of " << stepper_name(m_options.stepper)
-        << " collapsed at t = " << t;
+    msg << "the adaptive step size of " << m_label.owner << " collapsed at t = " << t;
     if (step != 0) msg << " (step " << step << ")";
     if (detail != nullptr) msg << " (" << detail << ")";
     msg << "; the tolerances (abs " << m_options.abs_tol << ", rel " << m_options.rel_tol
@@ -108,6 +133,7 @@ class integration_run {
   const integration_options& m_options;
   const observer_function& m_observer;
   const step_observer_function& m_step_observer;
+  stepper_label m_label;
   std::size_t m_steps;
   integration_result m_result;
 };
@@ -322,73 +348,165 @@ rosenbrock4_dense_output make_rosenbrock4(const std::pair<Rhs, Jacobian>& system
   return rosenbrock4_dense_output(dim, abs_tol, rel_tol, rhs, jacobian);
 }
 
-}  // namespace detail
+/// The right-hand side of a system: the rhs of an implicit system (rhs, jacobian), else
+/// the system itself.
+template <class System>
+const auto& rhs_of(const System& system) {
+  if constexpr (requires { system.first; system.second; })
+    return system.first;
+  else
+    return system;
+}
 
-/// Integrates the implicit system `system` = (rhs, jacobian) — odeint's convention:
-/// rhs(x, dxdt, t) and jacobian(x, J, t, dfdt) — from x0 (dim d) over the grid of `options`,
-/// as npend::integrate does for a chain (see there for the observers and the errors). x and
-/// dxdt are std::vector<double> (dim d); J is a row-major Eigen matrix (d × d), dfdt a
-/// std::vector<double> that is not used (time-dependent systems are fine for every stepper
-/// but rosenbrock4, which takes ∂f/∂t = 0). Only rosenbrock4, gauss4 and gauss6 call the
-/// jacobian.
-template <class Rhs, class Jacobian>
-integration_result integrate_system(const std::pair<Rhs, Jacobian>& system,
-                                    std::span<const double> x0, const integration_options& options,
-                                    const observer_function& observer = {},
-                                    const step_observer_function& step_observer = {}) {
+/// Checks the start state and runs the loop that fits the stepper's category; `reversed` as
+/// in run_dense (dense-output steppers only).
+template <class Stepper, class System>
+integration_result run_stepper(Stepper& stepper, const System& system, std::span<const double> x0,
+                               integration_run& run, bool reversed = false) {
   namespace odeint = boost::numeric::odeint;
-  using state = std::vector<double>;
-  detail::integration_run run(options, observer, step_observer);
+  using category = typename odeint::unwrap_reference<Stepper>::type::stepper_category;
   for (std::size_t i = 0; i < x0.size(); ++i)
     if (!std::isfinite(x0[i]))
       throw std::invalid_argument("start state entry " + std::to_string(i + 1) + " is not finite");
-  state x(x0.begin(), x0.end());
-  const double atol = options.abs_tol, rtol = options.rel_tol;
+  std::vector<double> x(x0.begin(), x0.end());
+  if constexpr (std::is_base_of_v<odeint::dense_output_stepper_tag, category>) {
+    run_dense(stepper, system, x, run, reversed);
+  } else if constexpr (std::is_base_of_v<odeint::controlled_stepper_tag, category>) {
+    run_controlled(stepper, system, x, run);
+  } else {
+    static_assert(std::is_base_of_v<odeint::stepper_tag, category> ||
+                      std::is_base_of_v<odeint::error_stepper_tag, category>,
+                  "integrate_with: not an odeint stepper category");
+    run_fixed(stepper, system, rhs_of(system), x, run);
+  }
+  return std::move(run.result());
+}
 
-  switch (options.stepper) {
+}  // namespace detail
+
+/// Integrates `system` from x0 over the grid of `options` with the given stepper — any
+/// odeint stepper (runge_kutta4, a controlled or dense-output stepper from
+/// make_controlled/make_dense_output, bulirsch_stoer_dense_out, …) or npend's
+/// gauss_legendre — and calls the observers and options.control as npend::integrate does
+/// (see there). The loop follows the stepper's category: fixed-step steppers step exactly
+/// from grid point to grid point, controlled ones have their steps cut to end on each grid
+/// point, dense-output ones step freely and interpolate at the grid points (they are
+/// (re)initialised at x0 with options.dt as their first step). options.stepper and the
+/// tolerances are not used: the stepper brings its own.
+///
+/// `system` is what the stepper takes: odeint's System (x, dxdt, t), or the pair (rhs,
+/// jacobian) of an implicit system for gauss_legendre and rosenbrock4. The stepper is used
+/// by reference and may be reused for further runs. Throws as npend::integrate.
+template <class Stepper, class System>
+integration_result integrate_with(Stepper& stepper, const System& system,
+                                  std::span<const double> x0, const integration_options& options,
+                                  const observer_function& observer = {},
+                                  const step_observer_function& step_observer = {}) {
+  namespace odeint = boost::numeric::odeint;
+  using category = typename odeint::unwrap_reference<Stepper>::type::stepper_category;
+  constexpr bool adaptive = std::is_base_of_v<odeint::dense_output_stepper_tag, category> ||
+                            std::is_base_of_v<odeint::controlled_stepper_tag, category>;
+  detail::integration_run run(options, observer, step_observer,
+                              {"supplied stepper's", "the supplied stepper", adaptive});
+  return detail::run_stepper(stepper, system, x0, run);
+}
+
+/// Calls visit(stepper) with the stepper `kind` names, configured by the tolerances of
+/// `options` — the one place where a stepper_kind becomes a stepper. `system` is the
+/// implicit system (rhs, jacobian) the steppers will integrate (rosenbrock4 is built
+/// around it); visit must integrate forwards in time with it (bulirsch_stoer_dense_out
+/// cannot step backwards: integrate_system runs it on the time-reversed system).
+template <class Rhs, class Jacobian, class Visitor>
+decltype(auto) visit_stepper(stepper_kind kind, const integration_options& options,
+                             const std::pair<Rhs, Jacobian>& system, std::size_t dim,
+                             Visitor&& visit) {
+  namespace odeint = boost::numeric::odeint;
+  using state = std::vector<double>;
+  const double atol = options.abs_tol, rtol = options.rel_tol;
+  switch (kind) {
     case stepper_kind::rk4: {
       odeint::runge_kutta4<state> stepper;
-      detail::run_fixed(stepper, system.first, system.first, x, run);
-      break;
+      return visit(stepper);
     }
     case stepper_kind::gauss4: {
       gauss_legendre4 stepper;
-      detail::run_fixed(stepper, system, system.first, x, run);
-      break;
+      return visit(stepper);
     }
     case stepper_kind::gauss6: {
       gauss_legendre6 stepper;
-      detail::run_fixed(stepper, system, system.first, x, run);
-      break;
+      return visit(stepper);
     }
     case stepper_kind::dopri5: {
       auto stepper = odeint::make_dense_output(atol, rtol, odeint::runge_kutta_dopri5<state>());
-      detail::run_dense(stepper, system.first, x, run);
-      break;
+      return visit(stepper);
     }
     case stepper_kind::rkf78: {
       auto stepper = odeint::make_controlled(atol, rtol, odeint::runge_kutta_fehlberg78<state>());
-      detail::run_controlled(stepper, system.first, x, run);
-      break;
+      return visit(stepper);
     }
     case stepper_kind::bulirsch_stoer: {
       // Controlling the interpolation error too: its steps are long, and the dense output
       // between them must meet the tolerances as well.
       odeint::bulirsch_stoer_dense_out<state> stepper(atol, rtol, 1.0, 1.0, 0.0, true);
-      if (options.dt > 0)
-        detail::run_dense(stepper, system.first, x, run);
-      else
-        detail::run_dense(stepper, detail::time_reversed<Rhs>{system.first, options.t_start}, x,
-                          run, true);
-      break;
+      return visit(stepper);
     }
     case stepper_kind::rosenbrock4: {
-      auto stepper = detail::make_rosenbrock4(system, x.size(), atol, rtol);
-      detail::run_dense(stepper, system, x, run);
-      break;
+      auto stepper = detail::make_rosenbrock4(system, dim, atol, rtol);
+      return visit(stepper);
     }
   }
-  return std::move(run.result());
+  throw std::logic_error("visit_stepper: unknown stepper kind");
+}
+
+/// Integrates the implicit system `system` = (rhs, jacobian) — odeint's convention:
+/// rhs(x, dxdt, t) and jacobian(x, J, t, dfdt) — from x0 (dim d) over the grid of `options`
+/// with the stepper options.stepper names, as npend::integrate does for a chain (see there
+/// for the observers and the errors). x and dxdt are std::vector<double> (dim d); J is a
+/// row-major Eigen matrix (d × d), dfdt a std::vector<double> that is not used
+/// (time-dependent systems are fine for every stepper but rosenbrock4, which takes
+/// ∂f/∂t = 0). Only rosenbrock4, gauss4 and gauss6 call the jacobian.
+namespace detail {
+
+/// Runs `stepper` (made by visit_stepper for options.stepper) on the implicit system, or on
+/// its rhs alone for the explicit steppers, naming options.stepper in error messages.
+template <class Stepper, class Rhs, class Jacobian>
+integration_result integrate_visited(Stepper& stepper, const std::pair<Rhs, Jacobian>& system,
+                                     std::span<const double> x0, const integration_options& options,
+                                     const observer_function& observer = {},
+                                     const step_observer_function& step_observer = {}) {
+  const std::string name(stepper_name(options.stepper));
+  integration_run run(options, observer, step_observer, {name, name, is_adaptive(options.stepper)});
+  if constexpr (std::is_same_v<Stepper, gauss_legendre4> || std::is_same_v<Stepper, gauss_legendre6> ||
+                std::is_same_v<Stepper, rosenbrock4_dense_output>) {
+    return run_stepper(stepper, system, x0, run);
+  } else if constexpr (std::is_same_v<Stepper, boost::numeric::odeint::bulirsch_stoer_dense_out<
+                                                   std::vector<double>>>) {
+    if (options.dt < 0)
+      return run_stepper(stepper, time_reversed<Rhs>{system.first, options.t_start}, x0, run, true);
+    return run_stepper(stepper, system.first, x0, run);
+  } else {
+    return run_stepper(stepper, system.first, x0, run);
+  }
+}
+
+}  // namespace detail
+
+/// Integrates the implicit system `system` = (rhs, jacobian) — odeint's convention:
+/// rhs(x, dxdt, t) and jacobian(x, J, t, dfdt) — from x0 (dim d) over the grid of `options`
+/// with the stepper options.stepper names, as npend::integrate does for a chain (see there
+/// for the observers and the errors). x and dxdt are std::vector<double> (dim d); J is a
+/// row-major Eigen matrix (d × d), dfdt a std::vector<double> that is not used
+/// (time-dependent systems are fine for every stepper but rosenbrock4, which takes
+/// ∂f/∂t = 0). Only rosenbrock4, gauss4 and gauss6 call the jacobian.
+template <class Rhs, class Jacobian>
+integration_result integrate_system(const std::pair<Rhs, Jacobian>& system,
+                                    std::span<const double> x0, const integration_options& options,
+                                    const observer_function& observer = {},
+                                    const step_observer_function& step_observer = {}) {
+  output_steps(options);  // validates the options before a stepper is made from them
+  return visit_stepper(options.stepper, options, system, x0.size(), [&](auto& stepper) {
+    return detail::integrate_visited(stepper, system, x0, options, observer, step_observer);
+  });
 }
 
 }  // namespace npend

@@ -54,8 +54,9 @@ std::vector<double> launch_angles(const std::vector<double>& v, double amplitude
   return phi;
 }
 
+// `control` sees this integration's progress (or none: null).
 backbone_point measure(const chain& c, const linearisation& lin, int mode, double amplitude,
-                       const backbone_options& o) {
+                       const backbone_options& o, run_control* control) {
   const auto n = static_cast<std::size_t>(c.links());
   const auto k = static_cast<std::size_t>(mode - 1);
   std::vector<double> x0 = launch_angles(lin.modes[k].shape, amplitude);
@@ -71,6 +72,7 @@ backbone_point measure(const chain& c, const linearisation& lin, int mode, doubl
   io.stepper = stepper_kind::gauss6;
   io.dt = period / o.steps_per_period;
   io.t_end = o.periods * period;
+  io.control = control;
 
   // Modal coordinates q = Vᵀ M φ and rates q̇ = Vᵀ M φ̇ of every mode at every step.
   std::vector<double> Mv(n * n);  // row j: (M v_j)ᵀ
@@ -103,6 +105,7 @@ backbone_point measure(const chain& c, const linearisation& lin, int mode, doubl
     if (total > 0) min_share = std::min(min_share, own / total);
   });
   point.min_mode_share = min_share;
+  if (control != nullptr && control->stop_requested()) return point;  // cut short: unmeasured
 
   const std::vector<double> up = event_times(samples, io.dt, {.direction = crossing_direction::up});
   if (up.size() < 3) return point;
@@ -131,7 +134,7 @@ backbone_point measure_mode_frequency(const chain& c, int mode, double amplitude
   options.validate();
   const linearisation lin = hanging_modes(c, mode);
   check_amplitude(amplitude);
-  return measure(c, lin, mode, amplitude, options);
+  return measure(c, lin, mode, amplitude, options, options.control);
 }
 
 backbone_result backbone_curve(const chain& c, int mode, std::span<const double> amplitudes,
@@ -147,7 +150,14 @@ backbone_result backbone_curve(const chain& c, int mode, std::span<const double>
   r.mode = mode;
   r.linear_frequency = lin.modes[static_cast<std::size_t>(mode - 1)].frequency;
   r.shape = lin.modes[static_cast<std::size_t>(mode - 1)].shape;
-  for (double a : sorted) r.points.push_back(measure(c, lin, mode, a, options));
+  for (std::size_t i = 0; i < sorted.size(); ++i) {
+    run_control_part part(options.control, i, sorted.size());
+    r.points.push_back(measure(c, lin, mode, sorted[i], options, &part));
+    if (part.stop_requested()) {
+      r.stopped = true;
+      return r;
+    }
+  }
 
   for (double shift : options.thresholds) {
     backbone_threshold threshold;
@@ -159,7 +169,11 @@ backbone_result backbone_curve(const chain& c, int mode, std::span<const double>
       double high = first->amplitude;
       while (high - low > options.amplitude_tolerance) {
         const double middle = 0.5 * (low + high);
-        if (departed(measure(c, lin, mode, middle, options), shift))
+        if (options.control != nullptr && options.control->stop_requested()) {
+          r.stopped = true;
+          return r;
+        }
+        if (departed(measure(c, lin, mode, middle, options, nullptr), shift))
           high = middle;
         else
           low = middle;

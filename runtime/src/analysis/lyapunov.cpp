@@ -92,39 +92,41 @@ class variational_system {
   std::shared_ptr<row_major> m_jac;  // shared work space: odeint copies systems freely
 };
 
-tangent_advance variational_advance(const chain& c, const integration_options& base,
-                                    Eigen::Index k) {
+// Calls body(advance) with the advance of the chosen route: the Gauss–Legendre tangent
+// map, or one stepper, made once, integrating the variational equations chunk by chunk.
+template <class Body>
+void with_advance(const chain& c, const integration_options& o, Eigen::Index k, std::string& method,
+                  Body&& body) {
+  switch (o.stepper) {
+    case stepper_kind::gauss4:
+      method = "tangent map";
+      return body(gauss_legendre_advance<gauss_legendre4>(c, o.dt));
+    case stepper_kind::gauss6:
+      method = "tangent map";
+      return body(gauss_legendre_advance<gauss_legendre6>(c, o.dt));
+    default: break;
+  }
+  method = "variational equations";
   // No stepper on this route calls the Jacobian: rosenbrock4 is refused (see
   // lyapunov_options) and Gauss–Legendre takes the tangent-map route.
   const auto system = detail::explicit_system(variational_system(c, k));
   const auto d = static_cast<std::size_t>(c.state_size());
-  return [system, base, d, k](std::vector<double>& x, Eigen::MatrixXd& W, double t,
-                              std::size_t steps) {
-    std::vector<double> y(d + d * static_cast<std::size_t>(k));
-    std::copy(x.begin(), x.end(), y.begin());
-    std::copy(W.data(), W.data() + W.size(), y.begin() + static_cast<std::ptrdiff_t>(d));
-    integration_options o = base;
-    o.t_start = t;
-    o.t_end = t + static_cast<double>(steps) * base.dt;
-    const integration_result r = integrate_system(system, y, o);
-    std::copy(r.state.begin(), r.state.begin() + static_cast<std::ptrdiff_t>(d), x.begin());
-    std::copy(r.state.begin() + static_cast<std::ptrdiff_t>(d), r.state.end(), W.data());
-  };
-}
-
-tangent_advance make_advance(const chain& c, const integration_options& o, Eigen::Index k,
-                             std::string& method) {
-  switch (o.stepper) {
-    case stepper_kind::gauss4:
-      method = "tangent map";
-      return gauss_legendre_advance<gauss_legendre4>(c, o.dt);
-    case stepper_kind::gauss6:
-      method = "tangent map";
-      return gauss_legendre_advance<gauss_legendre6>(c, o.dt);
-    default:
-      method = "variational equations";
-      return variational_advance(c, o, k);
-  }
+  const std::size_t dim = d + d * static_cast<std::size_t>(k);
+  integration_options chunk_options = o;
+  chunk_options.control = nullptr;  // the chunks are not the run: run_benettin reports
+  visit_stepper(o.stepper, o, system, dim, [&](auto& stepper) {
+    std::vector<double> y(dim);
+    body(tangent_advance([&](std::vector<double>& x, Eigen::MatrixXd& W, double t,
+                             std::size_t steps) {
+      std::copy(x.begin(), x.end(), y.begin());
+      std::copy(W.data(), W.data() + W.size(), y.begin() + static_cast<std::ptrdiff_t>(d));
+      chunk_options.t_start = t;
+      chunk_options.t_end = t + static_cast<double>(steps) * o.dt;
+      const integration_result r = detail::integrate_visited(stepper, system, y, chunk_options);
+      std::copy(r.state.begin(), r.state.begin() + static_cast<std::ptrdiff_t>(d), x.begin());
+      std::copy(r.state.begin() + static_cast<std::ptrdiff_t>(d), r.state.end(), W.data());
+    }));
+  });
 }
 
 void check_start(const chain& c, std::span<const double> x0) {
@@ -164,13 +166,14 @@ lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const l
   lyapunov_result r;
   r.renormalisation_interval = static_cast<double>(chunk) * dt;
   r.transient = static_cast<double>(transient_steps) * dt;
-  const tangent_advance advance = make_advance(c, o.integration, W.cols(), r.method);
   const auto k = static_cast<std::size_t>(W.cols());
   std::vector<double> x(x0.begin(), x0.end()), sums(k, 0.0), running, block_sums(k, 0.0);
   const double h0 = c.hamiltonian(x);
   const double t_average = t0 + r.transient;
 
   std::size_t done = 0;
+  run_control* const control = o.integration.control;
+  with_advance(c, o.integration, W.cols(), r.method, [&](const tangent_advance& advance) {
   while (done < total) {
     const std::size_t steps = std::min(chunk, total - done);
     advance(x, W, t0 + static_cast<double>(done) * dt, steps);
@@ -212,11 +215,17 @@ lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const l
         r.history.push_back(running);
       }
     }
-    if (observer && observer(r.t, running) == observer_action::stop && done < total) {
+    bool stop = observer && observer(r.t, running) == observer_action::stop;
+    if (control != nullptr) {
+      control->progress(static_cast<double>(done), static_cast<double>(total));
+      stop = stop || control->stop_requested();
+    }
+    if (stop && done < total) {
       r.stopped = true;
       break;
     }
   }
+  });
   r.state = x;
   r.averaging_time = std::max(0.0, r.t - t_average);
   if (running.empty()) {  // stopped during the transient: nothing averaged
@@ -401,9 +410,13 @@ lyapunov_ensemble_result lyapunov_ensemble(const chain& c, std::span<const doubl
       member = [&observer, m](double t, std::span<const double> running) {
         return observer(m, t, running);
       };
+    // Member m is the m-th of `members` equal parts of the run control's progress.
+    run_control_part part(options.integration.control, m, r.starts.size());
+    lyapunov_options member_options = options;
+    member_options.integration.control = &part;
     lyapunov_result run = ensemble.maximal
-                              ? maximal_lyapunov_exponent(c, r.starts[m], options, member)
-                              : lyapunov_spectrum(c, r.starts[m], options, member);
+                              ? maximal_lyapunov_exponent(c, r.starts[m], member_options, member)
+                              : lyapunov_spectrum(c, r.starts[m], member_options, member);
     r.stopped = run.stopped;
     if (!run.stopped) r.runs.push_back(std::move(run));
     if (r.stopped) break;

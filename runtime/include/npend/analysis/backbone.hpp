@@ -5,6 +5,7 @@
 #pragma once
 
 #include "npend/chain.hpp"
+#include "npend/run_control.hpp"
 
 #include <optional>
 #include <span>
@@ -23,6 +24,9 @@ struct backbone_options {
   std::vector<double> thresholds{0.01, 0.05};
   /// The threshold amplitudes are bisected down to a bracket this narrow (rad).
   double amplitude_tolerance = 1e-4;
+  /// Progress (amplitudes measured of those given) and stop requests; not owned, may be
+  /// null. A stopped curve has the points measured so far and no thresholds.
+  run_control* control = nullptr;
 
   /// Throws std::invalid_argument naming the field.
   void validate() const;
@@ -66,6 +70,7 @@ struct backbone_result {
   std::vector<double> shape;           ///< v_k (dim n), M-normalised
   std::vector<backbone_point> points;  ///< one per amplitude, ascending
   std::vector<backbone_threshold> thresholds;  ///< one per options.thresholds, same order
+  bool stopped = false;  ///< options.control asked to stop before the curve was finished
 };
 
 /// One point of the backbone curve of mode k (1 ≤ k ≤ n) at amplitude a (0 < a < π).

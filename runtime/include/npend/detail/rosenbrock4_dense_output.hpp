@@ -7,6 +7,8 @@
 // dense-output steppers.
 #pragma once
 
+#include <boost/numeric/odeint/stepper/stepper_categories.hpp>
+
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -16,6 +18,7 @@ namespace npend::detail {
 
 class rosenbrock4_dense_output {
  public:
+  using stepper_category = boost::numeric::odeint::dense_output_stepper_tag;
   /// dxdt = f(x, t); x and dxdt point to `dim` doubles.
   using rhs_function = std::function<void(const double* x, double* dxdt, double t)>;
   /// J = ∂f/∂x at (x, t), row-major dim × dim. (The system is taken as autonomous:
