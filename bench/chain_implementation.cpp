@@ -64,9 +64,9 @@ std::unique_ptr<chain_implementation> make_implementation(std::string_view name,
   params.validate();
   const int n = params.links();
   if (name == "generated") {
-    const generated::chain_kernels* kernels = generated::find_chain(n);
+    const npend::chain_kernels* kernels = generated::find_chain(n);
     if (kernels == nullptr) return nullptr;
-    return std::make_unique<kernel_implementation<generated::chain_kernels>>(*kernels,
+    return std::make_unique<kernel_implementation<npend::chain_kernels>>(*kernels,
                                                                              params.packed());
   }
   if (name == "recursion") return std::make_unique<recursion_implementation>(params);

@@ -14,7 +14,7 @@ bigger; simplify() of the equations themselves does not finish for n ≥ 3.
 Writes OUT/sympy_chain_<n>.c with
     void npend_sympy_rhs_<n>(const double* x, const double* params, double* dxdt);
     void npend_sympy_jacobian_<n>(const double* x, const double* params, double* jac);
-(x = [φ_1..φ_n, p_1..p_n], params = [m_1..m_n, l_1..l_n, g], jac row-major 2n × 2n) and
+(x = [φ_1..φ_n, p_1..p_n], params = [m_1..m_n, l_1..l_n, g] — npend::chain_layout in runtime/include/npend/chain_kernels.hpp; the tests feed both this peer and the generated kernels chain_parameters::packed(), so a different layout fails them — jac row-major 2n × 2n) and
 OUT/sympy_chain_<n>.json with the seconds each step took and the size of the output.
 """
 import argparse

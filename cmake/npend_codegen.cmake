@@ -79,9 +79,13 @@ function(npend_generated_library target)
       "$<BUILD_INTERFACE:${NPEND_GENERATED_BUILD_DIR}/index>"
       "$<BUILD_INTERFACE:${NPEND_GENERATED_BUILD_DIR}>")
   endif()
+  # The generated code includes the runtime's <npend/chain_kernels.hpp> (the contract it
+  # fills), never the reverse.
   target_include_directories(${target} PUBLIC
     "$<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/generated>"
-    "$<INSTALL_INTERFACE:include/npend/generated>")
+    "$<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/runtime/include>"
+    "$<INSTALL_INTERFACE:include/npend/generated>"
+    "$<INSTALL_INTERFACE:include>")
   target_compile_features(${target} PUBLIC cxx_std_20)
   set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
 endfunction()

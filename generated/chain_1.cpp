@@ -104,4 +104,25 @@ H &= \frac{1}{2\det A} \Big[ p_{1}^{2} \Big] + V \\
 )npend";
 }
 
+const chain_kernels kernels = {
+    .links = links,
+    .state_size = state_size,
+    .param_size = param_size,
+    .rhs = &rhs,
+    .jacobian = &jacobian,
+    .hamiltonian = &hamiltonian,
+    .velocities = &velocities,
+    .momenta = &momenta,
+    .lagrangian = &lagrangian,
+    .kinetic_energy = &kinetic_energy,
+    .potential_energy = &potential_energy,
+    .mass_matrix = &mass_matrix,
+    .det_mass_matrix = &det_mass_matrix,
+    .potential_gradient = &potential_gradient,
+    .potential_hessian = &potential_hessian,
+    .positions = &positions,
+    .hamiltonian_closed_form = &hamiltonian_closed_form,
+    .equations_latex = &equations_latex,
+};
+
 }  // namespace npend::generated::chain_1

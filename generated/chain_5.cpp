@@ -1010,4 +1010,24 @@ H &= \tfrac{1}{2} p^\top A^{-1} p + V, \qquad \dot\varphi = A^{-1} p \\
 )npend";
 }
 
+const chain_kernels kernels = {
+    .links = links,
+    .state_size = state_size,
+    .param_size = param_size,
+    .rhs = &rhs,
+    .jacobian = &jacobian,
+    .hamiltonian = &hamiltonian,
+    .velocities = &velocities,
+    .momenta = &momenta,
+    .lagrangian = &lagrangian,
+    .kinetic_energy = &kinetic_energy,
+    .potential_energy = &potential_energy,
+    .mass_matrix = &mass_matrix,
+    .det_mass_matrix = &det_mass_matrix,
+    .potential_gradient = &potential_gradient,
+    .potential_hessian = &potential_hessian,
+    .positions = &positions,
+    .equations_latex = &equations_latex,
+};
+
 }  // namespace npend::generated::chain_5

@@ -4,6 +4,9 @@
 // The planar 5-link pendulum: point masses m_i on massless rods l_i under gravity g.
 // State x = [phi_1..phi_n, p_1..p_n] (dim 2n = 10); angles from the downward vertical.
 // Parameters params = [m_1..m_n, l_1..l_n, g] (dim 2n+1 = 11).
+// (The layout is npend::chain_layout's, in <npend/chain_kernels.hpp>.)
+
+#include <npend/chain_kernels.hpp>
 
 namespace npend::generated::chain_5 {
 
@@ -54,5 +57,8 @@ void positions(const double* phi, const double* params, double* xy) noexcept;
 
 /// The derived equations as LaTeX (the output of npend-gen --latex).
 const char* equations_latex() noexcept;
+
+/// This link count's entry of the runtime's kernel table.
+extern const chain_kernels kernels;
 
 }  // namespace npend::generated::chain_5

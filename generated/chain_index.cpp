@@ -12,40 +12,15 @@ namespace npend::generated {
 
 namespace {
 
-const chain_kernels table[] = {
-    {1, &chain_1::rhs, &chain_1::jacobian, &chain_1::hamiltonian, &chain_1::velocities, &chain_1::momenta,
-     &chain_1::lagrangian, &chain_1::kinetic_energy, &chain_1::potential_energy, &chain_1::mass_matrix,
-     &chain_1::det_mass_matrix, &chain_1::potential_gradient, &chain_1::potential_hessian, &chain_1::positions,
-     &chain_1::hamiltonian_closed_form, &chain_1::equations_latex},
-    {2, &chain_2::rhs, &chain_2::jacobian, &chain_2::hamiltonian, &chain_2::velocities, &chain_2::momenta,
-     &chain_2::lagrangian, &chain_2::kinetic_energy, &chain_2::potential_energy, &chain_2::mass_matrix,
-     &chain_2::det_mass_matrix, &chain_2::potential_gradient, &chain_2::potential_hessian, &chain_2::positions,
-     &chain_2::hamiltonian_closed_form, &chain_2::equations_latex},
-    {3, &chain_3::rhs, &chain_3::jacobian, &chain_3::hamiltonian, &chain_3::velocities, &chain_3::momenta,
-     &chain_3::lagrangian, &chain_3::kinetic_energy, &chain_3::potential_energy, &chain_3::mass_matrix,
-     &chain_3::det_mass_matrix, &chain_3::potential_gradient, &chain_3::potential_hessian, &chain_3::positions,
-     &chain_3::hamiltonian_closed_form, &chain_3::equations_latex},
-    {4, &chain_4::rhs, &chain_4::jacobian, &chain_4::hamiltonian, &chain_4::velocities, &chain_4::momenta,
-     &chain_4::lagrangian, &chain_4::kinetic_energy, &chain_4::potential_energy, &chain_4::mass_matrix,
-     &chain_4::det_mass_matrix, &chain_4::potential_gradient, &chain_4::potential_hessian, &chain_4::positions,
-     nullptr, &chain_4::equations_latex},
-    {5, &chain_5::rhs, &chain_5::jacobian, &chain_5::hamiltonian, &chain_5::velocities, &chain_5::momenta,
-     &chain_5::lagrangian, &chain_5::kinetic_energy, &chain_5::potential_energy, &chain_5::mass_matrix,
-     &chain_5::det_mass_matrix, &chain_5::potential_gradient, &chain_5::potential_hessian, &chain_5::positions,
-     nullptr, &chain_5::equations_latex},
-    {6, &chain_6::rhs, &chain_6::jacobian, &chain_6::hamiltonian, &chain_6::velocities, &chain_6::momenta,
-     &chain_6::lagrangian, &chain_6::kinetic_energy, &chain_6::potential_energy, &chain_6::mass_matrix,
-     &chain_6::det_mass_matrix, &chain_6::potential_gradient, &chain_6::potential_hessian, &chain_6::positions,
-     nullptr, &chain_6::equations_latex},
-};
+const chain_kernels* const table[] = {&chain_1::kernels, &chain_2::kernels, &chain_3::kernels, &chain_4::kernels, &chain_5::kernels, &chain_6::kernels};
 
 const int links_built[] = {1, 2, 3, 4, 5, 6};
 
 }  // namespace
 
 const chain_kernels* find_chain(int links) noexcept {
-  for (const auto& k : table)
-    if (k.links == links) return &k;
+  for (const chain_kernels* k : table)
+    if (k->links == links) return k;
   return nullptr;
 }
 

@@ -3,29 +3,9 @@
 
 // The table of generated chains, so that the runtime can look a link count up.
 
-namespace npend::generated {
+#include <npend/chain_kernels.hpp>
 
-/// The emitted functions of one link count (see chain_<n>.hpp for their documentation).
-struct chain_kernels {
-  int links;
-  void (*rhs)(const double* x, const double* params, double* dxdt) noexcept;
-  void (*jacobian)(const double* x, const double* params, double* jac) noexcept;
-  double (*hamiltonian)(const double* x, const double* params) noexcept;
-  void (*velocities)(const double* phi, const double* p, const double* params, double* dphi) noexcept;
-  void (*momenta)(const double* phi, const double* dphi, const double* params, double* p) noexcept;
-  double (*lagrangian)(const double* phi, const double* dphi, const double* params) noexcept;
-  double (*kinetic_energy)(const double* phi, const double* dphi, const double* params) noexcept;
-  double (*potential_energy)(const double* phi, const double* params) noexcept;
-  void (*mass_matrix)(const double* phi, const double* params, double* A) noexcept;
-  double (*det_mass_matrix)(const double* phi, const double* params) noexcept;
-  void (*potential_gradient)(const double* phi, const double* params, double* grad) noexcept;
-  void (*potential_hessian)(const double* phi, const double* params, double* hess) noexcept;
-  void (*positions)(const double* phi, const double* params, double* xy) noexcept;
-  /// Closed-form Hamiltonian; nullptr for link counts above 3.
-  double (*hamiltonian_closed_form)(const double* x, const double* params) noexcept;
-  /// The derived equations as LaTeX.
-  const char* (*equations_latex)() noexcept;
-};
+namespace npend::generated {
 
 /// The kernels for `links` links, or nullptr when that link count was not built.
 const chain_kernels* find_chain(int links) noexcept;

@@ -1,5 +1,7 @@
 #include "emit_cpp.hpp"
 
+#include <npend/chain_kernels.hpp>
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -64,14 +66,18 @@ std::vector<int> postorder(const expr_graph& g, const std::vector<sx>& outputs) 
 std::string input_text(argument_layout layout, int n, const node& in) {
   switch (in.input) {
     case input_kind::phi:
-      return fmt::format("{}[{}]", layout == argument_layout::state ? "x" : "phi", in.index);
+      if (layout == argument_layout::state)
+        return fmt::format("x[{}]", chain_layout::angle_index(n, in.index));
+      return fmt::format("phi[{}]", in.index);
     case input_kind::p:
-      if (layout == argument_layout::state) return fmt::format("x[{}]", n + in.index);
+      if (layout == argument_layout::state)
+        return fmt::format("x[{}]", chain_layout::momentum_index(n, in.index));
       return fmt::format("p[{}]", in.index);
     case input_kind::dphi: return fmt::format("dphi[{}]", in.index);
-    case input_kind::mass: return fmt::format("params[{}]", in.index);
-    case input_kind::length: return fmt::format("params[{}]", n + in.index);
-    case input_kind::gravity: return fmt::format("params[{}]", 2 * n);
+    case input_kind::mass: return fmt::format("params[{}]", chain_layout::mass_index(n, in.index));
+    case input_kind::length:
+      return fmt::format("params[{}]", chain_layout::length_index(n, in.index));
+    case input_kind::gravity: return fmt::format("params[{}]", chain_layout::gravity_index(n));
   }
   throw std::logic_error("emit: unknown input");
 }
@@ -209,12 +215,14 @@ chain_sources emit_chain(int n, const std::vector<emitted_function>& functions,
       "#pragma once\n\n"
       "// The planar {0}-link pendulum: point masses m_i on massless rods l_i under gravity g.\n"
       "// State x = [phi_1..phi_n, p_1..p_n] (dim 2n = {1}); angles from the downward vertical.\n"
-      "// Parameters params = [m_1..m_n, l_1..l_n, g] (dim 2n+1 = {2}).\n\n"
+      "// Parameters params = [m_1..m_n, l_1..l_n, g] (dim 2n+1 = {2}).\n"
+      "// (The layout is npend::chain_layout's, in <npend/chain_kernels.hpp>.)\n\n"
+      "#include <npend/chain_kernels.hpp>\n\n"
       "namespace npend::generated::chain_{0} {{\n\n"
       "inline constexpr int links = {0};\n"
       "inline constexpr int state_size = {1};\n"
       "inline constexpr int param_size = {2};\n\n",
-      n, 2 * n, 2 * n + 1);
+      n, chain_layout::state_size(n), chain_layout::param_size(n));
   out.source = banner + fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n\n", chain_stem(n)) +
                fmt::format("namespace npend::generated::chain_{} {{\n", n);
   for (const auto& f : functions) {
@@ -227,6 +235,14 @@ chain_sources emit_chain(int n, const std::vector<emitted_function>& functions,
   if (latex.find(")npend\"") != std::string::npos)
     throw std::logic_error("emit: the LaTeX text contains the raw-string delimiter");
   out.source += "\n" + latex_signature + " {\n  return R\"npend(" + latex + ")npend\";\n}\n";
+  // The table entry, filled by field name from the functions just emitted: the runtime's
+  // chain_kernels must have a field of the same name and type for each.
+  out.header += "/// This link count's entry of the runtime's kernel table.\nextern const chain_kernels kernels;\n\n";
+  out.source += fmt::format(
+      "\nconst chain_kernels kernels = {{\n    .links = links,\n    .state_size = state_size,\n"
+      "    .param_size = param_size,\n");
+  for (const auto& f : functions) out.source += fmt::format("    .{0} = &{0},\n", f.name);
+  out.source += "    .equations_latex = &equations_latex,\n};\n";
   out.header += fmt::format("}}  // namespace npend::generated::chain_{}\n", n);
   out.source += fmt::format("\n}}  // namespace npend::generated::chain_{}\n", n);
   return out;
@@ -241,29 +257,9 @@ chain_sources emit_index(const std::vector<int>& links) {
 
 // The table of generated chains, so that the runtime can look a link count up.
 
-namespace npend::generated {
+#include <npend/chain_kernels.hpp>
 
-/// The emitted functions of one link count (see chain_<n>.hpp for their documentation).
-struct chain_kernels {
-  int links;
-  void (*rhs)(const double* x, const double* params, double* dxdt) noexcept;
-  void (*jacobian)(const double* x, const double* params, double* jac) noexcept;
-  double (*hamiltonian)(const double* x, const double* params) noexcept;
-  void (*velocities)(const double* phi, const double* p, const double* params, double* dphi) noexcept;
-  void (*momenta)(const double* phi, const double* dphi, const double* params, double* p) noexcept;
-  double (*lagrangian)(const double* phi, const double* dphi, const double* params) noexcept;
-  double (*kinetic_energy)(const double* phi, const double* dphi, const double* params) noexcept;
-  double (*potential_energy)(const double* phi, const double* params) noexcept;
-  void (*mass_matrix)(const double* phi, const double* params, double* A) noexcept;
-  double (*det_mass_matrix)(const double* phi, const double* params) noexcept;
-  void (*potential_gradient)(const double* phi, const double* params, double* grad) noexcept;
-  void (*potential_hessian)(const double* phi, const double* params, double* hess) noexcept;
-  void (*positions)(const double* phi, const double* params, double* xy) noexcept;
-  /// Closed-form Hamiltonian; nullptr for link counts above 3.
-  double (*hamiltonian_closed_form)(const double* x, const double* params) noexcept;
-  /// The derived equations as LaTeX.
-  const char* (*equations_latex)() noexcept;
-};
+namespace npend::generated {
 
 /// The kernels for `links` links, or nullptr when that link count was not built.
 const chain_kernels* find_chain(int links) noexcept;
@@ -275,16 +271,9 @@ const int* built_links(int* count) noexcept;
 )";
   out.source = banner + fmt::format("#include \"{}.hpp\"\n\n", index_stem);
   for (const int n : links) out.source += fmt::format("#include \"{}.hpp\"\n", chain_stem(n));
-  out.source += "\nnamespace npend::generated {\n\nnamespace {\n\nconst chain_kernels table[] = {\n";
-  for (const int n : links) {
-    const std::string ns = fmt::format("chain_{}::", n);
-    out.source += fmt::format(
-        "    {{{0}, &{1}rhs, &{1}jacobian, &{1}hamiltonian, &{1}velocities, &{1}momenta,\n"
-        "     &{1}lagrangian, &{1}kinetic_energy, &{1}potential_energy, &{1}mass_matrix,\n"
-        "     &{1}det_mass_matrix, &{1}potential_gradient, &{1}potential_hessian, &{1}positions,\n"
-        "     {2}, &{1}equations_latex}},\n",
-        n, ns, n <= closed_form_max_links ? "&" + ns + "hamiltonian_closed_form" : "nullptr");
-  }
+  out.source += "\nnamespace npend::generated {\n\nnamespace {\n\nconst chain_kernels* const table[] = {";
+  for (std::size_t i = 0; i < links.size(); ++i)
+    out.source += fmt::format("{}&chain_{}::kernels", i ? ", " : "", links[i]);
   out.source += "};\n\nconst int links_built[] = {";
   for (std::size_t i = 0; i < links.size(); ++i)
     out.source += (i ? ", " : "") + std::to_string(links[i]);
@@ -293,8 +282,8 @@ const int* built_links(int* count) noexcept;
 }  // namespace
 
 const chain_kernels* find_chain(int links) noexcept {
-  for (const auto& k : table)
-    if (k.links == links) return &k;
+  for (const chain_kernels* k : table)
+    if (k->links == links) return k;
   return nullptr;
 }
 

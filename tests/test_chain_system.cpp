@@ -5,6 +5,7 @@
 
 #include <doctest/doctest.h>
 
+#include <numbers>
 #include <span>
 
 using npend::chain;
@@ -79,4 +80,28 @@ TEST_CASE("parse_stepper_kind: every name round-trips; an unknown one lists the 
       "unknown stepper 'euler': choose one of rk4, dopri5, rkf78, bs, rosenbrock4, "
       "gauss4, gauss6",
       std::invalid_argument);
+}
+
+TEST_CASE("model contract: every built kernel table takes the layout the runtime packs") {
+  for (int n : npend::built_link_counts()) {
+    CAPTURE(n);
+    npend::chain_parameters p = npend::chain_parameters::uniform(n, 2.0, 3.0, 7.0);
+    p.masses.back() = 5.0;
+    p.lengths.front() = 11.0;
+    const npend::chain c(p);
+    CHECK(c.kernels().state_size == npend::chain_layout::state_size(n));
+    CHECK(c.kernels().param_size == npend::chain_layout::param_size(n));
+    const std::vector<double>& packed = c.packed_parameters();
+    REQUIRE(packed.size() == static_cast<std::size_t>(npend::chain_layout::param_size(n)));
+    CHECK(packed[static_cast<std::size_t>(npend::chain_layout::mass_index(n, n - 1))] == 5.0);
+    CHECK(packed[static_cast<std::size_t>(npend::chain_layout::length_index(n, 0))] == 11.0);
+    CHECK(packed[static_cast<std::size_t>(npend::chain_layout::gravity_index(n))] == 7.0);
+    // The kernels read the parameters where the layout puts them: the hanging chain's
+    // potential energy at phi_1 = pi/2 is m-weighted heights from the first length alone.
+    std::vector<double> phi(static_cast<std::size_t>(n), 0.0);
+    phi[0] = std::numbers::pi / 2;
+    double total_mass = 0;
+    for (double m : p.masses) total_mass += m;
+    CHECK(c.potential_energy(phi) == doctest::Approx(7.0 * 11.0 * total_mass));
+  }
 }

@@ -19,7 +19,7 @@ namespace npend::app {
 void demo_equations(const demo_context& demo) {
   const chain& c = demo.triple;
   fmt::print("## 1. The equations, derived by npend-gen with GiNaC (LaTeX)\n\n");
-  std::cout << c.kernels().equations_latex() << "\n";
+  std::cout << c.equations_latex() << "\n";
 
   fmt::print("## 2. The generated functions at a sample state\n\n");
   const std::vector<double> x{0.3, -0.2, 0.5, 0.1, 0.2, -0.1};

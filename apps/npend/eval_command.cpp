@@ -102,7 +102,7 @@ void add_equations_command(CLI::App& app, command_list& commands) {
       "equations", "Print the derived equations of the n-link chain as LaTeX (from npend-gen)");
   cmd->add_option("--links,-n", opts->links, "Number of links n")->required();
   commands.push_back({cmd, [opts] {
-                        std::cout << opts->make_chain().kernels().equations_latex();
+                        std::cout << opts->make_chain().equations_latex();
                         return 0;
                       }});
 }

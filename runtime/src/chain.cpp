@@ -33,6 +33,14 @@ chain::chain(chain_parameters params) : m_params(std::move(params)) {
   m_links = m_params.links();
   m_kernels = generated::find_chain(m_links);
   if (m_kernels == nullptr) throw std::invalid_argument(not_built_message(m_links));
+  // Where generated code meets the runtime: the kernels must index the arrays as packed().
+  if (m_kernels->state_size != chain_layout::state_size(m_links) ||
+      m_kernels->param_size != chain_layout::param_size(m_links))
+    throw std::logic_error(fmt::format(
+        "the generated kernels for {} links take {} state and {} parameter entries, the runtime "
+        "packs {} and {}: regenerate them (cmake --build <build> --target npend_regenerate)",
+        m_links, m_kernels->state_size, m_kernels->param_size, chain_layout::state_size(m_links),
+        chain_layout::param_size(m_links)));
   m_packed = m_params.packed();
 }
 

@@ -1,5 +1,7 @@
 #include "npend/parameters.hpp"
 
+#include "npend/chain_kernels.hpp"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -35,9 +37,14 @@ void chain_parameters::validate() const {
 }
 
 std::vector<double> chain_parameters::packed() const {
-  std::vector<double> out = masses;
-  out.insert(out.end(), lengths.begin(), lengths.end());
-  out.push_back(g);
+  const int n = links();
+  std::vector<double> out(static_cast<std::size_t>(chain_layout::param_size(n)));
+  for (int i = 0; i < n; ++i) {
+    out[static_cast<std::size_t>(chain_layout::mass_index(n, i))] = masses[static_cast<std::size_t>(i)];
+    out[static_cast<std::size_t>(chain_layout::length_index(n, i))] =
+        lengths[static_cast<std::size_t>(i)];
+  }
+  out[static_cast<std::size_t>(chain_layout::gravity_index(n))] = g;
   return out;
 }
 

@@ -1,14 +1,11 @@
 // A chain: the generated functions of one link count bound to its parameters.
 #pragma once
 
+#include "npend/chain_kernels.hpp"
 #include "npend/parameters.hpp"
 
 #include <span>
 #include <vector>
-
-namespace npend::generated {
-struct chain_kernels;
-}
 
 namespace npend {
 
@@ -28,11 +25,14 @@ class chain {
   explicit chain(chain_parameters params);
 
   int links() const { return m_links; }
-  int state_size() const { return 2 * m_links; }
+  int state_size() const { return chain_layout::state_size(m_links); }
   const chain_parameters& parameters() const { return m_params; }
   /// [m_1..m_n, l_1..l_n, g] as the kernels take it.
   const std::vector<double>& packed_parameters() const { return m_packed; }
-  const generated::chain_kernels& kernels() const { return *m_kernels; }
+  /// The generated functions behind this chain (the contract of chain_kernels.hpp).
+  const chain_kernels& kernels() const { return *m_kernels; }
+  /// The derived equations of this link count as LaTeX (npend-gen --latex).
+  const char* equations_latex() const { return m_kernels->equations_latex(); }
 
   /// Hamilton's equations: dxdt = f(x) (both dim 2n).
   void rhs(std::span<const double> x, std::span<double> dxdt) const;
@@ -75,7 +75,7 @@ class chain {
 
   chain_parameters m_params;
   std::vector<double> m_packed;
-  const generated::chain_kernels* m_kernels = nullptr;
+  const chain_kernels* m_kernels = nullptr;
   int m_links = 0;
 };
 

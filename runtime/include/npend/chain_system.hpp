@@ -4,7 +4,6 @@
 
 #include "npend/chain.hpp"
 
-#include <chain_index.hpp>
 
 #include <cstddef>
 #include <stdexcept>
@@ -47,11 +46,9 @@ class chain_system {
 
   /// The state dimension 2n.
   int size() const { return m_size; }
-  const generated::chain_kernels& kernels() const { return *m_kernels; }
-  const double* parameters() const { return m_params; }
 
  private:
-  const generated::chain_kernels* m_kernels;
+  const chain_kernels* m_kernels;
   const double* m_params;
   int m_size;
 };
@@ -84,7 +81,7 @@ class chain_jacobian {
   int size() const { return m_size; }
 
  private:
-  const generated::chain_kernels* m_kernels;
+  const chain_kernels* m_kernels;
   const double* m_params;
   int m_size;
 };

@@ -33,8 +33,8 @@ struct integration_options {
   /// An adaptive stepper whose step falls below min_step_ratio·|dt| stops the integration
   /// (a collapsed step size).
   double min_step_ratio = 1e-9;
-  /// Progress reports (seconds of simulated time done of t_end − t_start) and stop
-  /// requests, polled at every grid point; a stop ends the run like an observer's.
+  /// Progress reports (grid points done of N) and stop requests, polled at every grid
+  /// point; a stop ends the run like an observer's.
   /// Not owned; may be null.
   run_control* control = nullptr;
 

@@ -72,22 +72,18 @@ tangent_advance gauss_legendre_advance(const chain& c, double dt) {
 class variational_system {
  public:
   variational_system(const chain& c, Eigen::Index k)
-      : m_kernels(&c.kernels()),
-        m_params(c.packed_parameters().data()),
-        m_d(c.state_size()),
-        m_k(k),
-        m_jac(std::make_shared<row_major>(m_d, m_d)) {}
+      : m_chain(&c), m_d(c.state_size()), m_k(k), m_jac(std::make_shared<row_major>(m_d, m_d)) {}
 
   void operator()(const std::vector<double>& y, std::vector<double>& dydt, double /*t*/) const {
-    m_kernels->rhs(y.data(), m_params, dydt.data());
-    m_kernels->jacobian(y.data(), m_params, m_jac->data());
+    const auto d = static_cast<std::size_t>(m_d);
+    m_chain->rhs(std::span(y).first(d), std::span(dydt).first(d));
+    m_chain->jacobian(std::span(y).first(d), std::span(m_jac->data(), d * d));
     Eigen::Map<Eigen::MatrixXd>(dydt.data() + m_d, m_d, m_k).noalias() =
         *m_jac * Eigen::Map<const Eigen::MatrixXd>(y.data() + m_d, m_d, m_k);
   }
 
  private:
-  const generated::chain_kernels* m_kernels;
-  const double* m_params;
+  const chain* m_chain;
   Eigen::Index m_d, m_k;
   std::shared_ptr<row_major> m_jac;  // shared work space: odeint copies systems freely
 };
