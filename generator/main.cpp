@@ -1,5 +1,5 @@
 // npend-gen: derives the equations of planar n-link pendulums with GiNaC and writes them
-// as flat C++ (see README.md, "The generator").
+// as flat C++ (see docs/generator.md).
 #include "chain_functions.hpp"
 #include "chain_model.hpp"
 #include "emit_cpp.hpp"
