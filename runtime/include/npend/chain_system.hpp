@@ -4,7 +4,6 @@
 
 #include "npend/chain.hpp"
 
-
 #include <cstddef>
 #include <stdexcept>
 #include <string>

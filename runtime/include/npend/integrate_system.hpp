@@ -75,11 +75,10 @@ class integration_run {
   bool observe(std::size_t k, std::span<const double> x) {
     m_result.t = grid_time(k);
     ++m_result.outputs;
-    bool stop = m_observer && m_observer(m_result.t, x) == observer_action::stop;
-    if (run_control* control = m_options.control; control != nullptr) {
-      control->progress(static_cast<double>(k), static_cast<double>(m_steps));
-      stop = stop || control->stop_requested();
-    }
+    const bool observer_stops = m_observer && m_observer(m_result.t, x) == observer_action::stop;
+    const bool control_stops =
+        report_progress(m_options.control, static_cast<double>(k), static_cast<double>(m_steps));
+    const bool stop = observer_stops || control_stops;
     if (stop) {
       m_result.stopped = true;
       m_result.state.assign(x.begin(), x.end());
@@ -109,9 +108,8 @@ class integration_run {
         msg.precision(10);
         msg << "the state became non-finite in the " << m_label.step << " step from t = " << from
             << " to t = " << t << "; try "
-            << (m_label.adaptive
-                    ? "tighter tolerances or a smaller dt"
-                    : "a smaller dt or an adaptive stepper (dopri5, rkf78)");
+            << (m_label.adaptive ? "tighter tolerances or a smaller dt"
+                                 : "a smaller dt or an adaptive stepper (dopri5, rkf78)");
         throw integration_error(msg.str(), from);
       }
   }
@@ -458,13 +456,6 @@ decltype(auto) visit_stepper(stepper_kind kind, const integration_options& optio
   throw std::logic_error("visit_stepper: unknown stepper kind");
 }
 
-/// Integrates the implicit system `system` = (rhs, jacobian) — odeint's convention:
-/// rhs(x, dxdt, t) and jacobian(x, J, t, dfdt) — from x0 (dim d) over the grid of `options`
-/// with the stepper options.stepper names, as npend::integrate does for a chain (see there
-/// for the observers and the errors). x and dxdt are std::vector<double> (dim d); J is a
-/// row-major Eigen matrix (d × d), dfdt a std::vector<double> that is not used
-/// (time-dependent systems are fine for every stepper but rosenbrock4, which takes
-/// ∂f/∂t = 0). Only rosenbrock4, gauss4 and gauss6 call the jacobian.
 namespace detail {
 
 /// Runs `stepper` (made by visit_stepper for options.stepper) on the implicit system, or on
@@ -476,7 +467,8 @@ integration_result integrate_visited(Stepper& stepper, const std::pair<Rhs, Jaco
                                      const step_observer_function& step_observer = {}) {
   const std::string name(stepper_name(options.stepper));
   integration_run run(options, observer, step_observer, {name, name, is_adaptive(options.stepper)});
-  if constexpr (std::is_same_v<Stepper, gauss_legendre4> || std::is_same_v<Stepper, gauss_legendre6> ||
+  if constexpr (std::is_same_v<Stepper, gauss_legendre4> ||
+                std::is_same_v<Stepper, gauss_legendre6> ||
                 std::is_same_v<Stepper, rosenbrock4_dense_output>) {
     return run_stepper(stepper, system, x0, run);
   } else if constexpr (std::is_same_v<Stepper, boost::numeric::odeint::bulirsch_stoer_dense_out<
@@ -503,7 +495,6 @@ integration_result integrate_system(const std::pair<Rhs, Jacobian>& system,
                                     std::span<const double> x0, const integration_options& options,
                                     const observer_function& observer = {},
                                     const step_observer_function& step_observer = {}) {
-  output_steps(options);  // validates the options before a stepper is made from them
   return visit_stepper(options.stepper, options, system, x0.size(), [&](auto& stepper) {
     return detail::integrate_visited(stepper, system, x0, options, observer, step_observer);
   });

@@ -28,18 +28,33 @@ class run_control {
   virtual bool stop_requested() { return false; }
 };
 
+/// Reports progress to `control` and returns whether it asks to stop; a null control
+/// neither hears nor asks anything.
+inline bool report_progress(run_control* control, double done, double total) {
+  if (control == nullptr) return false;
+  control->progress(done, total);
+  return control->stop_requested();
+}
+
+/// Whether `control` asks to stop (never, when it is null).
+inline bool stop_requested(run_control* control) {
+  return control != nullptr && control->stop_requested();
+}
+
 /// Part `index` of `parts` equal parts of the parent's work (an ensemble member, one of a
 /// series of integrations): maps the part's own progress into the parent's, and passes the
 /// stop requests through. A null parent gives a control that does nothing.
 class run_control_part final : public run_control {
  public:
   run_control_part(run_control* parent, std::size_t index, std::size_t parts)
-      : m_parent(parent), m_index(static_cast<double>(index)), m_parts(static_cast<double>(parts)) {}
+      : m_parent(parent),
+        m_index(static_cast<double>(index)),
+        m_parts(static_cast<double>(parts)) {}
 
   void progress(double done, double total) override {
     if (m_parent != nullptr && total > 0) m_parent->progress(m_index + done / total, m_parts);
   }
-  bool stop_requested() override { return m_parent != nullptr && m_parent->stop_requested(); }
+  bool stop_requested() override { return npend::stop_requested(m_parent); }
 
  private:
   run_control* m_parent;

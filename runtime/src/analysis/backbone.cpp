@@ -105,7 +105,7 @@ backbone_point measure(const chain& c, const linearisation& lin, int mode, doubl
     if (total > 0) min_share = std::min(min_share, own / total);
   });
   point.min_mode_share = min_share;
-  if (control != nullptr && control->stop_requested()) return point;  // cut short: unmeasured
+  if (stop_requested(control)) return point;  // cut short: unmeasured
 
   const std::vector<double> up = event_times(samples, io.dt, {.direction = crossing_direction::up});
   if (up.size() < 3) return point;
@@ -169,7 +169,7 @@ backbone_result backbone_curve(const chain& c, int mode, std::span<const double>
       double high = first->amplitude;
       while (high - low > options.amplitude_tolerance) {
         const double middle = 0.5 * (low + high);
-        if (options.control != nullptr && options.control->stop_requested()) {
+        if (stop_requested(options.control)) {
           r.stopped = true;
           return r;
         }

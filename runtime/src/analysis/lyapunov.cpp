@@ -100,7 +100,8 @@ void with_advance(const chain& c, const integration_options& o, Eigen::Index k, 
     case stepper_kind::gauss6:
       method = "tangent map";
       return body(gauss_legendre_advance<gauss_legendre6>(c, o.dt));
-    default: break;
+    default:
+      break;
   }
   method = "variational equations";
   // No stepper on this route calls the Jacobian: rosenbrock4 is refused (see
@@ -112,16 +113,16 @@ void with_advance(const chain& c, const integration_options& o, Eigen::Index k, 
   chunk_options.control = nullptr;  // the chunks are not the run: run_benettin reports
   visit_stepper(o.stepper, o, system, dim, [&](auto& stepper) {
     std::vector<double> y(dim);
-    body(tangent_advance([&](std::vector<double>& x, Eigen::MatrixXd& W, double t,
-                             std::size_t steps) {
-      std::copy(x.begin(), x.end(), y.begin());
-      std::copy(W.data(), W.data() + W.size(), y.begin() + static_cast<std::ptrdiff_t>(d));
-      chunk_options.t_start = t;
-      chunk_options.t_end = t + static_cast<double>(steps) * o.dt;
-      const integration_result r = detail::integrate_visited(stepper, system, y, chunk_options);
-      std::copy(r.state.begin(), r.state.begin() + static_cast<std::ptrdiff_t>(d), x.begin());
-      std::copy(r.state.begin() + static_cast<std::ptrdiff_t>(d), r.state.end(), W.data());
-    }));
+    body(tangent_advance(
+        [&](std::vector<double>& x, Eigen::MatrixXd& W, double t, std::size_t steps) {
+          std::copy(x.begin(), x.end(), y.begin());
+          std::copy(W.data(), W.data() + W.size(), y.begin() + static_cast<std::ptrdiff_t>(d));
+          chunk_options.t_start = t;
+          chunk_options.t_end = t + static_cast<double>(steps) * o.dt;
+          const integration_result r = detail::integrate_visited(stepper, system, y, chunk_options);
+          std::copy(r.state.begin(), r.state.begin() + static_cast<std::ptrdiff_t>(d), x.begin());
+          std::copy(r.state.begin() + static_cast<std::ptrdiff_t>(d), r.state.end(), W.data());
+        }));
   });
 }
 
@@ -170,57 +171,55 @@ lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const l
   std::size_t done = 0;
   run_control* const control = o.integration.control;
   with_advance(c, o.integration, W.cols(), r.method, [&](const tangent_advance& advance) {
-  while (done < total) {
-    const std::size_t steps = std::min(chunk, total - done);
-    advance(x, W, t0 + static_cast<double>(done) * dt, steps);
-    done += steps;
-    r.t = t0 + static_cast<double>(done) * dt;
-    if (!W.allFinite())
-      throw integration_error(
-          fmt::format("lyapunov: the tangent vectors became non-finite before t = {} s; try a "
-                      "shorter renormalisation interval or a smaller dt",
-                      r.t),
-          r.t);
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(W);
-    const Eigen::VectorXd diagonal = qr.matrixQR().diagonal();
-    W = qr.householderQ() * Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(d), W.cols());
-    const double h = c.hamiltonian(x);
-    r.max_rel_energy_error =
-        std::max(r.max_rel_energy_error, std::fabs(h - h0) / (h0 != 0 ? std::fabs(h0) : 1.0));
+    while (done < total) {
+      const std::size_t steps = std::min(chunk, total - done);
+      advance(x, W, t0 + static_cast<double>(done) * dt, steps);
+      done += steps;
+      r.t = t0 + static_cast<double>(done) * dt;
+      if (!W.allFinite())
+        throw integration_error(
+            fmt::format("lyapunov: the tangent vectors became non-finite before t = {} s; try a "
+                        "shorter renormalisation interval or a smaller dt",
+                        r.t),
+            r.t);
+      const Eigen::HouseholderQR<Eigen::MatrixXd> qr(W);
+      const Eigen::VectorXd diagonal = qr.matrixQR().diagonal();
+      W = qr.householderQ() * Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(d), W.cols());
+      const double h = c.hamiltonian(x);
+      r.max_rel_energy_error =
+          std::max(r.max_rel_energy_error, std::fabs(h - h0) / (h0 != 0 ? std::fabs(h0) : 1.0));
 
-    if (done > transient_steps) {
-      ++r.renormalisations;
-      running.resize(k);
-      if (r.block_edges.empty()) r.block_edges.push_back(t_average);
-      for (std::size_t i = 0; i < k; ++i) {
-        const double growth = std::log(std::fabs(diagonal(static_cast<Eigen::Index>(i))));
-        sums[i] += growth;
-        block_sums[i] += growth;
-        running[i] = sums[i] / (r.t - t_average);
+      if (done > transient_steps) {
+        ++r.renormalisations;
+        running.resize(k);
+        if (r.block_edges.empty()) r.block_edges.push_back(t_average);
+        for (std::size_t i = 0; i < k; ++i) {
+          const double growth = std::log(std::fabs(diagonal(static_cast<Eigen::Index>(i))));
+          sums[i] += growth;
+          block_sums[i] += growth;
+          running[i] = sums[i] / (r.t - t_average);
+        }
+        if (r.renormalisations == block_end(r.block_exponents.size())) {
+          const double length = r.t - r.block_edges.back();
+          std::vector<double> block(k);
+          for (std::size_t i = 0; i < k; ++i) block[i] = block_sums[i] / length;
+          r.block_exponents.push_back(std::move(block));
+          r.block_edges.push_back(r.t);
+          block_sums.assign(k, 0.0);
+        }
+        if (r.renormalisations % stride == 0 || done == total) {
+          r.history_t.push_back(r.t);
+          r.history.push_back(running);
+        }
       }
-      if (r.renormalisations == block_end(r.block_exponents.size())) {
-        const double length = r.t - r.block_edges.back();
-        std::vector<double> block(k);
-        for (std::size_t i = 0; i < k; ++i) block[i] = block_sums[i] / length;
-        r.block_exponents.push_back(std::move(block));
-        r.block_edges.push_back(r.t);
-        block_sums.assign(k, 0.0);
-      }
-      if (r.renormalisations % stride == 0 || done == total) {
-        r.history_t.push_back(r.t);
-        r.history.push_back(running);
+      const bool observer_stops = observer && observer(r.t, running) == observer_action::stop;
+      const bool control_stops =
+          report_progress(control, static_cast<double>(done), static_cast<double>(total));
+      if ((observer_stops || control_stops) && done < total) {
+        r.stopped = true;
+        break;
       }
     }
-    bool stop = observer && observer(r.t, running) == observer_action::stop;
-    if (control != nullptr) {
-      control->progress(static_cast<double>(done), static_cast<double>(total));
-      stop = stop || control->stop_requested();
-    }
-    if (stop && done < total) {
-      r.stopped = true;
-      break;
-    }
-  }
   });
   r.state = x;
   r.averaging_time = std::max(0.0, r.t - t_average);
@@ -331,7 +330,8 @@ std::vector<double> onto_energy_surface(const chain& c, std::vector<double> x, d
   if (!(norm > 0))
     throw std::invalid_argument(
         "energy_surface_neighbours: the gradient of H vanishes at a perturbed start");
-  const double tolerance = 8 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::fabs(energy));
+  const double tolerance =
+      8 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::fabs(energy));
   std::vector<double> y = x;
   double s = 0;
   for (int iteration = 0; iteration < 50; ++iteration) {
@@ -357,7 +357,8 @@ std::vector<std::vector<double>> energy_surface_neighbours(const chain& c,
                                                            std::size_t count, double radius,
                                                            std::uint64_t seed) {
   check_start(c, x0);
-  if (count == 0) throw std::invalid_argument("energy_surface_neighbours: count must be at least 1");
+  if (count == 0)
+    throw std::invalid_argument("energy_surface_neighbours: count must be at least 1");
   if (!(radius > 0) || !std::isfinite(radius))
     throw std::invalid_argument(fmt::format(
         "energy_surface_neighbours: radius is {}: it must be positive and finite", radius));
@@ -396,8 +397,8 @@ lyapunov_ensemble_result lyapunov_ensemble(const chain& c, std::span<const doubl
                                            const lyapunov_ensemble_observer& observer) {
   options.validate();
   if (ensemble.members < 2)
-    throw std::invalid_argument(fmt::format(
-        "lyapunov_ensemble: members is {}: it must be at least 2", ensemble.members));
+    throw std::invalid_argument(
+        fmt::format("lyapunov_ensemble: members is {}: it must be at least 2", ensemble.members));
   lyapunov_ensemble_result r;
   r.starts = energy_surface_neighbours(c, x0, ensemble.members, ensemble.radius, ensemble.seed);
   for (std::size_t m = 0; m < r.starts.size(); ++m) {
