@@ -29,12 +29,11 @@ int main(int argc, char** argv) try {
   for (std::size_t k = 0; k < r.exponents.size(); ++k)
     fmt::print("lambda_{} = {:+.4f} +- {:.4f} /s\n", k + 1, r.exponents[k],
                r.block_standard_error[k]);
-  bool paired = true;
+  bool paired = r.pair_sums.size() == r.exponents.size() / 2;
   const std::size_t d = r.exponents.size();
-  for (std::size_t k = 0; k < d / 2; ++k) {
-    const double sum = r.exponents[k] + r.exponents[d - 1 - k];
-    fmt::print("lambda_{} + lambda_{} = {:.2e}\n", k + 1, d - k, sum);
-    paired = paired && std::fabs(sum) <= 1e-8;
+  for (std::size_t k = 0; k < r.pair_sums.size(); ++k) {
+    fmt::print("lambda_{} + lambda_{} = {:.2e}\n", k + 1, d - k, r.pair_sums[k]);
+    paired = paired && std::fabs(r.pair_sums[k]) <= 1e-8;
   }
   return paired ? 0 : 1;
 } catch (const std::exception& e) {

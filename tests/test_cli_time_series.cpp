@@ -54,7 +54,7 @@ std::string write_text(const fs::path& dir, const std::string& name, const std::
 }
 
 // The file's signal as the commands read it.
-npend::cli::time_series load(const std::string& path, const std::string& column) {
+npend::time_series load(const std::string& path, const std::string& column) {
   std::ifstream in(path);
   std::stringstream text;
   text << in.rdbuf();

@@ -89,11 +89,6 @@ std::size_t parse_coordinate(std::string_view name, int links, std::string_view 
   return (momentum ? static_cast<std::size_t>(links) : 0) + k - 1;
 }
 
-std::string coordinate_name(std::size_t index, int links) {
-  const auto n = static_cast<std::size_t>(links);
-  return index < n ? fmt::format("phi{}", index + 1) : fmt::format("p{}", index - n + 1);
-}
-
 std::string_view angle_mode_name(angle_mode mode) {
   return mode == angle_mode::circle ? "circle" : "unwrapped";
 }

@@ -5,6 +5,7 @@
 
 #include "npend/analysis/event_times.hpp"
 #include "npend/analysis/poincare_section.hpp"
+#include "npend/analysis/sampled_signals.hpp"
 
 #include <cstddef>
 #include <optional>
@@ -33,8 +34,7 @@ section_spec parse_section_spec(std::string_view text, std::string_view option);
 /// and listing the valid names otherwise.
 std::size_t parse_coordinate(std::string_view name, int links, std::string_view option);
 
-/// The name of state index `index` of an n-link chain: "phi3", "p1".
-std::string coordinate_name(std::size_t index, int links);
+using npend::coordinate_name;
 
 /// How sections and events of angles are taken.
 enum class angle_mode {
@@ -56,12 +56,6 @@ section_plane section_from_spec(const section_spec& spec, int links, std::string
 /// Throws input_error naming `option` unless there are exactly two, both valid and distinct.
 std::pair<std::size_t, std::size_t> parse_projection(std::string_view text, int links,
                                                      std::string_view option);
-
-/// What to tell a user whose run took an arm over the top, when sections of unwrapped angles
-/// are asked for.
-inline constexpr std::string_view unwrapped_angles_note =
-    "an arm passed the upright position (|phi| > pi) and the section is of the unwrapped "
-    "angles (--unwrapped), so phi = c and phi = c + 2 pi are different planes";
 
 /// "up", "down" or "both"; input_error naming `option` otherwise.
 crossing_direction parse_direction(std::string_view text, std::string_view option);

@@ -1,7 +1,6 @@
 #include "time_series_source.hpp"
 
 #include "input_parsing.hpp"
-#include "terminal_run.hpp"
 #include "section_spec.hpp"
 
 #include <fmt/format.h>
@@ -99,13 +98,6 @@ sampled_signals signals_from_csv(const csv_table& table, std::string_view source
 
 namespace {
 
-time_series signal_at(const sampled_signals& signals, std::size_t k) {
-  return time_series{
-      signals.source,    signals.names[k],
-      signals.t0,        signals.dt,
-      signals.values[k], k < signals.units.size() ? signals.units[k] : std::string()};
-}
-
 // The default length of a simulated series: the paper's 2¹⁴ samples, and at most 2²².
 constexpr std::size_t default_samples = std::size_t{1} << 14;
 constexpr std::size_t max_samples = std::size_t{1} << 22;
@@ -154,44 +146,11 @@ std::string read_text_file(const std::string& path, std::string_view option) {
   return text.str();
 }
 
-sampled_signals simulate_signals(const simulated_start& s,
-                                 const step_observer_function& step_observer) {
-  const int n = s.pendulum.links();
-  sampled_signals out;
-  out.source = s.source;
-  out.t0 = s.integration.t_start;
-  out.dt = s.integration.dt;
-  out.time_name = "t";
-  out.time_number = 1;
-  out.default_signal = static_cast<std::size_t>(n - 1);
-  for (std::size_t i = 0; i < static_cast<std::size_t>(2 * n); ++i) {
-    out.names.push_back(coordinate_name(i, n));
-    out.numbers.push_back(i + 2);
-    out.units.push_back(i < static_cast<std::size_t>(n) ? "rad" : "kg m^2/s");
-  }
-  out.values.assign(out.names.size(), {});
-  for (auto& v : out.values) v.reserve(s.samples);
-  terminal_run control;
-  integration_options integration = s.integration;
-  integration.control = &control;
-  std::size_t recorded = 0;
-  const integration_result run = integrate(
-      s.pendulum, s.x0, integration,
-      [&](double, std::span<const double> x) {
-        if (recorded < s.samples) {
-          for (std::size_t i = 0; i < x.size(); ++i) out.values[i].push_back(x[i]);
-          ++recorded;
-        }
-        return observer_action::proceed;
-      },
-      step_observer);
-  control.finish();
-  // A series cut short would be analysed as if it were the whole: nothing is.
-  if (control.interrupted())
-    throw interrupted(fmt::format("interrupted at t = {} s of the simulation; nothing analysed",
-                                  run.t),
-                      control.exit_code());
-  return out;
+sampled_signals simulate_with_progress(const simulated_start& s,
+                                       const step_observer_function& step_observer) {
+  return on_terminal(s, [&](const simulated_start& run) {
+           return simulate_signals(run, step_observer);
+         }).signals;
 }
 
 void series_options::add_to(CLI::App& command, series_use use) {
@@ -298,7 +257,8 @@ std::optional<simulated_start> series_options::simulation(std::size_t min_sample
 
 sampled_signals series_options::load(std::size_t min_samples) const {
   // The single place where the source is chosen.
-  if (const auto simulation = this->simulation(min_samples)) return simulate_signals(*simulation);
+  if (const auto simulation = this->simulation(min_samples))
+    return simulate_with_progress(*simulation);
   const std::optional<double> spacing = sample_spacing(dt);
   const std::string text = read_text_file(input, "--input");
   return signals_from_csv(parse_csv(text, input), input, spacing, min_samples);
@@ -306,66 +266,11 @@ sampled_signals series_options::load(std::size_t min_samples) const {
 
 namespace {
 
-// The link K (1-based) of "K" or "_K", K = 1..links without leading zeros; 0 if it is not one.
-std::size_t link_number(std::string_view text, int links) {
-  if (text.starts_with("_")) text.remove_prefix(1);
-  if (text.empty() || text.size() > 9 || text.front() == '0' ||
-      !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
-    return 0;
-  std::size_t k = 0;
-  for (const char c : text) k = 10 * k + static_cast<std::size_t>(c - '0');
-  return k <= static_cast<std::size_t>(links) ? k : 0;
-}
-
-// The bounded observables of a simulation, computed from its angles φ_1..φ_n (the first n
-// signals): sin_phiK, cos_phiK, wrapped_phiK (in [−π, π]), and the bob positions xK, yK (m,
-// y down). None if `name` is not one of them.
-std::optional<time_series> bounded_observable(const sampled_signals& s, const npend::chain& c,
-                                              std::string_view name) {
-  const int n = c.links();
-  const auto angle = [&](std::string_view rest) -> std::size_t {
-    if (!rest.starts_with("phi")) return 0;
-    return link_number(rest.substr(3), n);
-  };
-  time_series out{s.source, std::string(name), s.t0, s.dt, {}, ""};
-  const std::size_t samples = s.samples();
-  out.values.resize(samples);
-  for (const auto& [prefix, unit, f] :
-       {std::tuple{std::string_view("sin_"), "1", +[](double v) { return std::sin(v); }},
-        std::tuple{std::string_view("cos_"), "1", +[](double v) { return std::cos(v); }},
-        std::tuple{std::string_view("wrapped_"), "rad", +[](double v) { return wrapped_angle(v); }}}) {
-    if (!name.starts_with(prefix)) continue;
-    const std::size_t k = angle(name.substr(prefix.size()));
-    if (k == 0) return std::nullopt;
-    for (std::size_t j = 0; j < samples; ++j) out.values[j] = f(s.values[k - 1][j]);
-    out.unit = unit;
-    return out;
-  }
-  if (name.starts_with("x") || name.starts_with("y")) {
-    const std::size_t k = link_number(name.substr(1), n);
-    if (k == 0) return std::nullopt;
-    const bool horizontal = name.front() == 'x';
-    const auto& lengths = c.parameters().lengths;
-    for (std::size_t j = 0; j < samples; ++j) {
-      double position = 0;  // x_k = Σ_{i≤k} l_i sin φ_i, y_k = Σ_{i≤k} l_i cos φ_i (eq. 6.1)
-      for (std::size_t i = 0; i < k; ++i)
-        position += lengths[i] * (horizontal ? std::sin(s.values[i][j]) : std::cos(s.values[i][j]));
-      out.values[j] = position;
-    }
-    out.unit = "m";
-    return out;
-  }
-  return std::nullopt;
-}
-
-// One line on stderr when an angle's series winds by more than a turn: its spectrum,
-// autocorrelation and mutual information are then those of a ramp.
+// One line on stderr when an angle's series winds by more than a turn.
 void note_winding_angle(const time_series& x) {
-  std::string_view name = x.name;
-  if (!name.starts_with("phi") || link_number(name.substr(3), 1 << 20) == 0) return;
+  if (!winds_over(x)) return;
   const auto [low, high] = std::minmax_element(x.values.begin(), x.values.end());
-  if (*high - *low <= 2 * std::numbers::pi) return;
-  const std::string k(name.substr(name[3] == '_' ? 4 : 3));
+  const std::string k(x.name.substr(x.name[3] == '_' ? 4 : 3));
   fmt::print(stderr,
              "note: {} runs from {:.4g} to {:.4g} rad, more than a turn (an arm turns over): its "
              "analysis is that of a ramp; the bounded sin_phi{}, cos_phi{}, wrapped_phi{}, x{} "
@@ -381,11 +286,11 @@ time_series series_options::load_one(std::size_t min_samples) const {
   if (!simulation) {
     x = select_signal(load(min_samples), column, "--column");
   } else {
-    const sampled_signals signals = simulate_signals(*simulation);
+    const sampled_signals signals = simulate_with_progress(*simulation);
     const int links = simulation->pendulum.links();
     if (column.empty()) {
       x = signal_at(signals, signals.default_signal);
-    } else if (auto derived = bounded_observable(signals, simulation->pendulum, column)) {
+    } else if (auto derived = chain_observable(signals, simulation->pendulum, column)) {
       x = std::move(*derived);
     } else {
       try {

@@ -10,46 +10,26 @@
 #include "csv_table.hpp"
 #include "integrator_options.hpp"
 #include "start_options.hpp"
+#include "terminal_run.hpp"
 
+#include "npend/analysis/sampled_signals.hpp"
 #include "npend/chain.hpp"
 #include "npend/integrate.hpp"
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace npend::cli {
 
-/// Named signals sampled on one uniform time grid t_j = t0 + j dt.
-struct sampled_signals {
-  std::string source;              ///< where they came from, for messages and reports ("data.csv")
-  double t0 = 0;                   ///< s
-  double dt = 0;                   ///< s
-  std::vector<std::string> names;  ///< one per signal; for CSV files the header or "1", "2", …
-  std::vector<std::vector<double>> values;  ///< one series per signal, all of equal length
-  /// The signals' units for plots ("rad", "kg m^2/s"): known for a simulation, empty (unknown)
-  /// for CSV files.
-  std::vector<std::string> units;
-  /// Selector numbers (1-based) of the signals: their column in the file, counting the time
-  /// column, as gnuplot and cut count.
-  std::vector<std::size_t> numbers;
-  std::string time_name;           ///< the time column's name, if the file had one
-  std::size_t time_number = 0;     ///< its column number (1-based), 0 if none
-  std::size_t default_signal = 0;  ///< the signal chosen when none is named
-
-  std::size_t samples() const { return values.empty() ? 0 : values.front().size(); }
-};
-
-/// One signal chosen from sampled_signals.
-struct time_series {
-  std::string source, name;
-  double t0 = 0, dt = 0;
-  std::vector<double> values;
-  std::string unit;  ///< for plots; empty if unknown
-};
+using npend::sampled_signals;
+using npend::simulated_start;
+using npend::time_series;
 
 /// The signals of a parsed CSV table. The time column is the one whose header is t or time
 /// (any case, optionally with a unit: "t (s)", "time [s]"); its spacing must be uniform (every
@@ -68,22 +48,27 @@ time_series select_signal(const sampled_signals& signals, std::string_view selec
 /// The whole text of a file; throws input_error "cannot read 'x.csv': <reason>".
 std::string read_text_file(const std::string& path, std::string_view option);
 
-/// A simulated start: the chain, its start state, and the integration that samples it.
-struct simulated_start {
-  npend::chain pendulum;
-  std::vector<double> x0;           ///< [φ, p] (dim 2n)
-  integration_options integration;  ///< from t = 0 on the grid of --dt
-  std::size_t samples = 0;          ///< grid points recorded as signals (0: none)
-  std::string source;               ///< "simulation: 3 links, E = 14.7 J, gauss6, dt = 0.001 s"
-};
+/// compute(s) — a computation that integrates the simulated start s and returns a result
+/// with its `run` (npend::integration_result) — with a progress bar on a terminal and Ctrl-C
+/// as the run control of s's integration. Throws cli::interrupted when a signal stopped it:
+/// a series cut short would be analysed as if it were the whole.
+template <class Compute>
+auto on_terminal(simulated_start s, Compute&& compute) {
+  terminal_run control;
+  s.integration.control = &control;
+  auto result = compute(std::as_const(s));
+  control.finish();
+  if (control.interrupted())
+    throw interrupted(fmt::format("interrupted at t = {} s of the simulation; nothing analysed",
+                                  result.run.t),
+                      control.exit_code());
+  return result;
+}
 
-/// Runs the simulation `s` (to its t_end) and returns its first s.samples grid points as the
-/// signals phi1..phin, p1..pn (t0 = 0, its dt; the default signal is phin), passing every
-/// step to `step_observer` if given (for events located on the steps). Shows a progress bar
-/// on a terminal; Ctrl-C throws cli::interrupted. Throws npend::integration_error if the
-/// integration cannot go on.
-sampled_signals simulate_signals(const simulated_start& s,
-                                 const step_observer_function& step_observer = {});
+/// npend::simulate_signals on_terminal. Throws npend::integration_error if the integration
+/// cannot go on.
+sampled_signals simulate_with_progress(const simulated_start& s,
+                                       const step_observer_function& step_observer = {});
 
 /// How a command uses its series, which decides the options it gets.
 enum class series_use {

@@ -3,13 +3,13 @@
 #include "command.hpp"
 #include "figure_index.hpp"
 #include "input_parsing.hpp"
-#include "motion_analysis.hpp"
 #include "output_file.hpp"
 #include "section_spec.hpp"
 #include "series_figures.hpp"
 #include "series_output.hpp"
 #include "time_series_source.hpp"
 
+#include "npend/analysis/motion_analysis.hpp"
 #include "npend/excitation.hpp"
 
 #include <fmt/format.h>
@@ -60,36 +60,22 @@ int run_analyze(const analyze_options& o) {
                                                     : options.coordinate - n}
           : cli::parse_projection(o.project, n, "--project");
 
-  const motion_analysis a = analyze_motion(*simulation, options);
-  const cli::time_series& x = a.series;
+  motion_analysis a;
+  try {
+    a = cli::on_terminal(*simulation, [&](const simulated_start& run) {
+      return analyze_motion(run, options);
+    });
+  } catch (const std::invalid_argument& e) {  // the options were checked: the start is at fault
+    throw cli::input_error(e.what());
+  }
+  const time_series& x = a.series;
   const std::string section_what =
       fmt::format("{} ({})", o.section, cli::direction_name(options.section_direction));
   const std::string event_what =
       fmt::format("{} ({})", event, cli::direction_name(options.event_direction));
-  std::vector<std::string> files, notes = a.notes;
-  std::vector<index_entry> entries;
-  // Each figure: its own stem in the folder, its tables, its plot.
-  const auto figure = [&](const std::string& stem, const std::string& heading,
-                          const std::string& text, auto&& panels, int width = 960, int height = 640,
-                          int columns = 1) {
-    series_output out((dir / (stem + ".csv")).string());
-    std::vector<cli::plot_panel> list = panels(out);
-    out.write_plot({.description = {fmt::format("npend analyze: {} of {}", heading, x.source)},
-                    .width = width,
-                    .height = height,
-                    .columns = columns,
-                    .panels = list});
-    std::vector<std::string> data;
-    for (const auto& path : out.files()) {
-      files.push_back(path);
-      if (path.ends_with(".csv")) data.push_back(fs::path(path).filename().string());
-    }
-    notes.insert(notes.end(), out.notes().begin(), out.notes().end());
-    entries.push_back({heading, stem + ".png", text, data});
-  };
-
+  figure_folder folder(dir, "npend analyze: ", " of " + x.source);
   const double duration = x.dt * static_cast<double>(x.values.size() - 1);
-  figure("series", "Time series",
+  folder.add("series", "Time series",
          fmt::format("{}(t) over the {} samples analysed below (dt = {:g} s). Regular motion "
                      "looks like a beat of a few oscillations; chaotic motion like calm phases "
                      "and sudden flurries taking turns.",
@@ -97,7 +83,7 @@ int run_analyze(const analyze_options& o) {
          [&](series_output& out) {
            return std::vector{time_series_panel(out, "", a.signals, options.coordinate)};
          });
-  figure("spectrum", "Spectral density",
+  folder.add("spectrum", "Spectral density",
          fmt::format("ρ(ω) = |x̂(ω)|² of {} (mean removed, Hann window), on a log scale, its "
                      "peaks marked. A few sharp lines mean periodic or quasi-periodic motion "
                      "(for small oscillations: the normal modes); a broad continuous spectrum "
@@ -106,7 +92,7 @@ int run_analyze(const analyze_options& o) {
          [&](series_output& out) {
            return std::vector{spectrum_panel(out, "", x, a.spectrum, a.peaks)};
          });
-  figure("autocorrelation", "Autocorrelation",
+  folder.add("autocorrelation", "Autocorrelation",
          fmt::format("C_xx(τ) of {}, normalised to C_xx(0) = 1. It keeps oscillating for a "
                      "discrete spectrum (long memory) and decays towards 0 for chaotic motion.",
                      x.name),
@@ -114,7 +100,7 @@ int run_analyze(const analyze_options& o) {
            return std::vector{autocorrelation_panel(out, "", x, a.autocorrelation)};
          });
   if (!a.section.empty())
-    figure(
+    folder.add(
         "poincare", "Poincaré section",
         fmt::format("The {} crossings of the section {} over {:g} s, projected on ({}, {}). "
                     "Periodic motion gives finitely many points, quasi-periodic motion closed "
@@ -125,9 +111,9 @@ int run_analyze(const analyze_options& o) {
         [&](series_output& out) {
           return std::vector{poincare_panel(out, "", c, a.section, projection, section_what)};
         },
-        820, 760);
+        {820, 760});
   if (a.recurrence)
-    figure(
+    folder.add(
         "recurrence", "Recurrence times",
         fmt::format("The intervals between the events {} over {:g} s, their probability "
                     "density and the spectrum of the interval sequence. Periodic motion "
@@ -138,9 +124,9 @@ int run_analyze(const analyze_options& o) {
           const auto p = recurrence_figure(out, "", event_what, a.event_times, *a.recurrence);
           return std::vector{p.intervals, p.distribution, p.spectrum};
         },
-        1500, 520, 3);
+        {1500, 520, 3});
   if (a.embedded())
-    figure(
+    folder.add(
         "embedding", "Delay embedding",
         fmt::format("{}(t) against {}(t − τ) with τ = {:.4g} s ({}), and the false-nearest-"
                     "neighbour fraction and Cao's E1, E2 against the embedding dimension m. "
@@ -151,7 +137,7 @@ int run_analyze(const analyze_options& o) {
               embedding_figure(out, "", x, a.tau, a.vectors, a.fnn, a.cao, a.dimension, "fnn");
           return std::vector{delay, dimension};
         },
-        1300, 620, 2);
+        {1300, 620, 2});
 
   // The numbers of the index, the terminal and the JSON.
   const double energy = c.hamiltonian(simulation->x0);
@@ -160,11 +146,8 @@ int run_analyze(const analyze_options& o) {
     epsilon = fmt::format(" (ε = E/(m g l) = {:.4g})", epsilon_from_energy(c, energy));
   } catch (const std::invalid_argument&) {  // unequal masses or lengths: no ε
   }
-  double residual = 0, energy_error = 0;
-  for (const auto& k : a.section) {
-    residual = std::max(residual, std::fabs(options.section.value(k.state)));
-    energy_error = std::max(energy_error, std::fabs(c.hamiltonian(k.state) - energy) / energy);
-  }
+  const double residual = a.section_quality.max_residual,
+               energy_error = a.section_quality.max_rel_energy_error;
   std::vector<std::string> lines;
   for (std::size_t k = 0; k < std::min<std::size_t>(a.peaks.size(), 5); ++k)
     lines.push_back(fmt::format("{:.4g}", a.peaks[k].omega));
@@ -206,10 +189,11 @@ int run_analyze(const analyze_options& o) {
                   "(located on the integrator's steps, not on the samples).",
                   stepper_name(simulation->integration.stepper), simulation->integration.dt,
                   simulation->integration.t_end, x.values.size())};
-  const fs::path index = dir / "index.md";
-  cli::write_file_atomically(index,
-                             figure_index{title, preamble, facts, entries, notes}.markdown());
-  files.push_back(index.string());
+  std::vector<std::string> notes = a.notes;
+  notes.insert(notes.end(), folder.notes().begin(), folder.notes().end());
+  folder.index() = {title, preamble, facts, folder.index().entries, notes};
+  const fs::path index = folder.write_index();
+  const std::vector<std::string>& files = folder.files();
   for (const auto& note : notes) fmt::print(stderr, "note: {}\n", note);
 
   if (o.json) {

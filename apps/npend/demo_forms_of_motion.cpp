@@ -4,11 +4,12 @@
 #include "demo_sections.hpp"
 
 #include "figure_index.hpp"
-#include "motion_analysis.hpp"
 #include "output_file.hpp"
 #include "series_figures.hpp"
 #include "series_output.hpp"
+#include "time_series_source.hpp"
 
+#include "npend/analysis/motion_analysis.hpp"
 #include "npend/analysis/normal_modes.hpp"
 #include "npend/excitation.hpp"
 
@@ -43,7 +44,7 @@ struct demo_case {
   motion_analysis a;
 };
 
-cli::simulated_start simulation(const chain& c, std::vector<double> x0) {
+simulated_start simulation(const chain& c, std::vector<double> x0) {
   integration_options o;
   o.stepper = stepper_kind::gauss6;
   o.dt = dt;
@@ -52,51 +53,6 @@ cli::simulated_start simulation(const chain& c, std::vector<double> x0) {
       fmt::format("simulation: 3 links, E = {:.6g} J, gauss6, dt = {:g} s", c.hamiltonian(x0), dt);
   return {c, std::move(x0), o, samples, source};
 }
-
-// The figures of the folder, the files written and the notes, and the index.
-class figure_folder {
- public:
-  explicit figure_folder(fs::path dir) : m_dir(std::move(dir)) {}
-
-  const fs::path& dir() const { return m_dir; }
-
-  /// A figure FIG.png with its script FIG.gp, whose tables FIG_<table>.csv the panels write
-  /// through the series_output handed to `panels`; `also_reads` lists tables of other
-  /// figures its panels read. Returns the path of the PNG.
-  template <class Panels>
-  std::string add(const std::string& stem, const std::string& heading, const std::string& text,
-                  Panels&& panels, int width, int height, int columns,
-                  const std::vector<std::string>& also_reads = {}) {
-    series_output out((m_dir / (stem + ".csv")).string());
-    std::vector<cli::plot_panel> list = panels(out);
-    out.write_plot({.description = {fmt::format("npend demo: {}", heading)},
-                    .width = width,
-                    .height = height,
-                    .columns = columns,
-                    .panels = std::move(list)});
-    std::vector<std::string> data;
-    for (const auto& path : out.files()) {
-      m_files.push_back(path);
-      if (path.ends_with(".csv")) data.push_back(fs::path(path).filename().string());
-    }
-    data.insert(data.end(), also_reads.begin(), also_reads.end());
-    m_notes.insert(m_notes.end(), out.notes().begin(), out.notes().end());
-    m_index.entries.push_back({heading, stem + ".png", text, data});
-    const std::string png = (m_dir / (stem + ".png")).string();
-    fmt::print("### {}\n{}\n-> {}\n\n", heading, text, png);
-    return png;
-  }
-
-  figure_index& index() { return m_index; }
-  const std::vector<std::string>& files() const { return m_files; }
-  const std::vector<std::string>& notes() const { return m_notes; }
-  void record(const std::string& path) { m_files.push_back(path); }
-
- private:
-  fs::path m_dir;
-  figure_index m_index;
-  std::vector<std::string> m_files, m_notes;
-};
 
 // A panel with the case's label as its title.
 cli::plot_panel titled(cli::plot_panel panel, const std::string& title) {
@@ -112,7 +68,7 @@ double largest_magnitude(const std::vector<double>& x) {
 }
 
 // The largest |φ_i| of any link over the sampled motion (rad).
-double largest_angle(const cli::sampled_signals& s) {
+double largest_angle(const sampled_signals& s) {
   double largest = 0;
   for (std::size_t i = 0; i < s.values.size() / 2; ++i)
     largest = std::max(largest, largest_magnitude(s.values[i]));
@@ -141,7 +97,7 @@ std::string omegas(const std::vector<spectral_peak>& peaks, std::size_t count) {
 void demo_forms_of_motion(const demo_context& demo) {
   const auto started = std::chrono::steady_clock::now();
   const chain& c = demo.triple;
-  figure_folder folder(cli::output_folder(demo.out.string(), "--out"));
+  figure_folder folder(cli::output_folder(demo.out.string(), "--out"), "npend demo: ", {}, true);
   fmt::print(
       "## 5. Forms of motion (paper section 6.6): figures 6.8-6.13, written to {}/\n\n"
       "The paper's setting: equal masses and lengths, the time series of phi_3 with 2^14 samples\n"
@@ -163,7 +119,9 @@ void demo_forms_of_motion(const demo_context& demo) {
     options.coordinate = 2;                                  // φ₃
     options.section = section_plane::coordinate(3, 0, 0.0);  // φ₁ = 0, upwards
     options.event = section_plane::coordinate(3, 2, 0.0);    // φ₃ = 0, both ways
-    k.a = analyze_motion(simulation(c, k.x0), options);
+    k.a = cli::on_terminal(simulation(c, k.x0), [&](const simulated_start& run) {
+      return analyze_motion(run, options);
+    });
     cases.push_back(std::move(k));
   }
   const demo_case &weak = cases[0], &strong = cases[1];
@@ -217,7 +175,7 @@ void demo_forms_of_motion(const demo_context& demo) {
           panels.push_back(titled(time_series_panel(out, k.key, k.a.signals, 2), k.label));
         return panels;
       },
-      1400, 520, 2);
+      {1400, 520, 2});
 
   // Abb. 6.8: the Poincaré section.
   double mode_spread = 0;
@@ -246,7 +204,7 @@ void demo_forms_of_motion(const demo_context& demo) {
             titled(poincare_panel(out, strong.key, c, strong.a.section, projection, "phi1=0"),
                    "(c) strong excitation: chaotic")};
       },
-      1500, 540, 3);
+      {1500, 540, 3});
 
   // Abb. 6.9 and 6.10: spectral density and autocorrelation.
   folder.add(
@@ -265,7 +223,7 @@ void demo_forms_of_motion(const demo_context& demo) {
               spectrum_panel(out, k.key, k.a.series, k.a.spectrum, k.a.peaks, 25.0), k.label));
         return panels;
       },
-      1400, 560, 2);
+      {1400, 560, 2});
   folder.add(
       "fig6_10_autocorrelation", "Abb. 6.10: autocorrelation of φ₃",
       fmt::format("C_xx(tau) of phi_3, normalised to C_xx(0) = 1 (Wiener-Khinchin, zero-padded). "
@@ -281,7 +239,7 @@ void demo_forms_of_motion(const demo_context& demo) {
               titled(autocorrelation_panel(out, k.key, k.a.series, k.a.autocorrelation), k.label));
         return panels;
       },
-      1400, 520, 2);
+      {1400, 520, 2});
 
   // Abb. 6.11 and 6.12: recurrence times of φ₃ = 0.
   std::vector<recurrence_panels> recurrence;
@@ -311,7 +269,7 @@ void demo_forms_of_motion(const demo_context& demo) {
         }
         return panels;
       },
-      1400, 520, 2);
+      {1400, 520, 2});
   folder.add(
       "fig6_12_recurrence_spectrum", "Abb. 6.12: spectrum of the sequence of recurrence times",
       "The spectral density of the interval sequence T_j against the event number j (omega in "
@@ -323,7 +281,7 @@ void demo_forms_of_motion(const demo_context& demo) {
           panels.push_back(titled(recurrence[k].spectrum, cases[k].label));
         return panels;
       },
-      1400, 520, 2, interval_spectra);
+      {1400, 520, 2}, interval_spectra);
 
   // Abb. 6.13: delay coordinates.
   const auto tau_text = [](const demo_case& k) {
@@ -356,14 +314,12 @@ void demo_forms_of_motion(const demo_context& demo) {
         delays.insert(delays.end(), dimensions.begin(), dimensions.end());
         return delays;
       },
-      1300, 1200, 2);
+      {1300, 1200, 2});
 
   for (const auto& k : cases)
     for (const auto& note : k.a.notes) folder.index().notes.push_back(k.key + ": " + note);
   for (const auto& note : folder.notes()) folder.index().notes.push_back(note);
-  const fs::path index_path = folder.dir() / "index.md";
-  cli::write_file_atomically(index_path, folder.index().markdown());
-  folder.record(index_path.string());
+  const fs::path index_path = folder.write_index();
   for (const auto& note : folder.index().notes) fmt::print("note: {}\n", note);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

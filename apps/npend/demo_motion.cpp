@@ -2,6 +2,7 @@
 #include "demo_sections.hpp"
 
 #include "npend/excitation.hpp"
+#include "npend/analysis/energy_drift.hpp"
 #include "npend/integrate.hpp"
 
 #include <fmt/format.h>
@@ -21,18 +22,17 @@ struct excitation_run {
   double neighbour_separation;  // of a start 1e-9 rad away in φ_3, at t_end
 };
 
-// max |H − H0| / H0 along the run with `stepper`; the observer also sees every state.
+// The largest relative energy error along the run with `stepper`; the observer also sees every state.
 template <class Observer>
 double energy_error(const chain& c, const std::vector<double>& x0, integration_options o,
                     stepper_kind stepper, Observer&& also) {
   o.stepper = stepper;
-  const double h0 = c.hamiltonian(x0);
-  double worst = 0;
+  energy_drift drift(c, c.hamiltonian(x0));
   integrate(c, x0, o, [&](double t, std::span<const double> x) {
-    worst = std::max(worst, std::fabs(c.hamiltonian(x) - h0) / h0);
+    drift.add(x);
     also(t, x);
   });
-  return worst;
+  return drift.max_relative_error();
 }
 
 excitation_run follow(const chain& c, double epsilon, const integration_options& o) {

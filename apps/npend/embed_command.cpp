@@ -33,7 +33,7 @@ struct embed_options {
 };
 
 // τ from --tau: a method name, or a delay in seconds.
-delay_choice delay_from_option(const std::string& text, const cli::time_series& x,
+delay_choice delay_from_option(const std::string& text, const time_series& x,
                                std::size_t bins) {
   if (const auto method = delay_method_from_name(text)) {
     const delay_choice c = choose_delay(x.values, x.dt, *method, {.bins = bins});
@@ -95,7 +95,7 @@ nlohmann::json nullable(bool present, const std::vector<double>& values) {
 int run_embed(const embed_options& o) {
   const std::optional<std::size_t> fixed_dim = checked_fixed_dimension(o);
   series_output files(o.out);
-  const cli::time_series x = o.series.load_one(min_samples);
+  const time_series x = o.series.load_one(min_samples);
   const delay_choice tau = delay_from_option(o.tau, x, o.bins);
   std::size_t theiler = tau.samples;
   if (!o.theiler.empty()) {

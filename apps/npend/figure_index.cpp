@@ -1,5 +1,7 @@
 #include "figure_index.hpp"
 
+#include "output_file.hpp"
+
 #include <fmt/format.h>
 
 namespace npend::app {
@@ -37,6 +39,42 @@ std::string figure_index::markdown() const {
                       script);
   }
   return md;
+}
+
+figure_folder::figure_folder(std::filesystem::path dir, std::string description_prefix,
+                             std::string description_suffix, bool echo)
+    : m_dir(std::move(dir)),
+      m_prefix(std::move(description_prefix)),
+      m_suffix(std::move(description_suffix)),
+      m_echo(echo) {}
+
+std::string figure_folder::finish(series_output& out, const std::string& stem,
+                                  const std::string& heading, const std::string& text,
+                                  std::vector<cli::plot_panel> panels, figure_size size,
+                                  const std::vector<std::string>& also_reads) {
+  out.write_plot({.description = {m_prefix + heading + m_suffix},
+                  .width = size.width,
+                  .height = size.height,
+                  .columns = size.columns,
+                  .panels = std::move(panels)});
+  std::vector<std::string> data;
+  for (const auto& path : out.files()) {
+    m_files.push_back(path);
+    if (path.ends_with(".csv")) data.push_back(std::filesystem::path(path).filename().string());
+  }
+  data.insert(data.end(), also_reads.begin(), also_reads.end());
+  m_notes.insert(m_notes.end(), out.notes().begin(), out.notes().end());
+  m_index.entries.push_back({heading, stem + ".png", text, data});
+  const std::string png = (m_dir / (stem + ".png")).string();
+  if (m_echo) fmt::print("### {}\n{}\n-> {}\n\n", heading, text, png);
+  return png;
+}
+
+std::filesystem::path figure_folder::write_index() {
+  const std::filesystem::path path = m_dir / "index.md";
+  cli::write_file_atomically(path, m_index.markdown());
+  m_files.push_back(path.string());
+  return path;
 }
 
 }  // namespace npend::app

@@ -97,14 +97,6 @@ nlohmann::json numbers(const std::vector<double>& values) {
   return out;
 }
 
-// λ_i + λ_{2n+1−i} for i = 1..n.
-std::vector<double> pair_sums(const std::vector<double>& lambda) {
-  std::vector<double> out;
-  for (std::size_t i = 0; i < lambda.size() / 2; ++i)
-    out.push_back(lambda[i] + lambda[lambda.size() - 1 - i]);
-  return out;
-}
-
 void write_files(series_output& files, const lyapunov_result& r, const chain& c, bool maximal) {
   std::vector<std::string> names{"t"};
   std::vector<std::vector<double>> columns{r.history_t};
@@ -330,9 +322,9 @@ int run_series(const lyapunov_command_options& o) {
   }
   series_output files(o.out);
   const std::string text = cli::read_text_file(o.input, "--input");
-  const cli::sampled_signals signals = cli::signals_from_csv(
+  const sampled_signals signals = cli::signals_from_csv(
       cli::parse_csv(text, o.input), o.input, spacing, min_series_samples);
-  const cli::time_series x = cli::select_signal(signals, o.column, "--column");
+  const time_series x = cli::select_signal(signals, o.column, "--column");
   const double dt = x.dt;
 
   // τ: a rule of npend embed, or seconds.

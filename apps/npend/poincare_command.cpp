@@ -95,20 +95,13 @@ int run_poincare(const poincare_options& o) {
 
   const std::vector<section_crossing> crossings = reported(locator.crossings(), section, n);
   const double energy = c.hamiltonian(x0);
-  double residual = 0, energy_error = 0;
-  std::size_t unrefined = 0;
-  for (const auto& x : crossings) {
-    residual = std::max(residual, std::fabs(section.value(x.state)));
-    const double error = std::fabs(c.hamiltonian(x.state) - energy);
-    energy_error = std::max(energy_error, energy != 0 ? error / std::fabs(energy) : error);
-    unrefined += x.refined ? 0 : 1;
-  }
+  const auto [residual, energy_error, unrefined] = crossing_quality(c, section, crossings, energy);
   const std::string what = fmt::format("{} ({})", o.section, cli::direction_name(direction));
   const std::string projected = fmt::format("{},{}", cli::coordinate_name(projection.first, n),
                                             cli::coordinate_name(projection.second, n));
   // A section of unwrapped angles: say so when an arm went over the top.
   const bool flipped = largest_angle > std::numbers::pi && o.unwrapped;
-  const std::string flip_note(cli::unwrapped_angles_note);
+  const std::string flip_note(unwrapped_angles_note);
 
   if (files.enabled()) {
     cli::plot_panel panel = poincare_panel(files, "", c, crossings, projection, what);

@@ -35,15 +35,15 @@ struct recurrence_options {
 
 // The event times of a CSV file's signals: sign changes of signal − level or signal − other
 // between the samples, located by linear or cubic interpolation.
-std::vector<double> sampled_event_times(const cli::sampled_signals& signals,
+std::vector<double> sampled_event_times(const sampled_signals& signals,
                                         const cli::section_spec& spec, const std::string& text,
                                         const event_options& options) {
-  const cli::time_series signal = cli::select_signal(signals, spec.left, "--event");
+  const time_series signal = cli::select_signal(signals, spec.left, "--event");
   std::vector<double> g = signal.values;
   if (spec.level) {
     for (double& v : g) v -= *spec.level;
   } else {
-    const cli::time_series other = cli::select_signal(signals, spec.right, "--event");
+    const time_series other = cli::select_signal(signals, spec.right, "--event");
     if (other.name == signal.name)
       throw cli::input_error(fmt::format("--event: '{}' compares a signal with itself", text));
     for (std::size_t j = 0; j < g.size(); ++j) g[j] -= other.values[j];
@@ -82,12 +82,12 @@ int run_recurrence(const recurrence_options& o) {
                              cli::section_from_spec(spec, simulation->pendulum.links(), "--event",
                                                     angles),
                              direction);
-    cli::simulate_signals(*simulation, std::ref(locator));
+    cli::simulate_with_progress(*simulation, std::ref(locator));
     times = crossing_times(locator.crossings());
     source = simulation->source;
     dt = simulation->integration.dt;
   } else {
-    const cli::sampled_signals signals = o.series.load(4);
+    const sampled_signals signals = o.series.load(4);
     times = sampled_event_times(
         signals, spec, o.event,
         {.direction = direction, .interpolation = interpolation, .t0 = signals.t0});

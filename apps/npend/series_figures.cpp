@@ -52,13 +52,13 @@ std::string display_name(const std::string& name) {
 }
 
 // A signal's value at `argument` with its unit: "φ_3(t − τ) (rad)", "x(t) ([x])".
-std::string value_label(const cli::time_series& x, std::string_view argument) {
+std::string value_label(const time_series& x, std::string_view argument) {
   if (x.unit.empty()) return fmt::format("x({}) ([x])", argument);
   return fmt::format("{}({}) ({})", display_name(x.name), argument, x.unit);
 }
 
 // The unit of a spectral density of x: "rad^2 s/rad", "[x]^2 s/rad".
-std::string density_unit(const cli::time_series& x) {
+std::string density_unit(const time_series& x) {
   if (x.unit.empty()) return "[x]^2 s/rad";
   return x.unit.find(' ') == std::string::npos ? fmt::format("{}^2 s/rad", x.unit)
                                                : fmt::format("({})^2 s/rad", x.unit);
@@ -85,7 +85,7 @@ std::string window_label(spectral_window w) {
 }
 
 cli::plot_panel spectrum_panel(series_output& files, std::string_view table,
-                               const cli::time_series& x, const power_spectrum_result& spectrum,
+                               const time_series& x, const power_spectrum_result& spectrum,
                                const std::vector<spectral_peak>& peaks,
                                std::optional<double> omega_max) {
   const std::string data = files.write_csv(table, std::vector<std::string>{"omega", "power"},
@@ -127,7 +127,7 @@ cli::plot_panel spectrum_panel(series_output& files, std::string_view table,
 }
 
 cli::plot_panel mutual_information_panel(series_output& files, std::string_view table,
-                                         const cli::time_series& x,
+                                         const time_series& x,
                                          const mutual_information_result& ami) {
   const std::string data = files.write_csv(table, std::vector<std::string>{"tau", "I"},
                                            std::vector{ami.lag, ami.information});
@@ -144,7 +144,7 @@ cli::plot_panel mutual_information_panel(series_output& files, std::string_view 
 }
 
 cli::plot_panel autocorrelation_panel(series_output& files, std::string_view table,
-                                      const cli::time_series& x, const autocorrelation_result& c) {
+                                      const time_series& x, const autocorrelation_result& c) {
   const std::string data =
       files.write_csv(table, std::vector<std::string>{"tau", "C"}, std::vector{c.lag, c.value});
   cli::plot_panel panel{.title = fmt::format("Autocorrelation of {}", x.name),
@@ -229,7 +229,7 @@ recurrence_panels recurrence_figure(series_output& files, std::string_view table
 }
 
 cli::plot_panel delay_plot_panel(series_output& files, std::string_view table,
-                                 const cli::time_series& x, const delay_choice& tau,
+                                 const time_series& x, const delay_choice& tau,
                                  const delay_vectors& v) {
   const std::size_t shown = v.dimension;
   std::vector<std::string> names{"t"};
@@ -277,7 +277,7 @@ cli::plot_panel embedding_dimension_panel(series_output& files, std::string_view
 }
 
 std::pair<cli::plot_panel, cli::plot_panel> embedding_figure(
-    series_output& files, std::string_view table, const cli::time_series& x,
+    series_output& files, std::string_view table, const time_series& x,
     const delay_choice& tau, const delay_vectors& v, const false_neighbours_result& fnn,
     const cao_result& cao, std::optional<std::size_t> dimension, std::string_view method) {
   return {delay_plot_panel(files, table, x, tau, v),
@@ -327,7 +327,7 @@ cli::plot_panel poincare_panel(series_output& files, std::string_view table, con
 }
 
 cli::plot_panel time_series_panel(series_output& files, std::string_view table,
-                                  const cli::sampled_signals& signals, std::size_t signal,
+                                  const sampled_signals& signals, std::size_t signal,
                                   double t_max) {
   std::vector<std::string> names{"t"};
   names.insert(names.end(), signals.names.begin(), signals.names.end());

@@ -35,18 +35,18 @@ std::string window_label(spectral_window w);
 /// `table` (omega, power) and its _peaks (omega, power). The frequency axis ends at
 /// `omega_max` or where the density has fallen for good.
 cli::plot_panel spectrum_panel(series_output& files, std::string_view table,
-                               const cli::time_series& x, const power_spectrum_result& spectrum,
+                               const time_series& x, const power_spectrum_result& spectrum,
                                const std::vector<spectral_peak>& peaks,
                                std::optional<double> omega_max = {});
 
 /// C_xx(τ) with its first zero and first minimum marked: writes `table` (tau, C).
 cli::plot_panel autocorrelation_panel(series_output& files, std::string_view table,
-                                      const cli::time_series& x, const autocorrelation_result& c);
+                                      const time_series& x, const autocorrelation_result& c);
 
 /// The average mutual information I(τ) with its first local minimum marked: writes `table`
 /// (tau, I). `ami` as choose_delay evaluated it (not empty).
 cli::plot_panel mutual_information_panel(series_output& files, std::string_view table,
-                                         const cli::time_series& x,
+                                         const time_series& x,
                                          const mutual_information_result& ami);
 
 /// The recurrence statistics' three panels.
@@ -64,7 +64,7 @@ recurrence_panels recurrence_figure(series_output& files, std::string_view table
 
 /// The delay plot x(t) against x(t − τ): writes `table` (t and the delay vectors `v`).
 cli::plot_panel delay_plot_panel(series_output& files, std::string_view table,
-                                 const cli::time_series& x, const delay_choice& tau,
+                                 const time_series& x, const delay_choice& tau,
                                  const delay_vectors& v);
 
 /// The false-neighbour fraction and Cao's E1, E2 against m (m = 1..the length of
@@ -80,7 +80,7 @@ cli::plot_panel embedding_dimension_panel(series_output& files, std::string_view
 /// `v`) and _dimension. `dimension` is the one found or given (none if none was found),
 /// `method` how ("fnn", "cao" or "given").
 std::pair<cli::plot_panel, cli::plot_panel> embedding_figure(
-    series_output& files, std::string_view table, const cli::time_series& x,
+    series_output& files, std::string_view table, const time_series& x,
     const delay_choice& tau, const delay_vectors& v, const false_neighbours_result& fnn,
     const cao_result& cao, std::optional<std::size_t> dimension, std::string_view method);
 
@@ -94,7 +94,7 @@ cli::plot_panel poincare_panel(series_output& files, std::string_view table, con
 /// A coordinate's time series: writes `table` (t, phi1..phin, p1..pn) of all signals and
 /// plots the chosen one over [0, t_max] (0: all).
 cli::plot_panel time_series_panel(series_output& files, std::string_view table,
-                                  const cli::sampled_signals& signals, std::size_t signal,
+                                  const sampled_signals& signals, std::size_t signal,
                                   double t_max = 0);
 
 }  // namespace npend::app

@@ -9,7 +9,7 @@
 
 namespace npend::app {
 
-nlohmann::json describe_series(const cli::time_series& s) {
+nlohmann::json describe_series(const time_series& s) {
   return {{"source", s.source},
           {"signal", s.name},
           {"samples", s.values.size()},
@@ -17,7 +17,7 @@ nlohmann::json describe_series(const cli::time_series& s) {
           {"dt", s.dt}};
 }
 
-std::string series_summary(const cli::time_series& s) {
+std::string series_summary(const time_series& s) {
   return fmt::format("'{}' from {}: {} samples, dt = {:.6g} s ({:.6g} s)", s.name, s.source,
                      s.values.size(), s.dt, s.dt * static_cast<double>(s.values.size()));
 }

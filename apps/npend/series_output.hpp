@@ -15,10 +15,10 @@
 namespace npend::app {
 
 /// {"source", "signal", "samples", "t0", "dt"} of the analysed series.
-nlohmann::json describe_series(const cli::time_series& s);
+nlohmann::json describe_series(const time_series& s);
 
 /// "'x' from data.csv: 16384 samples, dt = 0.001 s (16.384 s)".
-std::string series_summary(const cli::time_series& s);
+std::string series_summary(const time_series& s);
 
 /// The files a command writes for --out FILE.csv: FILE.csv, FILE_<table>.csv, FILE.gp and
 /// FILE.png. Constructed before the analysis runs, so a bad --out fails first and nothing is

@@ -7,6 +7,7 @@
 #include "terminal_run.hpp"
 #include "start_options.hpp"
 
+#include "npend/analysis/energy_drift.hpp"
 #include "npend/integrate.hpp"
 
 #include <fmt/format.h>
@@ -103,17 +104,13 @@ int run_simulate(const simulate_options& o) {
     csv.emplace(c, stdout);
   if (csv) csv->header();
 
-  const double energy_initial = c.hamiltonian(x0);
-  double energy = energy_initial, max_rel_error = 0;
+  energy_drift energy(c, c.hamiltonian(x0));
   std::size_t index = 0, rows = 0;
   const integration_result result =
       integrate(c, x0, options, [&](double t, std::span<const double> x) {
-        energy = c.hamiltonian(x);
-        const double error = std::fabs(energy - energy_initial);
-        max_rel_error = std::max(max_rel_error,
-                                 energy_initial != 0 ? error / std::fabs(energy_initial) : error);
+        energy.add(x);
         if (csv && index % every == 0) {
-          csv->row(t, x, energy);
+          csv->row(t, x, energy.last());
           ++rows;
         }
         ++index;
@@ -141,9 +138,9 @@ int run_simulate(const simulate_options& o) {
     j["steps"] = result.steps;
     j["outputs"] = result.outputs;
     j["rows"] = rows;
-    j["energy_initial"] = energy_initial;
-    j["energy_final"] = energy;
-    j["max_rel_energy_error"] = max_rel_error;
+    j["energy_initial"] = energy.initial();
+    j["energy_final"] = energy.last();
+    j["max_rel_energy_error"] = energy.max_relative_error();
     j["initial_state"] = x0;
     j["final_state"] = result.state;
     j["out"] = o.out.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.out);

@@ -57,7 +57,7 @@ int run_spectrum(const spectrum_options& o) {
     if (!(*omega_max > 0)) throw cli::input_error("--omega-max: must be positive");
   }
   series_output files(o.out);
-  const cli::time_series x = o.series.load_one(min_samples);
+  const time_series x = o.series.load_one(min_samples);
   if (o.segment != 0 && (o.segment < min_samples || o.segment > x.values.size()))
     throw cli::input_error(
         fmt::format("--segment: must be 0 (the whole series) or {}..{} samples, got {}",
@@ -124,7 +124,7 @@ struct autocorrelation_options {
 
 int run_autocorrelation(const autocorrelation_options& o) {
   series_output files(o.out);
-  const cli::time_series x = o.series.load_one(min_samples);
+  const time_series x = o.series.load_one(min_samples);
   const std::size_t n = x.values.size();
   std::size_t lags = n / 2;
   if (!o.max_lag.empty()) {

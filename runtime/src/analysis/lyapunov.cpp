@@ -1,6 +1,7 @@
 #include "npend/analysis/lyapunov.hpp"
 
 #include "detail/explicit_system.hpp"
+#include "npend/analysis/energy_drift.hpp"
 #include "npend/chain_system.hpp"
 #include "npend/gauss_legendre.hpp"
 #include "npend/integrate_system.hpp"
@@ -165,7 +166,7 @@ lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const l
   r.transient = static_cast<double>(transient_steps) * dt;
   const auto k = static_cast<std::size_t>(W.cols());
   std::vector<double> x(x0.begin(), x0.end()), sums(k, 0.0), running, block_sums(k, 0.0);
-  const double h0 = c.hamiltonian(x);
+  energy_drift energy(c, c.hamiltonian(x));
   const double t_average = t0 + r.transient;
 
   std::size_t done = 0;
@@ -185,9 +186,8 @@ lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const l
       const Eigen::HouseholderQR<Eigen::MatrixXd> qr(W);
       const Eigen::VectorXd diagonal = qr.matrixQR().diagonal();
       W = qr.householderQ() * Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(d), W.cols());
-      const double h = c.hamiltonian(x);
-      r.max_rel_energy_error =
-          std::max(r.max_rel_energy_error, std::fabs(h - h0) / (h0 != 0 ? std::fabs(h0) : 1.0));
+      energy.add(x);
+      r.max_rel_energy_error = energy.max_relative_error();
 
       if (done > transient_steps) {
         ++r.renormalisations;
@@ -259,6 +259,7 @@ lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const l
           std::sqrt(squares / static_cast<double>(count - 1) / static_cast<double>(count));
     }
   r.sum = std::accumulate(r.exponents.begin(), r.exponents.end(), 0.0);
+  if (k == x.size()) r.pair_sums = pair_sums(r.exponents);  // the full spectrum
 
   const double tail_start = t_average + (1 - o.convergence_fraction) * r.averaging_time;
   r.spread.assign(k, std::numeric_limits<double>::quiet_NaN());
@@ -435,6 +436,13 @@ lyapunov_ensemble_result lyapunov_ensemble(const chain& c, std::span<const doubl
     r.standard_error[i] = r.standard_deviation[i] / std::sqrt(static_cast<double>(count));
   }
   return r;
+}
+
+std::vector<double> pair_sums(std::span<const double> exponents) {
+  std::vector<double> sums;
+  const std::size_t d = exponents.size();
+  for (std::size_t i = 0; i < d / 2; ++i) sums.push_back(exponents[i] + exponents[d - 1 - i]);
+  return sums;
 }
 
 }  // namespace npend

@@ -1,5 +1,7 @@
 #include "npend/analysis/poincare_section.hpp"
 
+#include "npend/analysis/energy_drift.hpp"
+
 #include <boost/numeric/odeint/integrate/integrate_adaptive.hpp>
 #include <boost/numeric/odeint/stepper/generation.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
@@ -252,6 +254,19 @@ std::vector<double> crossing_times(std::span<const section_crossing> crossings) 
   times.reserve(crossings.size());
   for (const auto& c : crossings) times.push_back(c.t);
   return times;
+}
+
+section_quality crossing_quality(const chain& c, const section_plane& section,
+                                 std::span<const section_crossing> crossings, double h0) {
+  section_quality q;
+  energy_drift energy(c, h0);
+  for (const auto& x : crossings) {
+    q.max_residual = std::max(q.max_residual, std::fabs(section.value(x.state)));
+    energy.add(x.state);
+    q.unrefined += x.refined ? 0 : 1;
+  }
+  q.max_rel_energy_error = energy.max_relative_error();
+  return q;
 }
 
 }  // namespace npend

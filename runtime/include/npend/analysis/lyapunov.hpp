@@ -64,6 +64,9 @@ struct lyapunov_result {
   std::vector<double> exponents;
   /// Σ exponents (1/s): 0 for the chain (div f = 0) up to the integration error.
   double sum = 0;
+  /// λ_i + λ_{2n+1−i} for i = 1..n (full spectrum only; empty for the maximal exponent): 0
+  /// for a Hamiltonian flow, to round-off with the symplectic tangent map.
+  std::vector<double> pair_sums;
   /// Per exponent, in the order of `exponents`: max − min of its running value over the
   /// last convergence_fraction of the averaging time (1/s) — the convergence estimate; NaN
   /// when fewer than two running values fall there.
@@ -108,6 +111,10 @@ struct lyapunov_result {
 /// (in the order the tangent vectors are kept, k values; empty during the transient). It
 /// may stop the run (observer_action::stop): for progress bars and interrupts.
 using lyapunov_observer = std::function<observer_action(double t, std::span<const double> running)>;
+
+/// λ_i + λ_{d+1−i} for i = 1..d/2 of a descending spectrum of d exponents (1/s): 0 for a
+/// Hamiltonian flow, whose exponents come in pairs ±λ.
+std::vector<double> pair_sums(std::span<const double> exponents);
 
 /// The full spectrum of 2n Lyapunov exponents of the trajectory from x0 (dim 2n =
 /// [φ, p]), by the method of Benettin et al. with 2n tangent vectors starting as the unit

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "npend/analysis/event_times.hpp"
@@ -131,7 +132,26 @@ poincare_result poincare_section(const chain& c, std::span<const double> x0,
                                  const integration_options& integration,
                                  const poincare_options& options = {});
 
+/// What to tell a user whose run took an arm over the top, when sections of unwrapped angles
+/// are asked for (the command line's --unwrapped).
+inline constexpr std::string_view unwrapped_angles_note =
+    "an arm passed the upright position (|phi| > pi) and the section is of the unwrapped "
+    "angles (--unwrapped), so phi = c and phi = c + 2 pi are different planes";
+
 /// The times of the crossings (s), for recurrence_times.
 std::vector<double> crossing_times(std::span<const section_crossing> crossings);
+
+/// How good a set of crossings is: how far they lie off the section and off the energy
+/// surface.
+struct section_quality {
+  double max_residual = 0;          ///< largest |g(x)| of a crossing (section.value)
+  double max_rel_energy_error = 0;  ///< largest relative_energy_error of H against h0
+  std::size_t unrefined = 0;        ///< crossings without Hénon's step (dense output only)
+};
+
+/// The quality of `crossings` of `section` by chain `c` started with energy h0 (J); all 0
+/// for no crossing. Does not check sizes.
+section_quality crossing_quality(const chain& c, const section_plane& section,
+                                 std::span<const section_crossing> crossings, double h0);
 
 }  // namespace npend

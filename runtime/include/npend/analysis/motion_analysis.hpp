@@ -4,14 +4,13 @@
 // npend demo runs it for a periodic and a chaotic start and draws the paper's figures.
 #pragma once
 
-#include "time_series_source.hpp"
-
 #include "npend/analysis/autocorrelation.hpp"
 #include "npend/analysis/delay_embedding.hpp"
 #include "npend/analysis/embedding_dimension.hpp"
 #include "npend/analysis/poincare_section.hpp"
 #include "npend/analysis/power_spectrum.hpp"
 #include "npend/analysis/recurrence_times.hpp"
+#include "npend/analysis/sampled_signals.hpp"
 #include "npend/analysis/spectral_peaks.hpp"
 
 #include <cstddef>
@@ -19,7 +18,7 @@
 #include <string>
 #include <vector>
 
-namespace npend::app {
+namespace npend {
 
 struct motion_analysis_options {
   std::size_t coordinate = 0;  ///< state index of the analysed time series
@@ -31,9 +30,11 @@ struct motion_analysis_options {
 };
 
 struct motion_analysis {
-  cli::sampled_signals signals;                     ///< every coordinate on the sample grid
-  cli::time_series series;                          ///< the analysed coordinate
+  sampled_signals signals;                          ///< every coordinate on the sample grid
+  time_series series;                               ///< the analysed coordinate
+  integration_result run;                           ///< how the integration ended
   std::vector<section_crossing> section;            ///< Poincaré crossings over the whole run
+  npend::section_quality section_quality;           ///< of `section`, against H(x0)
   std::vector<double> event_times;                  ///< s, over the whole run
   power_spectrum_result spectrum;                   ///< Hann window, one segment
   std::vector<spectral_peak> peaks;                 ///< default peak options, strongest first
@@ -51,9 +52,11 @@ struct motion_analysis {
 };
 
 /// Integrates `sim` once (its samples for the series, its whole run for the section and the
-/// events) and runs every analysis. Throws npend::integration_error if the integration
-/// cannot go on; analyses the data do not allow (too few events, no delay) leave notes.
-motion_analysis analyze_motion(const cli::simulated_start& sim,
-                               const motion_analysis_options& options);
+/// events) and runs every analysis. A run its run control stops (run.stopped) is returned as
+/// it stands, nothing analysed. Throws std::invalid_argument for a coordinate ≥ 2n, bad
+/// sections, or a series that does not move (a start at rest in an equilibrium);
+/// npend::integration_error if the integration cannot go on. Analyses the data do not
+/// allow (too few events, no delay) leave notes.
+motion_analysis analyze_motion(const simulated_start& sim, const motion_analysis_options& options);
 
-}  // namespace npend::app
+}  // namespace npend

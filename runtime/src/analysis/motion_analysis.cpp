@@ -1,7 +1,4 @@
-#include "motion_analysis.hpp"
-
-#include "input_parsing.hpp"
-#include "section_spec.hpp"
+#include "npend/analysis/motion_analysis.hpp"
 
 #include <fmt/format.h>
 
@@ -11,39 +8,47 @@
 #include <stdexcept>
 #include <utility>
 
-namespace npend::app {
+namespace npend {
 
-motion_analysis analyze_motion(const cli::simulated_start& sim,
+motion_analysis analyze_motion(const simulated_start& sim,
                                const motion_analysis_options& options) {
+  const auto links = static_cast<std::size_t>(sim.pendulum.links());
+  if (options.coordinate >= 2 * links)
+    throw std::invalid_argument(fmt::format(
+        "analyze_motion: coordinate is {}: the state has {} entries", options.coordinate,
+        2 * links));
   motion_analysis a;
   crossing_locator section(sim.pendulum, options.section, options.section_direction);
   crossing_locator events(sim.pendulum, options.event, options.event_direction);
-  const auto links = static_cast<std::size_t>(sim.pendulum.links());
-  a.signals = cli::simulate_signals(sim, [&](const integration_step& step) {
+  simulated_signals simulated = simulate_signals(sim, [&](const integration_step& step) {
     section(step);
     events(step);
     for (std::size_t i = 0; i < links; ++i)
       a.largest_angle = std::max(a.largest_angle, std::fabs(step.x_end()[i]));
     return observer_action::proceed;
   });
+  a.signals = std::move(simulated.signals);
+  a.run = simulated.run;
+  if (a.run.stopped) return a;
   // Only a plane of unwrapped angles is moved by a flip.
   const auto on_unwrapped_angles = [&](const section_plane& s) {
-    return !s.circular && std::any_of(s.normal.begin(), s.normal.begin() + static_cast<std::ptrdiff_t>(links),
+    return !s.circular && std::any_of(s.normal.begin(),
+                                      s.normal.begin() + static_cast<std::ptrdiff_t>(links),
                                       [](double w) { return w != 0; });
   };
   if (a.largest_angle > std::numbers::pi &&
       (on_unwrapped_angles(options.section) || on_unwrapped_angles(options.event)))
-    a.notes.emplace_back(cli::unwrapped_angles_note);
-  const std::size_t k = options.coordinate;
-  a.series = {a.signals.source, a.signals.names[k],  a.signals.t0,
-              a.signals.dt,     a.signals.values[k], a.signals.units[k]};
+    a.notes.emplace_back(unwrapped_angles_note);
+  a.series = signal_at(a.signals, options.coordinate);
   const auto& x = a.series.values;
   const auto [low, high] = std::minmax_element(x.begin(), x.end());
   if (*low == *high)
-    throw cli::input_error(fmt::format(
+    throw std::invalid_argument(fmt::format(
         "{} stays at {} over the whole series: nothing moves (give a start away from rest)",
         a.series.name, *low));
   a.section = section.crossings();
+  a.section_quality =
+      crossing_quality(sim.pendulum, options.section, a.section, sim.pendulum.hamiltonian(sim.x0));
   a.event_times = crossing_times(events.crossings());
 
   a.spectrum = power_spectrum(x, a.series.dt);
@@ -87,4 +92,4 @@ motion_analysis analyze_motion(const cli::simulated_start& sim,
   return a;
 }
 
-}  // namespace npend::app
+}  // namespace npend
