@@ -12,8 +12,8 @@
 namespace npend::bench {
 
 /// Table order: npend's generated kernels, the hand-written O(n) recursion
-/// (tests/reference/chain_recursion.hpp), the hand-written dense Eigen implementation
-/// (tests/reference/dense_chain.hpp) and SymPy's generated C (bench/sympy_peer.py).
+/// (tests/reference/include/reference/chain_recursion.hpp), the hand-written dense Eigen implementation
+/// (tests/reference/include/reference/dense_chain.hpp) and SymPy's generated C (bench/sympy_peer.py).
 inline constexpr std::array<std::string_view, 4> implementation_names{"generated", "recursion",
                                                                       "eigen", "sympy"};
 

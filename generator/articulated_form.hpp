@@ -37,7 +37,7 @@
 // and ω = Ẑq − Q̂τ) cancelled and lost accuracy in proportion to the mass ratio (4e-8
 // relative in φ̇ at m = 1, 1e8). The outputs of this one are accurate to a small multiple
 // of their componentwise condition number times ε for mass and length ratios up to 1e8
-// (tests/test_kernel_accuracy.cpp measures it against a binary128 reference).
+// (tests/generated/test_kernel_accuracy.cpp measures it against a binary128 reference).
 //
 // The Jacobian J = [[B, W], [C, D]] is the forward-mode derivative of this straight-line
 // program (articulated_form.cpp writes the tangent out, with the shared factors ρ_k =

@@ -1,5 +1,5 @@
 // A high-precision reference for the n-link chain, and the componentwise condition number
-// of every kernel output, for the accuracy tests (tests/test_kernel_accuracy.cpp).
+// of every kernel output, for the accuracy tests (tests/generated/test_kernel_accuracy.cpp).
 //
 // The formulas are the dense ones of PAPER-NOTES.md ("Conventions"), written once for any
 // scalar type: A_ij = μ_max(i,j) l_i l_j cos(φ_i − φ_j) with the cosine of the difference

@@ -1,5 +1,5 @@
 // Componentwise accuracy of the generated kernels at extreme mass and length ratios, against
-// a binary128 evaluation of the dense formulas (tests/reference/precise_chain.hpp).
+// a binary128 evaluation of the dense formulas (tests/reference/include/reference/precise_chain.hpp).
 //
 // Every output y must satisfy |ŷ − y| ≤ c u Σ_j |∂y/∂x_j| |x_j| (u = 2⁻⁵³), the bound that
 // relative errors of u in each datum x = (sin φ, cos φ, p, m, l, g) would cause to first

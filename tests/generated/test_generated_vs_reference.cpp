@@ -1,5 +1,5 @@
 // Generated kernels against the independent hand-written dense implementation
-// (tests/reference/dense_chain.hpp) for n = 1 … 6, unequal masses and lengths.
+// (tests/reference/include/reference/dense_chain.hpp) for n = 1 … 6, unequal masses and lengths.
 #include "npend/chain.hpp"
 #include "reference/dense_chain.hpp"
 #include "support/test_support.hpp"
