@@ -1,6 +1,7 @@
 #include "chain_functions.hpp"
 
 #include "articulated_form.hpp"
+#include "general_form.hpp"
 #include "polynomial.hpp"
 
 #include <string>
@@ -164,17 +165,78 @@ emitted_function closed_form_function(const chain_symbols& sym, const polynomial
   return f;
 }
 
+// The kinetic functions by the general path: rhs, jacobian, hamiltonian, velocities and
+// det_mass_matrix, each from its own general_form over its own graph.
+std::vector<emitted_function> general_functions(const polynomial_space& space,
+                                                const chain_mechanics& mech,
+                                                const lagrangian_hessians& hessians) {
+  std::vector<emitted_function> out;
+  out.push_back(make("rhs", argument_layout::state,
+                     {"Hamilton's equations f(x): dxdt = [dphi/dt (dim n), dp/dt (dim n)].",
+                      "phi' = A^-1 p with A = L D L^T factored here (general path), "
+                      "p' = dL/dphi at phi'."},
+                     "dxdt"));
+  out.push_back(make("jacobian", argument_layout::state,
+                     {"Exact Jacobian J = df/dx of rhs, row-major (2n x 2n): J[i*2n + j] = "
+                      "df_i/dx_j.",
+                      "Hamiltonian structure: J = [[B, A^-1], [C, -B^T]] with C symmetric."},
+                     "jac"));
+  out.push_back(make("hamiltonian", argument_layout::state,
+                     {"Hamiltonian H(phi, p) = 1/2 p^T A^-1 p + V (total energy)."}));
+  out.push_back(make("velocities", argument_layout::phi_p,
+                     {"Inverse Legendre transform: dphi = A^-1 p (dim n)."}, "dphi"));
+  out.push_back(make("det_mass_matrix", argument_layout::phi,
+                     {"det A(phi) = prod D_i, the pivots of A = L D L^T."}));
+  for (auto& f : out) {
+    const general_form form(space, mech, hessians, *f.graph);
+    if (f.name == "rhs") {
+      f.outputs = form.velocities();
+      for (const sx rate : form.momentum_rates()) f.outputs.push_back(rate);
+    } else if (f.name == "jacobian") {
+      f.outputs = form.jacobian();
+    } else if (f.name == "hamiltonian") {
+      f.outputs = {form.hamiltonian()};
+    } else if (f.name == "velocities") {
+      f.outputs = form.velocities();
+    } else {
+      f.outputs = {form.mass_matrix_determinant()};
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
+const char* solver_name(kinetic_solver solver) {
+  return solver == kinetic_solver::articulated ? "articulated" : "ldlt";
+}
+
+kinetic_solver default_solver(const chain_symbols& /*sym*/) {
+  return kinetic_solver::articulated;
+}
+
 std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
-                                                    const chain_mechanics& mech) {
+                                                    const chain_mechanics& mech,
+                                                    kinetic_solver solver) {
   const int n = sym.n;
   const polynomial_space space(sym);
   std::vector<emitted_function> out;
-  out.push_back(rhs_function(n, space, mech));
-  out.push_back(jacobian_function(n, space, mech));
-  out.push_back(hamiltonian_function(n, space, mech));
-  out.push_back(velocities_function(n));
+  std::vector<emitted_function> general;
+  if (solver == kinetic_solver::ldlt)
+    general = general_functions(space, mech, derive_lagrangian_hessians(sym, mech));
+  // The kinetic functions in their place of the file's order, from either path.
+  const auto take = [&](const char* name, auto&& articulated) {
+    if (solver == kinetic_solver::articulated) {
+      out.push_back(articulated());
+      return;
+    }
+    for (auto& f : general)
+      if (f.name == name) out.push_back(std::move(f));
+  };
+  take("rhs", [&] { return rhs_function(n, space, mech); });
+  take("jacobian", [&] { return jacobian_function(n, space, mech); });
+  take("hamiltonian", [&] { return hamiltonian_function(n, space, mech); });
+  take("velocities", [&] { return velocities_function(n); });
   out.push_back(from_expressions(space, "momenta", argument_layout::phi_dphi,
                                  {"Legendre transform: p = dL/d(dphi) = A dphi (dim n)."},
                                  mech.momenta, "p"));
@@ -188,7 +250,7 @@ std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
   out.push_back(from_expressions(space, "mass_matrix", argument_layout::phi,
                                  {"Mass matrix A = d^2T/d(dphi)^2, row-major (n x n)."},
                                  entries(mech.mass_matrix), "A"));
-  out.push_back(det_function(n));
+  take("det_mass_matrix", [&] { return det_function(n); });
   out.push_back(from_expressions(space, "potential_gradient", argument_layout::phi,
                                  {"Gradient dV/dphi (dim n)."}, mech.grad_potential, "grad"));
   out.push_back(from_expressions(space, "potential_hessian", argument_layout::phi,

@@ -31,9 +31,25 @@ struct emitted_function {
   std::vector<sx> outputs;
 };
 
-/// Every emitted function of the n-link chain, in the order they are written.
+/// How Hamilton's equations, their Jacobian, H, φ̇ and det A are formed.
+enum class kinetic_solver {
+  articulated,  ///< the O(n) articulated-body elimination (articulated_form.hpp)
+  ldlt,         ///< the general path: A from the derivation, factored L D Lᵀ (general_form.hpp)
+};
+
+/// "articulated" or "ldlt".
+const char* solver_name(kinetic_solver solver);
+
+/// The solver for a chain: the articulated-body form where its structure fits — point masses
+/// on massless rods, the only model derive_mechanics builds so far — the general path
+/// otherwise.
+kinetic_solver default_solver(const chain_symbols& sym);
+
+/// Every emitted function of the n-link chain, in the order they are written; the kinetic
+/// functions (rhs, jacobian, hamiltonian, velocities, det_mass_matrix) by `solver`.
 std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
-                                                    const chain_mechanics& mech);
+                                                    const chain_mechanics& mech,
+                                                    kinetic_solver solver);
 
 /// Largest link count for which the closed-form Hamiltonian is emitted and printed.
 inline constexpr int closed_form_max_links = 3;

@@ -208,8 +208,9 @@ std::string generated_banner(const std::string& command) {
 std::string chain_stem(int links) { return fmt::format("chain_{}", links); }
 
 chain_sources emit_chain(int n, const std::vector<emitted_function>& functions,
-                         const std::string& latex) {
-  const std::string banner = generated_banner(fmt::format("npend-gen --links {}", n));
+                         const std::string& latex, const std::string& options) {
+  const std::string banner = generated_banner(
+      fmt::format("npend-gen --links {}{}{}", n, options.empty() ? "" : " ", options));
   chain_sources out;
   out.header = banner + fmt::format(
       "#pragma once\n\n"

@@ -25,9 +25,11 @@ std::string generated_banner(const std::string& command);
 struct chain_sources {
   std::string header, source;
 };
-/// `latex` is the text of print_latex, embedded so that programs can show the equations.
+/// `latex` is the text of print_latex, embedded so that programs can show the equations;
+/// `options` are further npend-gen options that made the functions ("--solver ldlt"), for
+/// the banner's regeneration command.
 chain_sources emit_chain(int links, const std::vector<emitted_function>& functions,
-                         const std::string& latex);
+                         const std::string& latex, const std::string& options = {});
 
 /// chain_index.hpp / chain_index.cpp: the table of built link counts for the runtime.
 chain_sources emit_index(const std::vector<int>& links);

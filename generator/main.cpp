@@ -59,15 +59,27 @@ struct generated_chain {
   double seconds = 0;
 };
 
-generated_chain generate(int n) {
+// The solver --solver names for the chain: auto is the chain's default.
+kinetic_solver chosen_solver(const std::string& name, const chain_symbols& sym) {
+  if (name == "articulated") return kinetic_solver::articulated;
+  if (name == "ldlt") return kinetic_solver::ldlt;
+  return default_solver(sym);
+}
+
+generated_chain generate(int n, const std::string& solver) {
   const auto start = std::chrono::steady_clock::now();
   const chain_symbols sym(n);
   const chain_mechanics mech = derive_mechanics(sym);
+  const kinetic_solver chosen = chosen_solver(solver, sym);
   generated_chain out;
-  out.functions = build_chain_functions(sym, mech);
+  out.functions = build_chain_functions(sym, mech, chosen);
   std::ostringstream latex;
   print_latex(sym, mech, latex);
-  out.sources = emit_chain(n, out.functions, latex.str());
+  // The banner names the solver only where it is not the chain's own choice.
+  out.sources = emit_chain(n, out.functions, latex.str(),
+                           chosen == default_solver(sym)
+                               ? std::string()
+                               : fmt::format("--solver {}", solver_name(chosen)));
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
@@ -78,14 +90,14 @@ const emitted_function& function_named(const generated_chain& g, const std::stri
   throw std::logic_error("no function " + name);
 }
 
-void print_stats(const std::vector<int>& links, bool json) {
+void print_stats(const std::vector<int>& links, bool json, const std::string& solver) {
   if (json) std::cout << "[";
   else
     fmt::print("{:>4} {:>10} {:>10} {:>9} {:>9} {:>6} {:>11}\n", "n", "seconds", "bytes",
                "rhs ops", "jac ops", "trig", "rhs divs");
   bool first = true;
   for (const int n : links) {
-    const generated_chain g = generate(n);
+    const generated_chain g = generate(n, solver);
     const auto rhs = count_operations(function_named(g, "rhs"));
     const auto jac = count_operations(function_named(g, "jacobian"));
     const std::size_t bytes = g.sources.header.size() + g.sources.source.size();
@@ -115,6 +127,7 @@ int main(int argc, char** argv) {
   int latex = 0, verify = 0, points = 3;
   std::vector<int> stats;
   bool json = false;
+  std::string solver = "auto";
   app.add_option("--links", links, "Link counts to generate (comma-separated), written to --out")
       ->delimiter(',')
       ->check(CLI::Range(1, max_links));
@@ -134,6 +147,13 @@ int main(int argc, char** argv) {
       ->delimiter(',')
       ->check(CLI::Range(1, max_links));
   app.add_flag("--json", json, "With --stats: print JSON");
+  app.add_option("--solver", solver,
+                 "How --links, --verify and --stats form Hamilton's equations, the Jacobian, H, "
+                 "the velocities and det A: articulated (the O(n) articulated-body elimination), "
+                 "ldlt (the general path: the derived mass matrix factored L D L^T in the "
+                 "emitted code), or auto (articulated where the model fits it)")
+      ->check(CLI::IsMember({"auto", "articulated", "ldlt"}))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   if (links.empty() && index.empty() && latex == 0 && verify == 0 && stats.empty()) {
@@ -147,7 +167,7 @@ int main(int argc, char** argv) {
   try {
     if (!out_dir.empty()) fs::create_directories(out_dir);
     for (const int n : links) {
-      const generated_chain g = generate(n);
+      const generated_chain g = generate(n, solver);
       write_if_changed(out_dir, chain_stem(n) + ".hpp", g.sources.header);
       write_if_changed(out_dir, chain_stem(n) + ".cpp", g.sources.source);
     }
@@ -162,8 +182,10 @@ int main(int argc, char** argv) {
       const chain_symbols sym(latex);
       print_latex(sym, derive_mechanics(sym), std::cout);
     }
-    if (!stats.empty()) print_stats(stats, json);
-    if (verify > 0 && !verify_chain(verify, points, std::cout)) return 1;
+    if (!stats.empty()) print_stats(stats, json, solver);
+    if (verify > 0 &&
+        !verify_chain(verify, points, std::cout, chosen_solver(solver, chain_symbols(verify))))
+      return 1;
   } catch (const std::exception& e) {
     std::cerr << "npend-gen: " << e.what() << "\n";
     return 1;

@@ -1,6 +1,8 @@
 // Proof by evaluation: the emitted kernels against GiNaC's derivation, in exact arithmetic.
 #pragma once
 
+#include "chain_functions.hpp"
+
 #include <iosfwd>
 
 namespace npend::gen {
@@ -11,7 +13,8 @@ namespace npend::gen {
 ///   A φ̇ = p,  momenta(φ̇) = p,  ṗ = ∂L/∂φ,  H = T + V (= closed form for n ≤ 3),
 ///   A·∂φ̇/∂p = I,  A·∂φ̇/∂φ = −∂²L/∂φ̇∂φ,  ∂ṗ/∂φ = L_φφ + L_φφ̇ ∂φ̇/∂φ,
 ///   ∂ṗ/∂p = L_φφ̇ ∂φ̇/∂p,  det_mass_matrix = det A.
-/// A, L and its derivatives come from GiNaC. Prints a report; returns true if all hold.
-bool verify_chain(int links, int points, std::ostream& report);
+/// A, L and its derivatives come from GiNaC; the kinetic functions are those `solver` forms.
+/// Prints a report; returns true if all hold.
+bool verify_chain(int links, int points, std::ostream& report, kinetic_solver solver);
 
 }  // namespace npend::gen
