@@ -22,8 +22,7 @@ general_form::general_form(const polynomial_space& space, const chain_mechanics&
   m_pivots.resize(u(n));
   for (int j = 0; j < n; ++j) {
     sx d = a[u(j)][u(j)];
-    for (int k = 0; k < j; ++k)
-      d = d - m_lower[u(j)][u(k)] * m_lower[u(j)][u(k)] * m_pivots[u(k)];
+    for (int k = 0; k < j; ++k) d = d - m_lower[u(j)][u(k)] * m_lower[u(j)][u(k)] * m_pivots[u(k)];
     m_pivots[u(j)] = d;
     for (int i = j + 1; i < n; ++i) {
       sx s = a[u(i)][u(j)];

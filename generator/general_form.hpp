@@ -12,11 +12,11 @@
 // exact identities (--solver).
 #pragma once
 
+#include <vector>
+
 #include "chain_model.hpp"
 #include "expr_graph.hpp"
 #include "polynomial.hpp"
-
-#include <vector>
 
 namespace npend::gen {
 
@@ -50,7 +50,7 @@ class general_form {
   const lagrangian_hessians* m_hessians;
   expr_graph* m_graph;
   int m_n;
-  std::vector<sx> m_vars;               ///< variable nodes, φ̇ replaced by the computed φ̇
+  std::vector<sx> m_vars;                ///< variable nodes, φ̇ replaced by the computed φ̇
   std::vector<std::vector<sx>> m_lower;  ///< L (unit lower triangular, entries below the diagonal)
   std::vector<sx> m_pivots;              ///< D
   std::vector<sx> m_p, m_dphi;

@@ -1,8 +1,5 @@
 #include "time_series_source.hpp"
 
-#include "input_parsing.hpp"
-#include "section_spec.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -15,6 +12,9 @@
 #include <numbers>
 #include <sstream>
 #include <tuple>
+
+#include "input_parsing.hpp"
+#include "section_spec.hpp"
 
 namespace npend::cli {
 
@@ -148,9 +148,9 @@ std::string read_text_file(const std::string& path, std::string_view option) {
 
 sampled_signals simulate_with_progress(const simulated_start& s,
                                        const step_observer_function& step_observer) {
-  return on_terminal(s, [&](const simulated_start& run) {
-           return simulate_signals(run, step_observer);
-         }).signals;
+  return on_terminal(
+             s, [&](const simulated_start& run) { return simulate_signals(run, step_observer); })
+      .signals;
 }
 
 void series_options::add_to(CLI::App& command, series_use use) {
@@ -296,9 +296,9 @@ time_series series_options::load_one(std::size_t min_samples) const {
       try {
         x = signal_at(signals, parse_coordinate(column, links, "--coordinate"));
       } catch (const input_error& e) {
-        throw input_error(fmt::format(
-            "{}; or the bounded sin_phiK, cos_phiK, wrapped_phiK, xK, yK (K = 1..{})", e.what(),
-            links));
+        throw input_error(
+            fmt::format("{}; or the bounded sin_phiK, cos_phiK, wrapped_phiK, xK, yK (K = 1..{})",
+                        e.what(), links));
       }
     }
   }

@@ -6,24 +6,23 @@
 // the choice is made; every command works on either unchanged.
 #pragma once
 
-#include "chain_options.hpp"
-#include "csv_table.hpp"
-#include "integrator_options.hpp"
-#include "start_options.hpp"
-#include "terminal_run.hpp"
-
-#include "npend/analysis/sampled_signals.hpp"
-#include "npend/chain.hpp"
-#include "npend/integrate.hpp"
-
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
+
+#include "chain_options.hpp"
+#include "csv_table.hpp"
+#include "integrator_options.hpp"
+#include "npend/analysis/sampled_signals.hpp"
+#include "npend/chain.hpp"
+#include "npend/integrate.hpp"
+#include "start_options.hpp"
+#include "terminal_run.hpp"
 
 namespace npend::cli {
 
@@ -59,9 +58,9 @@ auto on_terminal(simulated_start s, Compute&& compute) {
   auto result = compute(std::as_const(s));
   control.finish();
   if (control.interrupted())
-    throw interrupted(fmt::format("interrupted at t = {} s of the simulation; nothing analysed",
-                                  result.run.t),
-                      control.exit_code());
+    throw interrupted(
+        fmt::format("interrupted at t = {} s of the simulation; nothing analysed", result.run.t),
+        control.exit_code());
   return result;
 }
 

@@ -1,6 +1,7 @@
 // npend eval: the generated functions at one state.
 #include "chain_options.hpp"
 #include "command.hpp"
+#include "series_output.hpp"
 
 #include <chain_index.hpp>
 #include <fmt/format.h>
@@ -50,11 +51,7 @@ int run_eval(const eval_options& o) {
   const double detA = c.det_mass_matrix(phi);
 
   if (o.json) {
-    nlohmann::json j;
-    j["links"] = n;
-    j["masses"] = c.parameters().masses;
-    j["lengths"] = c.parameters().lengths;
-    j["g"] = c.parameters().g;
+    nlohmann::json j = describe_chain(c);
     j["state"] = x;
     j["hamiltonian"] = H;
     j["kinetic_energy"] = T;

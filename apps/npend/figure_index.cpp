@@ -1,8 +1,8 @@
 #include "figure_index.hpp"
 
-#include "output_file.hpp"
-
 #include <fmt/format.h>
+
+#include "output_file.hpp"
 
 namespace npend::app {
 

@@ -3,13 +3,13 @@
 // links to its data and gnuplot script.
 #pragma once
 
-#include "plotting.hpp"
-#include "series_output.hpp"
-
 #include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "plotting.hpp"
+#include "series_output.hpp"
 
 namespace npend::app {
 
@@ -74,8 +74,8 @@ class figure_folder {
 
  private:
   std::string finish(series_output& out, const std::string& stem, const std::string& heading,
-                     const std::string& text, std::vector<cli::plot_panel> panels,
-                     figure_size size, const std::vector<std::string>& also_reads);
+                     const std::string& text, std::vector<cli::plot_panel> panels, figure_size size,
+                     const std::vector<std::string>& also_reads);
 
   std::filesystem::path m_dir;
   std::string m_prefix, m_suffix;

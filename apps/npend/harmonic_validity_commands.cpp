@@ -1,24 +1,23 @@
 // npend backbone and npend corrections: where the harmonic approximation stops being valid,
 // and the paper's nonlinear corrections to it (§6.4).
-#include "chain_options.hpp"
-#include "command.hpp"
-#include "input_parsing.hpp"
-#include "series_output.hpp"
-#include "start_options.hpp"
-#include "terminal_run.hpp"
-
-#include "npend/analysis/backbone.hpp"
-#include "npend/analysis/harmonic_corrections.hpp"
-#include "npend/analysis/normal_modes.hpp"
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <numbers>
+
+#include "chain_options.hpp"
+#include "command.hpp"
+#include "input_parsing.hpp"
+#include "npend/analysis/backbone.hpp"
+#include "npend/analysis/harmonic_corrections.hpp"
+#include "npend/analysis/normal_modes.hpp"
+#include "series_output.hpp"
+#include "start_options.hpp"
+#include "terminal_run.hpp"
 
 namespace npend::app {
 
@@ -238,13 +237,10 @@ int run_backbone(const backbone_command_options& o) {
                       {"points", points},
                       {"thresholds", thresholds}});
     }
-    nlohmann::json j{{"links", n},
-                     {"masses", c.parameters().masses},
-                     {"lengths", c.parameters().lengths},
-                     {"g", c.parameters().g},
-                     {"periods", options.periods},
-                     {"steps_per_period", options.steps_per_period},
-                     {"modes", list}};
+    nlohmann::json j = describe_chain(c);
+    j.update(nlohmann::json{{"periods", options.periods},
+                            {"steps_per_period", options.steps_per_period},
+                            {"modes", list}});
     files.add_to(j);
     std::cout << j.dump(2) << "\n";
     return 0;
@@ -428,19 +424,16 @@ int run_corrections(const corrections_command_options& o) {
     for (const auto& d : s.defects)
       defects.push_back(
           {{"truncation", truncation_name(d.kind)}, {"errors", d.errors}, {"order", d.order}});
-    nlohmann::json j{{"links", n},
-                     {"masses", c.parameters().masses},
-                     {"lengths", c.parameters().lengths},
-                     {"g", c.parameters().g},
-                     {"phi0", s.phi0},
-                     {"dphi0", s.dphi0},
-                     {"horizon", s.horizon},
-                     {"samples", s.t.size()},
-                     {"scales", s.scales},
-                     {"true_q_end", finite(s.true_q.back())},
-                     {"true_q_pole", finite(s.true_q_pole)},
-                     {"tracks", tracks},
-                     {"acceleration_defects", defects}};
+    nlohmann::json j = describe_chain(c);
+    j.update(nlohmann::json{{"phi0", s.phi0},
+                            {"dphi0", s.dphi0},
+                            {"horizon", s.horizon},
+                            {"samples", s.t.size()},
+                            {"scales", s.scales},
+                            {"true_q_end", finite(s.true_q.back())},
+                            {"true_q_pole", finite(s.true_q_pole)},
+                            {"tracks", tracks},
+                            {"acceleration_defects", defects}});
     files.add_to(j);
     std::cout << j.dump(2) << "\n";
     return 0;

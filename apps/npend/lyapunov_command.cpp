@@ -207,11 +207,7 @@ int run_equations(const lyapunov_command_options& o) {
 
   const double window = options.convergence_fraction * r.averaging_time;
   if (o.json) {
-    nlohmann::json j;
-    j["links"] = c.links();
-    j["masses"] = c.parameters().masses;
-    j["lengths"] = c.parameters().lengths;
-    j["g"] = c.parameters().g;
+    nlohmann::json j = describe_chain(c);
     j["initial_state"] = x0;
     j["energy"] = c.hamiltonian(x0);
     j["stepper"] = std::string(stepper_name(options.integration.stepper));
@@ -296,6 +292,22 @@ std::pair<double, double> fit_range(const std::string& text) {
   return {from, to};
 }
 
+// --column: one selector, or several separated by commas (none: the default signal).
+std::vector<std::string> column_list(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    out.push_back(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (out.size() > 1)
+    for (const auto& c : out)
+      if (c.empty()) throw cli::input_error(fmt::format("--column: an empty name in '{}'", text));
+  return out;
+}
+
 int run_series(const lyapunov_command_options& o) {
   for (const char* name :
        {"--masses", "--lengths", "--g", "--phi", "--p", "--dphi", "--energy", "--excitation",
@@ -310,7 +322,9 @@ int run_series(const lyapunov_command_options& o) {
     spacing = cli::parse_number(o.integrator.dt, "--dt");
     if (!(*spacing > 0)) throw cli::input_error(fmt::format("--dt: must be positive, got {}", o.integrator.dt));
   }
-  std::size_t dimension = 6;
+  // Several columns: a multivariate embedding of the observables themselves by default.
+  const std::vector<std::string> selectors = column_list(o.column);
+  std::size_t dimension = selectors.size() > 1 ? 1 : 6;
   if (!o.dim.empty()) dimension = whole_number(o.dim, "--dim", 1, 20);
   std::optional<std::pair<double, double>> fit;
   if (!o.fit.empty()) fit = fit_range(o.fit);
@@ -324,7 +338,23 @@ int run_series(const lyapunov_command_options& o) {
   const std::string text = cli::read_text_file(o.input, "--input");
   const sampled_signals signals = cli::signals_from_csv(
       cli::parse_csv(text, o.input), o.input, spacing, min_series_samples);
-  const time_series x = cli::select_signal(signals, o.column, "--column");
+  std::vector<time_series> chosen;
+  for (const auto& selector : selectors)
+    chosen.push_back(cli::select_signal(signals, selector, "--column"));
+  time_series x = chosen.front();
+  std::vector<std::vector<double>> observables;
+  if (chosen.size() > 1) {
+    // Observables in different units: each in units of its standard deviation.
+    for (const auto& c : chosen) observables.push_back(c.values);
+    try {
+      observables = standardised_series(observables);
+    } catch (const std::invalid_argument& e) {
+      throw cli::input_error(fmt::format("--column: {}", e.what()));
+    }
+    std::vector<std::string> names;
+    for (const auto& c : chosen) names.push_back(c.name);
+    x.name = fmt::format("{}", fmt::join(names, ","));
+  }
   const double dt = x.dt;
 
   // τ: a rule of npend embed, or seconds.
@@ -383,7 +413,8 @@ int run_series(const lyapunov_command_options& o) {
   }
   series_lyapunov_result r;
   try {
-    r = series_lyapunov_exponent(x.values, dt, options);
+    r = observables.empty() ? series_lyapunov_exponent(x.values, dt, options)
+                            : series_lyapunov_exponent(observables, dt, options);
   } catch (const std::invalid_argument& e) {
     throw cli::input_error(e.what());
   }
@@ -400,6 +431,7 @@ int run_series(const lyapunov_command_options& o) {
     }
   const double rise = high - low;
   std::vector<std::string> notes;
+  if (!r.linear_region) notes.push_back("no estimate: " + r.nonlinearity);
   if (rise < 3)
     notes.push_back(fmt::format(
         "the stretching curve rises by only {:.2g} (ln units) over the horizon: either nearby "
@@ -407,7 +439,8 @@ int run_series(const lyapunov_command_options& o) {
         "apart for a linear region (a series too short for its dimension), and then the slope "
         "need not be the maximal exponent",
         rise));
-  if (r.uncertainty > 0.25 * std::fabs(r.maximal_exponent) && r.maximal_exponent > 0)
+  if (r.linear_region && r.uncertainty > 0.25 * std::fabs(r.maximal_exponent) &&
+      r.maximal_exponent > 0)
     notes.push_back("the uncertainty is more than a quarter of the exponent: the curve has no "
                     "clear linear region in the fit range (see --fit)");
 
@@ -448,8 +481,14 @@ int run_series(const lyapunov_command_options& o) {
   if (o.json) {
     nlohmann::json j = describe_series(x);
     j["method"] = "Kantz";
-    j["maximal_exponent"] = r.maximal_exponent;
-    j["uncertainty"] = r.uncertainty;
+    // Without a linear region the slope is no estimate of the exponent: null, not a number.
+    j["maximal_exponent"] = r.linear_region ? nlohmann::json(r.maximal_exponent) : nlohmann::json();
+    j["uncertainty"] = r.linear_region ? nlohmann::json(r.uncertainty) : nlohmann::json();
+    j["linear_region"] = r.linear_region;
+    j["fit_slope"] = r.maximal_exponent;
+    j["growth_before_fit"] = r.growth_before_fit;
+    j["growth_in_fit"] = r.growth_in_fit;
+    j["columns"] = selectors;
     j["uncertainty_parts"] = {{"statistical", std::isfinite(r.statistical_uncertainty)
                                                   ? nlohmann::json(r.statistical_uncertainty)
                                                   : nlohmann::json()},
@@ -490,7 +529,10 @@ int run_series(const lyapunov_command_options& o) {
     return 0;
   }
   fmt::print("Maximal Lyapunov exponent of {} (Kantz's method)\n\n", series_summary(x));
-  fmt::print("delay embedding: m = {}, tau = {:.6g} s ({} samples; {}), Theiler window {:.6g} s\n",
+  fmt::print("delay embedding{}: m = {}, tau = {:.6g} s ({} samples; {}), Theiler window {:.6g} s\n",
+             observables.empty()
+                 ? std::string()
+                 : fmt::format(" of {} standardised columns side by side", observables.size()),
              dimension, static_cast<double>(tau) * dt, tau, tau_method,
              static_cast<double>(s.theiler_window) * dt);
   fmt::print("stretching curve S(dt) up to {:.6g} s; slope fitted over {:.6g} ... {:.6g} s ({})\n\n",
@@ -501,7 +543,12 @@ int run_series(const lyapunov_command_options& o) {
   for (std::size_t q = 0; q < r.fits.size(); ++q)
     fmt::print("{:>12.4g}  {:>12.5g}  {:>12}  {:>11.3g}\n", r.fits[q].radius, r.fits[q].slope,
                r.stretching.curves[q].references, r.stretching.curves[q].mean_neighbours);
-  fmt::print("\nmaximal exponent = {:.5g} +- {:.2g} 1/s\n", r.maximal_exponent, r.uncertainty);
+  if (r.linear_region)
+    fmt::print("\nmaximal exponent = {:.5g} +- {:.2g} 1/s\n", r.maximal_exponent, r.uncertainty);
+  else
+    fmt::print("\nno estimate of the maximal exponent (the slope over the fit range is {:.5g} "
+               "1/s, but the range is no linear region)\n",
+               r.maximal_exponent);
   fmt::print(
       "+- = sqrt(statistical^2 + radius^2 + range^2) = sqrt({:.2g}^2 + {:.2g}^2 + {:.2g}^2): the "
       "slopes' standard error over {} groups of reference points, half the slopes' range over "
@@ -567,11 +614,14 @@ void add_lyapunov_command(CLI::App& app, command_list& commands) {
                   "method");
   cmd->add_option("--column", o->column,
                   "With --input: the signal, a column name or number (default: the first "
-                  "signal)");
+                  "signal); several separated by commas embed them together, each standardised "
+                  "(then --dim defaults to 1: the observables themselves as coordinates)");
   cmd->add_option("--tau", o->tau,
                   "With --input: the embedding delay, auto, T/4, acf-zero, acf-min, ami or "
                   "seconds (default: auto, as npend embed)");
-  cmd->add_option("--dim", o->dim, "With --input: the embedding dimension (default: 6)");
+  cmd->add_option("--dim", o->dim,
+                  "With --input: the embedding dimension per column (default: 6; 1 for several "
+                  "columns)");
   cmd->add_option("--theiler", o->theiler,
                   "With --input: neighbours closer in time than this (s) are not used "
                   "(default: (dim - 1) tau)");

@@ -1,25 +1,24 @@
 // npend poincare: the Poincaré section of a simulated start (paper §6.6.1, Abb. 6.8) — the
 // crossings of a hyperplane such as phi1=0, located on the integrator's steps, and their
 // projection onto two coordinates.
-#include "chain_options.hpp"
-#include "command.hpp"
-#include "input_parsing.hpp"
-#include "integrator_options.hpp"
-#include "terminal_run.hpp"
-#include "section_spec.hpp"
-#include "series_figures.hpp"
-#include "series_output.hpp"
-#include "start_options.hpp"
-
-#include "npend/analysis/poincare_section.hpp"
-
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <functional>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <numbers>
+
+#include "chain_options.hpp"
+#include "command.hpp"
+#include "input_parsing.hpp"
+#include "integrator_options.hpp"
+#include "npend/analysis/poincare_section.hpp"
+#include "section_spec.hpp"
+#include "series_figures.hpp"
+#include "series_output.hpp"
+#include "start_options.hpp"
+#include "terminal_run.hpp"
 
 namespace npend::app {
 
@@ -119,11 +118,8 @@ int run_poincare(const poincare_options& o) {
   if (o.json) {
     nlohmann::json points = nlohmann::json::array();
     for (const auto& x : crossings) points.push_back({{"t", x.t}, {"state", x.state}});
-    nlohmann::json j{
-        {"links", n},
-        {"masses", c.parameters().masses},
-        {"lengths", c.parameters().lengths},
-        {"g", c.parameters().g},
+    nlohmann::json j = describe_chain(c);
+    j.update(nlohmann::json{
         {"initial_state", x0},
         {"energy", energy},
         {"stepper", std::string(stepper_name(options.stepper))},
@@ -140,7 +136,7 @@ int run_poincare(const poincare_options& o) {
         {"points", points},
         {"max_section_residual", residual},
         {"max_rel_energy_error", energy_error},
-        {"unrefined", unrefined}};
+        {"unrefined", unrefined}});
     if (flipped) j["notes"].push_back(flip_note);
     files.add_to(j);
     if (flipped) fmt::print(stderr, "note: {}\n", flip_note);

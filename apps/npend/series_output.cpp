@@ -1,13 +1,20 @@
 #include "series_output.hpp"
 
-#include "csv_table.hpp"
-#include "output_file.hpp"
-
 #include <fmt/format.h>
 
 #include <cstdio>
 
+#include "csv_table.hpp"
+#include "output_file.hpp"
+
 namespace npend::app {
+
+nlohmann::json describe_chain(const chain& c) {
+  return {{"links", c.links()},
+          {"masses", c.parameters().masses},
+          {"lengths", c.parameters().lengths},
+          {"g", c.parameters().g}};
+}
 
 nlohmann::json describe_series(const time_series& s) {
   return {{"source", s.source},

@@ -2,17 +2,19 @@
 // (CSV tables plus a plot, next to each other).
 #pragma once
 
-#include "plotting.hpp"
-#include "time_series_source.hpp"
-
-#include <nlohmann/json.hpp>
-
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "plotting.hpp"
+#include "time_series_source.hpp"
+
 namespace npend::app {
+
+/// {"links", "masses", "lengths", "g"} of the chain, the start of every chain command's JSON.
+nlohmann::json describe_chain(const chain& c);
 
 /// {"source", "signal", "samples", "t0", "dt"} of the analysed series.
 nlohmann::json describe_series(const time_series& s);

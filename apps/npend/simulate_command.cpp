@@ -2,6 +2,7 @@
 #include "output_file.hpp"
 #include "chain_options.hpp"
 #include "command.hpp"
+#include "series_output.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
 #include "terminal_run.hpp"
@@ -127,11 +128,7 @@ int run_simulate(const simulate_options& o) {
   if (file) file->commit();
 
   if (o.json) {
-    nlohmann::json j;
-    j["links"] = c.links();
-    j["masses"] = c.parameters().masses;
-    j["lengths"] = c.parameters().lengths;
-    j["g"] = c.parameters().g;
+    nlohmann::json j = describe_chain(c);
     j["stepper"] = std::string(stepper_name(options.stepper));
     j["dt"] = options.dt;
     j["t_end"] = result.t;

@@ -1,15 +1,16 @@
 // `npend lyapunov` as a user runs it: the JSON keys against the library, --maximal, the
 // running values and their plot, bad input, and the progress bar and Ctrl-C on a terminal.
-#include "npend/analysis/lyapunov.hpp"
-#include "npend/excitation.hpp"
-#include "support/test_support.hpp"
-
 #include <doctest/doctest.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "npend/analysis/lyapunov.hpp"
+#include "npend/excitation.hpp"
+#include "support/test_signals.hpp"
+#include "support/test_support.hpp"
 
 using npend::test::run_npend;
 
@@ -143,9 +144,9 @@ TEST_CASE("npend lyapunov: the uncertainty is a block standard error, or an ense
 TEST_CASE("npend lyapunov --input: the maximal exponent of a measured series, with its curve") {
   const auto dir = std::filesystem::path(npend::test::temporary_directory("cli-lyapunov-series"));
   const std::string trajectory = (dir / "weak.csv").string();
-  REQUIRE(run_npend("simulate --links 3 --phi 0.2,-0.2,0.2 --t-end 300 --dt 0.01 --out " +
-                    trajectory)
-              .exit_code == 0);
+  REQUIRE(
+      run_npend("simulate --links 3 --phi 0.2,-0.2,0.2 --t-end 300 --dt 0.01 --out " + trajectory)
+          .exit_code == 0);
   const auto r = run_npend("lyapunov --input " + trajectory + " --column x_3 --json --out " +
                            (dir / "s.csv").string());
   REQUIRE(r.exit_code == 0);
@@ -169,4 +170,55 @@ TEST_CASE("npend lyapunov --input: the maximal exponent of a measured series, wi
   CHECK(g["fit_range"][1].get<double>() == 10);
   CHECK(g["dimension"] == 4);
   CHECK(g["tau"].get<double>() == doctest::Approx(0.5));
+}
+
+TEST_CASE("npend lyapunov --input --column a,b: several observables embedded together") {
+  // The Hénon map's whole state (x, y = b x_prev) as two columns: with the state itself as
+  // the coordinates (--dim 1, the default for several columns) the neighbours are true ones
+  // and the slope is the map's 0.419 per step.
+  const auto dir = std::filesystem::path(npend::test::temporary_directory("cli-lyapunov-mv"));
+  const std::vector<double> x = npend::test::henon_x(20001);
+  const std::string data = (dir / "henon.csv").string();
+  {
+    std::ofstream out(data);
+    out << "x y\n";
+    out.precision(17);
+    for (std::size_t n = 1; n < x.size(); ++n) out << x[n] << ' ' << 0.3 * x[n - 1] << '\n';
+  }
+  const auto r = run_npend("lyapunov --input " + data + " --dt 1 --column x,y --horizon 12 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["columns"] == std::vector<std::string>{"x", "y"});
+  CHECK(j["dimension"] == 1);
+  CHECK(j["linear_region"] == true);
+  CAPTURE(j["maximal_exponent"].get<double>());
+  CAPTURE(j["uncertainty"].get<double>());
+  CHECK(std::fabs(j["maximal_exponent"].get<double>() - 0.41922) <=
+        3 * j["uncertainty"].get<double>());
+  CHECK(npend::test::is_input_error(run_npend("lyapunov --input " + data + " --dt 1 --column x,,y"),
+                                    "--column: an empty name in 'x,,y'"));
+  CHECK(npend::test::is_input_error(run_npend("lyapunov --input " + data + " --dt 1 --column x,z"),
+                                    "--column"));
+}
+
+TEST_CASE("npend lyapunov --input: no linear region, no exponent (null) and the reason") {
+  // A chaotic motion seen through one coordinate with too short a delay window: the
+  // neighbours separate at once and saturate, and the command says so instead of a slope.
+  const auto dir = std::filesystem::path(npend::test::temporary_directory("cli-lyapunov-nolin"));
+  const std::string trajectory = (dir / "strong.csv").string();
+  REQUIRE(
+      run_npend("simulate --links 3 --phi 1.5,1.5,1.5 --t-end 1000 --dt 0.01 --out " + trajectory)
+          .exit_code == 0);
+  const auto r = run_npend("lyapunov --input " + trajectory + " --column x_3 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["linear_region"] == false);
+  CHECK(j["maximal_exponent"].is_null());
+  CHECK(j["uncertainty"].is_null());
+  CHECK(j["fit_slope"].is_number());
+  REQUIRE(!j["warnings"].empty());
+  CHECK(j["warnings"][0].get<std::string>().find("no estimate: ") == 0);
+  const auto text = run_npend("lyapunov --input " + trajectory + " --column x_3");
+  REQUIRE(text.exit_code == 0);
+  CHECK(text.out.find("no estimate of the maximal exponent") != std::string::npos);
 }

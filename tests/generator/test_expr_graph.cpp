@@ -1,11 +1,11 @@
 // The expression graph the emitted kernels are built in: identical subexpressions stored
 // once, commutative operands in a fixed order, exact constant folding, and exact evaluation
 // at rational points (what npend-gen --verify relies on).
-#include "expr_graph.hpp"
-
 #include <doctest/doctest.h>
 
 #include <stdexcept>
+
+#include "expr_graph.hpp"
 
 using namespace npend::gen;
 using GiNaC::numeric;

@@ -1,18 +1,18 @@
 // The analysis pipeline of the library (paper §6.6 from one integration): the signals a
 // simulation records, the bounded observables of its angles, the summaries the results carry
 // (energy drift, section quality, Lyapunov pair sums), and analyze_motion end to end.
-#include "npend/analysis/energy_drift.hpp"
-#include "npend/analysis/lyapunov.hpp"
-#include "npend/analysis/motion_analysis.hpp"
-#include "npend/analysis/sampled_signals.hpp"
-#include "npend/integrate.hpp"
-
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
 #include <vector>
+
+#include "npend/analysis/energy_drift.hpp"
+#include "npend/analysis/lyapunov.hpp"
+#include "npend/analysis/motion_analysis.hpp"
+#include "npend/analysis/sampled_signals.hpp"
+#include "npend/integrate.hpp"
 
 using npend::chain;
 

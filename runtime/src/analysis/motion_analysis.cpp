@@ -10,13 +10,12 @@
 
 namespace npend {
 
-motion_analysis analyze_motion(const simulated_start& sim,
-                               const motion_analysis_options& options) {
+motion_analysis analyze_motion(const simulated_start& sim, const motion_analysis_options& options) {
   const auto links = static_cast<std::size_t>(sim.pendulum.links());
   if (options.coordinate >= 2 * links)
-    throw std::invalid_argument(fmt::format(
-        "analyze_motion: coordinate is {}: the state has {} entries", options.coordinate,
-        2 * links));
+    throw std::invalid_argument(
+        fmt::format("analyze_motion: coordinate is {}: the state has {} entries",
+                    options.coordinate, 2 * links));
   motion_analysis a;
   crossing_locator section(sim.pendulum, options.section, options.section_direction);
   crossing_locator events(sim.pendulum, options.event, options.event_direction);
@@ -32,9 +31,9 @@ motion_analysis analyze_motion(const simulated_start& sim,
   if (a.run.stopped) return a;
   // Only a plane of unwrapped angles is moved by a flip.
   const auto on_unwrapped_angles = [&](const section_plane& s) {
-    return !s.circular && std::any_of(s.normal.begin(),
-                                      s.normal.begin() + static_cast<std::ptrdiff_t>(links),
-                                      [](double w) { return w != 0; });
+    return !s.circular &&
+           std::any_of(s.normal.begin(), s.normal.begin() + static_cast<std::ptrdiff_t>(links),
+                       [](double w) { return w != 0; });
   };
   if (a.largest_angle > std::numbers::pi &&
       (on_unwrapped_angles(options.section) || on_unwrapped_angles(options.event)))

@@ -1,18 +1,17 @@
 #include "npend/analysis/series_lyapunov.hpp"
 
-#include "npend/analysis/delay_embedding.hpp"
-
-#include "detail/argument_checks.hpp"
-#include "detail/nearest_neighbours.hpp"
-
 #include <fmt/format.h>
-#include <nanoflann.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <nanoflann.hpp>
 #include <stdexcept>
+
+#include "detail/argument_checks.hpp"
+#include "detail/nearest_neighbours.hpp"
+#include "npend/analysis/delay_embedding.hpp"
 
 namespace npend {
 
@@ -131,18 +130,78 @@ double median(std::vector<double> v) {
   return *middle;
 }
 
+// The series' checks: finite, varying, long enough for the embedding and the horizon.
+void check_series(std::span<const double> x, const std::string& name, const stretching_options& o) {
+  detail::require_finite_series(x, name.c_str(), 4);
+  detail::require_varying(x, name.c_str(), "it has no neighbours to follow");
+  const std::size_t span = (o.dimension - 1) * o.delay;
+  if (x.size() <= span + o.horizon)
+    throw std::invalid_argument(fmt::format(
+        "{} has {} samples; dimension {} at delay {} with a horizon of {} needs more than {}", name,
+        x.size(), o.dimension, o.delay, o.horizon, span + o.horizon));
+}
+
+// The stretching curves over given delay vectors (rows in time order, one per sample time).
+stretching_result stretching_of(const delay_vectors& v, const stretching_options& o);
+
 }  // namespace
 
 stretching_result stretching_curves(std::span<const double> x, const stretching_options& o) {
   validate(o);
-  detail::require_finite_series(x, "x", 4);
-  detail::require_varying(x, "x", "it has no neighbours to follow");
-  const std::size_t span = (o.dimension - 1) * o.delay;
-  if (x.size() <= span + o.horizon)
-    throw std::invalid_argument(fmt::format(
-        "x has {} samples; dimension {} at delay {} with a horizon of {} needs more than {}",
-        x.size(), o.dimension, o.delay, o.horizon, span + o.horizon));
-  const delay_vectors v = delay_embedding(x, o.delay, o.dimension);
+  check_series(x, "x", o);
+  return stretching_of(delay_embedding(x, o.delay, o.dimension), o);
+}
+
+stretching_result stretching_curves(std::span<const std::vector<double>> series,
+                                    const stretching_options& o) {
+  validate(o);
+  if (series.empty()) throw std::invalid_argument("stretching: no series given");
+  for (std::size_t c = 0; c < series.size(); ++c) {
+    if (series[c].size() != series[0].size())
+      throw std::invalid_argument(fmt::format(
+          "stretching: series {} has {} samples, series 1 has {}: they must be sampled together",
+          c + 1, series[c].size(), series[0].size()));
+    check_series(series[c], fmt::format("series {}", c + 1), o);
+  }
+  // Row i of the joint embedding: the m delay coordinates of each series in turn.
+  std::vector<delay_vectors> each;
+  for (const auto& x : series) each.push_back(delay_embedding(x, o.delay, o.dimension));
+  delay_vectors joint;
+  joint.dimension = o.dimension * series.size();
+  joint.delay = o.delay;
+  joint.count = each.front().count;
+  joint.points.reserve(joint.count * joint.dimension);
+  for (std::size_t i = 0; i < joint.count; ++i)
+    for (const auto& v : each)
+      joint.points.insert(joint.points.end(),
+                          v.points.begin() + static_cast<std::ptrdiff_t>(i * v.dimension),
+                          v.points.begin() + static_cast<std::ptrdiff_t>((i + 1) * v.dimension));
+  return stretching_of(joint, o);
+}
+
+std::vector<std::vector<double>> standardised_series(std::span<const std::vector<double>> series) {
+  std::vector<std::vector<double>> out;
+  for (std::size_t c = 0; c < series.size(); ++c) {
+    const std::string name = fmt::format("series {}", c + 1);
+    detail::require_finite_series(series[c], name.c_str(), 2);
+    detail::require_varying(series[c], name.c_str(), "it cannot be standardised");
+    double mean = 0;
+    for (double v : series[c]) mean += v;
+    mean /= static_cast<double>(series[c].size());
+    double squares = 0;
+    for (double v : series[c]) squares += (v - mean) * (v - mean);
+    const double deviation = std::sqrt(squares / static_cast<double>(series[c].size()));
+    std::vector<double> scaled;
+    scaled.reserve(series[c].size());
+    for (double v : series[c]) scaled.push_back((v - mean) / deviation);
+    out.push_back(std::move(scaled));
+  }
+  return out;
+}
+
+namespace {
+
+stretching_result stretching_of(const delay_vectors& v, const stretching_options& o) {
   stretching_result r;
   r.vectors = v.count - o.horizon;
   const std::size_t usable = r.vectors;
@@ -166,8 +225,7 @@ stretching_result stretching_curves(std::span<const double> x, const stretching_
     for (const auto& n : nearest)
       if (n.index != detail::neighbour::none) distances.push_back(n.distance);
     if (distances.empty())
-      throw std::invalid_argument(
-          "x: no delay vector has a neighbour outside the Theiler window");
+      throw std::invalid_argument("x: no delay vector has a neighbour outside the Theiler window");
     const double typical = median(distances);
     radii = {typical, 2 * typical, 4 * typical};
   }
@@ -239,22 +297,76 @@ stretching_result stretching_curves(std::span<const double> x, const stretching_
   return r;
 }
 
-series_lyapunov_result series_lyapunov_exponent(std::span<const double> x, double dt,
-                                                const series_lyapunov_options& o) {
+// The checks of the fit options, before any curve is computed.
+void check_fit_options(double dt, const series_lyapunov_options& o) {
   detail::require_sample_spacing(dt);
   const double horizon = static_cast<double>(o.stretching.horizon) * dt;
   if (o.fit_from.has_value() != o.fit_to.has_value())
     throw std::invalid_argument("series_lyapunov: give both ends of the fit range, or neither");
-  if (o.fit_from && !(*o.fit_from >= 0 && *o.fit_from < *o.fit_to &&
-                      *o.fit_to <= horizon * (1 + 1e-12)))
+  if (o.fit_from &&
+      !(*o.fit_from >= 0 && *o.fit_from < *o.fit_to && *o.fit_to <= horizon * (1 + 1e-12)))
     throw std::invalid_argument(fmt::format(
         "series_lyapunov: the fit range {} ... {} s must satisfy 0 <= from < to <= the horizon "
         "{} s",
         *o.fit_from, *o.fit_to, horizon));
+}
 
+// The middle curve (the mean of the two middle ones for an even count).
+std::vector<double> middle_curve(const std::vector<stretching_curve>& curves) {
+  const std::size_t m = curves.size() / 2;
+  std::vector<double> s = curves[m].s;
+  if (curves.size() % 2 == 0)
+    for (std::size_t p = 0; p < s.size(); ++p) s[p] = 0.5 * (s[p] + curves[m - 1].s[p]);
+  return s;
+}
+
+// S of the middle curve at the first finite point at or after time `t` (NaN if none).
+double curve_at(const series_lyapunov_result& r, const std::vector<double>& s, double t) {
+  for (std::size_t p = 0; p < s.size(); ++p)
+    if (static_cast<double>(r.stretching.steps[p]) * r.dt >= t - 1e-9 * r.dt && std::isfinite(s[p]))
+      return s[p];
+  return nan;
+}
+
+// Whether the fit range is a linear region (series_lyapunov.hpp says when it is not).
+void judge_linear_region(series_lyapunov_result& r) {
+  const std::vector<double> s = middle_curve(r.stretching.curves);
+  double start = nan;
+  for (double v : s)
+    if (std::isfinite(v)) {
+      start = v;
+      break;
+    }
+  const double from = curve_at(r, s, r.fit_from), to = curve_at(r, s, r.fit_to);
+  r.growth_before_fit = from - start;
+  r.growth_in_fit = to - from;
+  const auto& f = r.fits[r.fits.size() / 2];
+  const double half = 0.5 * (r.fit_to - r.fit_from);
+  const double bend = std::fabs(f.slope_first_half - f.slope_second_half) * half;
+  if (r.growth_before_fit >= 1 && r.growth_in_fit < 0.5 * r.growth_before_fit) {
+    r.linear_region = false;
+    r.nonlinearity = fmt::format(
+        "the stretching curve grew by {:.2g} (ln units) before the fit range ({:.4g} s) and by "
+        "only {:.2g} within it: the neighbours separated within the embedding window, as false "
+        "neighbours of the embedding do, so its slope is not the maximal exponent (embed more "
+        "observables, or a longer series)",
+        r.growth_before_fit, r.fit_from, r.growth_in_fit);
+  } else if (bend > std::max(0.25 * std::fabs(r.growth_in_fit), 0.1)) {
+    r.linear_region = false;
+    r.nonlinearity = fmt::format(
+        "the stretching curve bends in the fit range {:.4g} ... {:.4g} s: its slope is {:.3g} /s "
+        "over the first half and {:.3g} /s over the second, so no straight stretch measures the "
+        "maximal exponent",
+        r.fit_from, r.fit_to, f.slope_first_half, f.slope_second_half);
+  }
+}
+
+// The fit of the slope to the curves of `stretching`, and the verdict on its range.
+series_lyapunov_result fit_stretching(stretching_result stretching, double dt,
+                                      const series_lyapunov_options& o) {
   series_lyapunov_result r;
   r.dt = dt;
-  r.stretching = stretching_curves(x, o.stretching);
+  r.stretching = std::move(stretching);
   const auto& curves = r.stretching.curves;
   std::vector<double> t;
   for (std::size_t n : r.stretching.steps) t.push_back(static_cast<double>(n) * dt);
@@ -264,11 +376,7 @@ series_lyapunov_result series_lyapunov_exponent(std::span<const double> x, doubl
     r.fit_to = *o.fit_to;
   } else {
     r.automatic_range = true;
-    // The middle curve (the mean of the two middle ones for an even count).
-    const std::size_t m = curves.size() / 2;
-    std::vector<double> s = curves[m].s;
-    if (curves.size() % 2 == 0)
-      for (std::size_t p = 0; p < s.size(); ++p) s[p] = 0.5 * (s[p] + curves[m - 1].s[p]);
+    const std::vector<double> s = middle_curve(curves);
     // After the embedding window (m − 1)τ: before it the neighbours' separation still
     // turns into the unstable direction and the delay coordinates mix old and new samples.
     const std::size_t window =
@@ -344,12 +452,27 @@ series_lyapunov_result series_lyapunov_exponent(std::span<const double> x, doubl
   r.range_uncertainty = range / static_cast<double>(slopes.size());
   r.statistical_uncertainty =
       statistical_count > 0 ? statistical / static_cast<double>(statistical_count) : nan;
-  r.uncertainty = std::sqrt(
-      (std::isfinite(r.statistical_uncertainty)
-           ? r.statistical_uncertainty * r.statistical_uncertainty
-           : 0.0) +
-      r.radius_uncertainty * r.radius_uncertainty + r.range_uncertainty * r.range_uncertainty);
+  r.uncertainty = std::sqrt((std::isfinite(r.statistical_uncertainty)
+                                 ? r.statistical_uncertainty * r.statistical_uncertainty
+                                 : 0.0) +
+                            r.radius_uncertainty * r.radius_uncertainty +
+                            r.range_uncertainty * r.range_uncertainty);
+  judge_linear_region(r);
   return r;
+}
+
+}  // namespace
+
+series_lyapunov_result series_lyapunov_exponent(std::span<const double> x, double dt,
+                                                const series_lyapunov_options& o) {
+  check_fit_options(dt, o);
+  return fit_stretching(stretching_curves(x, o.stretching), dt, o);
+}
+
+series_lyapunov_result series_lyapunov_exponent(std::span<const std::vector<double>> series,
+                                                double dt, const series_lyapunov_options& o) {
+  check_fit_options(dt, o);
+  return fit_stretching(stretching_curves(series, o.stretching), dt, o);
 }
 
 }  // namespace npend

@@ -3,9 +3,9 @@
 // for every report (simulate, poincare, analyze, lyapunov, demo).
 #pragma once
 
-#include "npend/chain.hpp"
-
 #include <span>
+
+#include "npend/chain.hpp"
 
 namespace npend {
 

@@ -3,15 +3,15 @@
 // observables of its angles — or from measured data read by an application.
 #pragma once
 
-#include "npend/chain.hpp"
-#include "npend/integrate.hpp"
-
 #include <cstddef>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "npend/chain.hpp"
+#include "npend/integrate.hpp"
 
 namespace npend {
 

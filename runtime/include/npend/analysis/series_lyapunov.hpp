@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace npend {
@@ -43,10 +44,10 @@ struct stretching_options {
 
 /// S(Δn) for one radius.
 struct stretching_curve {
-  double radius = 0;            ///< ε
-  std::vector<double> s;        ///< S at each Δn of the result (NaN: no reference point)
-  std::size_t references = 0;   ///< reference vectors with at least one neighbour
-  double mean_neighbours = 0;   ///< mean |U_i| over them
+  double radius = 0;           ///< ε
+  std::vector<double> s;       ///< S at each Δn of the result (NaN: no reference point)
+  std::size_t references = 0;  ///< reference vectors with at least one neighbour
+  double mean_neighbours = 0;  ///< mean |U_i| over them
   /// S of each group of reference vectors (groups × steps; NaN where a group has none).
   std::vector<std::vector<double>> group_s;
 };
@@ -54,7 +55,7 @@ struct stretching_curve {
 struct stretching_result {
   std::vector<std::size_t> steps;        ///< Δn in samples: 0, step, 2·step, …
   std::vector<stretching_curve> curves;  ///< one per radius, ascending ε
-  std::size_t vectors = 0;               ///< delay vectors that can serve (with Δn ≤ horizon ahead)
+  std::size_t vectors = 0;  ///< delay vectors that can serve (with Δn ≤ horizon ahead)
 };
 
 /// The stretching curves of x (dim N). Throws std::invalid_argument for a non-finite
@@ -62,6 +63,19 @@ struct stretching_result {
 /// series too short: the delay vectors that have `horizon` samples ahead must number at least
 /// 2w + 3 and 2·groups.
 stretching_result stretching_curves(std::span<const double> x, const stretching_options& options);
+
+/// The same for several series sampled together (each dim N, at least one): the delay vectors
+/// of all of them side by side (dimension m per series, m·C coordinates), so that with m = 1
+/// the observables themselves are the coordinates — a multivariate embedding. Distances add
+/// the series' squares: scale them comparably first (standardised_series). Throws as above,
+/// and for series of different lengths.
+stretching_result stretching_curves(std::span<const std::vector<double>> series,
+                                    const stretching_options& options);
+
+/// Each series minus its mean, divided by its standard deviation (for a multivariate
+/// embedding of observables in different units). Throws std::invalid_argument for a constant
+/// or non-finite series.
+std::vector<std::vector<double>> standardised_series(std::span<const std::vector<double>> series);
 
 /// How the slope is fitted.
 struct series_lyapunov_options {
@@ -74,7 +88,7 @@ struct series_lyapunov_options {
 /// A straight line through S(Δt) for one radius over the fit range.
 struct stretching_fit {
   double radius = 0;
-  double slope = 0;           ///< 1/s
+  double slope = 0;  ///< 1/s
   double intercept = 0;
   double standard_error = 0;  ///< of the slope, from the residuals (ordinary least squares)
   /// The slopes over the first and the second half of the fit range (1/s).
@@ -100,6 +114,13 @@ struct series_lyapunov_result {
   ///         is large when S is curved over the fit range (no linear region).
   double uncertainty = 0;
   double statistical_uncertainty = 0, radius_uncertainty = 0, range_uncertainty = 0;
+  /// Whether the fit range is a linear region of the curves (see linear_region_verdict);
+  /// when it is not, maximal_exponent is the slope there but not an estimate of λ₁.
+  bool linear_region = true;
+  std::string nonlinearity;  ///< why not, in one sentence (empty when linear)
+  /// Of the middle radius's curve: how much S grew from Δt = 0 to the fit range, and within
+  /// it (ln units).
+  double growth_before_fit = 0, growth_in_fit = 0;
 };
 
 /// The maximal Lyapunov exponent of x_j = x(t₀ + j dt) (dim N, dt > 0 in s) by Kantz's
@@ -109,10 +130,26 @@ struct series_lyapunov_result {
 /// the embedding window, during which the separations still turn into the unstable direction
 /// — to where the curve first reaches half-way from its value there to its largest value
 /// after it (the saturation level, ln of the attractor's size); to the end of the curve if
-/// it rises by less than 1 after the window (no growth to speak of). Throws std::invalid_argument as stretching_curves does, for dt ≤ 0, a fit
-/// range that is not 0 ≤ from < to ≤ horizon·dt or holds fewer than 3 points of the curve,
-/// and when the curves have no point with reference vectors.
+/// it rises by less than 1 after the window (no growth to speak of). Throws std::invalid_argument
+/// as stretching_curves does, for dt ≤ 0, a fit range that is not 0 ≤ from < to ≤ horizon·dt or
+/// holds fewer than 3 points of the curve, and when the curves have no point with reference
+/// vectors.
 series_lyapunov_result series_lyapunov_exponent(std::span<const double> x, double dt,
+                                                const series_lyapunov_options& options = {});
+
+/// The same on a multivariate embedding of several series (see stretching_curves).
+///
+/// Both judge the fit range. It is not a linear region, and the result says why, when on the
+/// middle radius's curve
+///   - S grew by at least 1 (a factor e) before the fit range and by less than half of that
+///     within it: the separations saturated within the embedding window, where false
+///     neighbours of the embedding part (too few coordinates, or a series too short for
+///     its dimension) and the slope after it says nothing about λ₁; or
+///   - the slopes over the two halves of the fit range differ by more than a quarter of the
+///     growth within it (and by more than 0.1 in ln units over a half): the curve bends
+///     where a straight line was fitted.
+series_lyapunov_result series_lyapunov_exponent(std::span<const std::vector<double>> series,
+                                                double dt,
                                                 const series_lyapunov_options& options = {});
 
 }  // namespace npend
