@@ -17,11 +17,6 @@
 
 namespace fs = std::filesystem;
 
-#if defined(__SANITIZE_ADDRESS__)
-// CLN allocates a few bytes at start-up that it never frees; under AddressSanitizer that
-// would fail every run of the generator, so LeakSanitizer is told to ignore CLN's own leaks.
-extern "C" const char* __lsan_default_suppressions() { return "leak:libcln.so\n"; }
-#endif
 using namespace npend::gen;
 
 namespace {
