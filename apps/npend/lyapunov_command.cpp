@@ -1,28 +1,27 @@
 // npend lyapunov: the Lyapunov spectrum (or the maximal exponent) of a trajectory, with its
 // uncertainty (paper §6.5.1) — or, with --input, the maximal exponent of a measured time series
 // by Kantz's method.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <optional>
+
 #include "chain_options.hpp"
 #include "command.hpp"
 #include "csv_table.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
-#include "terminal_run.hpp"
-#include "series_output.hpp"
-#include "start_options.hpp"
-#include "time_series_source.hpp"
-
 #include "npend/analysis/delay_embedding.hpp"
 #include "npend/analysis/lyapunov.hpp"
 #include "npend/analysis/series_lyapunov.hpp"
-
-#include <fmt/format.h>
-#include <fmt/ranges.h>
-#include <nlohmann/json.hpp>
-
-#include <cmath>
-#include <iostream>
-#include <numeric>
-#include <optional>
+#include "series_output.hpp"
+#include "start_options.hpp"
+#include "terminal_run.hpp"
+#include "time_series_source.hpp"
 
 namespace npend::app {
 
@@ -135,20 +134,22 @@ void write_files(series_output& files, const lyapunov_result& r, const chain& c,
 
 // "± x (what it is)" for the text output.
 std::string uncertainty_label(bool ensemble, std::size_t count, double length) {
-  return ensemble ? fmt::format("standard error of the mean over an ensemble of {} nearby starts "
-                                "on the same energy surface",
-                                count)
-                  : fmt::format("standard error from {} blocks of {:.4g} s of the run (block "
-                                "exponents' standard deviation / sqrt({}))",
-                                count, length, count);
+  return ensemble ? fmt::format(
+                        "standard error of the mean over an ensemble of {} nearby starts "
+                        "on the same energy surface",
+                        count)
+                  : fmt::format(
+                        "standard error from {} blocks of {:.4g} s of the run (block "
+                        "exponents' standard deviation / sqrt({}))",
+                        count, length, count);
 }
 
 int run_equations(const lyapunov_command_options& o) {
-  for (const char* name : {"--column", "--tau", "--dim", "--theiler", "--horizon", "--fit",
-                           "--radius"})
+  for (const char* name :
+       {"--column", "--tau", "--dim", "--theiler", "--horizon", "--fit", "--radius"})
     if (given(o, name))
-      throw cli::input_error(fmt::format(
-          "{}: only for a measured series (--input F.csv), not with --links", name));
+      throw cli::input_error(
+          fmt::format("{}: only for a measured series (--input F.csv), not with --links", name));
   if (o.integrator.t_end.empty())
     throw cli::input_error("--t-end is required with --links (see npend lyapunov --help)");
   const chain c = o.chain.make_chain();
@@ -162,14 +163,13 @@ int run_equations(const lyapunov_command_options& o) {
     if (!o.ensemble_radius.empty()) {
       ensemble->radius = cli::parse_number(o.ensemble_radius, "--ensemble-radius");
       if (!(ensemble->radius > 0 && ensemble->radius <= 0.1))
-        throw cli::input_error(fmt::format("--ensemble-radius: must be in (0, 0.1] rad, got {}",
-                                           o.ensemble_radius));
+        throw cli::input_error(
+            fmt::format("--ensemble-radius: must be in (0, 0.1] rad, got {}", o.ensemble_radius));
     }
     if (!o.seed.empty()) ensemble->seed = whole_number(o.seed, "--seed", 0, 9.0e15);
   } else {
     for (const char* name : {"--ensemble-radius", "--seed"})
-      if (given(o, name))
-        throw cli::input_error(fmt::format("{}: only with --ensemble K", name));
+      if (given(o, name)) throw cli::input_error(fmt::format("{}: only with --ensemble K", name));
   }
   series_output files(o.out);
 
@@ -182,8 +182,7 @@ int run_equations(const lyapunov_command_options& o) {
       e = lyapunov_ensemble(c, x0, options, *ensemble);
       if (!e.stopped) r = e.runs.front();
     } else {
-      r = o.maximal ? maximal_lyapunov_exponent(c, x0, options)
-                    : lyapunov_spectrum(c, x0, options);
+      r = o.maximal ? maximal_lyapunov_exponent(c, x0, options) : lyapunov_spectrum(c, x0, options);
     }
   } catch (const std::invalid_argument& error) {
     // What the options above cannot see, e.g. a transient that rounds up to --t-end.
@@ -220,8 +219,8 @@ int run_equations(const lyapunov_command_options& o) {
     j["exponents"] = exponents;
     j["maximal_exponent"] = exponents.front();
     j["standard_errors"] = numbers(errors);
-    j["uncertainty"] = std::isfinite(errors.front()) ? nlohmann::json(errors.front())
-                                                     : nlohmann::json();
+    j["uncertainty"] =
+        std::isfinite(errors.front()) ? nlohmann::json(errors.front()) : nlohmann::json();
     j["uncertainty_method"] = ensemble ? "ensemble standard error" : "block standard error";
     j["uncertainty_description"] = label;
     if (!o.maximal) {
@@ -298,7 +297,8 @@ std::vector<std::string> column_list(const std::string& text) {
   std::size_t start = 0;
   while (true) {
     const std::size_t comma = text.find(',', start);
-    out.push_back(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    out.push_back(
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
@@ -309,18 +309,34 @@ std::vector<std::string> column_list(const std::string& text) {
 }
 
 int run_series(const lyapunov_command_options& o) {
-  for (const char* name :
-       {"--masses", "--lengths", "--g", "--phi", "--p", "--dphi", "--energy", "--excitation",
-        "--t-end", "--stepper", "--abs-tol", "--rel-tol", "--transient", "--renormalise-every",
-        "--convergence-fraction", "--maximal", "--ensemble", "--ensemble-radius", "--seed",
-        "--blocks"})
+  for (const char* name : {"--masses",
+                           "--lengths",
+                           "--g",
+                           "--phi",
+                           "--p",
+                           "--dphi",
+                           "--energy",
+                           "--excitation",
+                           "--t-end",
+                           "--stepper",
+                           "--abs-tol",
+                           "--rel-tol",
+                           "--transient",
+                           "--renormalise-every",
+                           "--convergence-fraction",
+                           "--maximal",
+                           "--ensemble",
+                           "--ensemble-radius",
+                           "--seed",
+                           "--blocks"})
     if (given(o, name))
       throw cli::input_error(
           fmt::format("{}: only for the equations (--links N), not with --input", name));
   std::optional<double> spacing;
   if (!o.integrator.dt.empty()) {
     spacing = cli::parse_number(o.integrator.dt, "--dt");
-    if (!(*spacing > 0)) throw cli::input_error(fmt::format("--dt: must be positive, got {}", o.integrator.dt));
+    if (!(*spacing > 0))
+      throw cli::input_error(fmt::format("--dt: must be positive, got {}", o.integrator.dt));
   }
   // Several columns: a multivariate embedding of the observables themselves by default.
   const std::vector<std::string> selectors = column_list(o.column);
@@ -336,8 +352,8 @@ int run_series(const lyapunov_command_options& o) {
   }
   series_output files(o.out);
   const std::string text = cli::read_text_file(o.input, "--input");
-  const sampled_signals signals = cli::signals_from_csv(
-      cli::parse_csv(text, o.input), o.input, spacing, min_series_samples);
+  const sampled_signals signals =
+      cli::signals_from_csv(cli::parse_csv(text, o.input), o.input, spacing, min_series_samples);
   std::vector<time_series> chosen;
   for (const auto& selector : selectors)
     chosen.push_back(cli::select_signal(signals, selector, "--column"));
@@ -433,16 +449,23 @@ int run_series(const lyapunov_command_options& o) {
   std::vector<std::string> notes;
   if (!r.linear_region) notes.push_back("no estimate: " + r.nonlinearity);
   if (rise < 3)
-    notes.push_back(fmt::format(
-        "the stretching curve rises by only {:.2g} (ln units) over the horizon: either nearby "
-        "states do not separate (regular motion, exponent 0) or the neighbours are too far "
-        "apart for a linear region (a series too short for its dimension), and then the slope "
-        "need not be the maximal exponent",
-        rise));
+    notes.push_back(
+        r.linear_region && r.maximal_exponent > 2 * r.uncertainty
+            ? fmt::format("the stretching curve rises by only {:.2g} (ln units) over the horizon: "
+                          "the estimate rests on few e-foldings of a short linear region (more "
+                          "samples give closer neighbours and a longer one)",
+                          rise)
+            : fmt::format(
+                  "the stretching curve rises by only {:.2g} (ln units) over the horizon: either "
+                  "nearby states do not separate (regular motion, exponent 0) or the neighbours "
+                  "are too far apart for a linear region (a series too short for its dimension), "
+                  "and then the slope need not be the maximal exponent",
+                  rise));
   if (r.linear_region && r.uncertainty > 0.25 * std::fabs(r.maximal_exponent) &&
       r.maximal_exponent > 0)
-    notes.push_back("the uncertainty is more than a quarter of the exponent: the curve has no "
-                    "clear linear region in the fit range (see --fit)");
+    notes.push_back(
+        "the uncertainty is more than a quarter of the exponent: the curve has no "
+        "clear linear region in the fit range (see --fit)");
 
   if (files.enabled()) {
     std::vector<std::string> names{"t"};
@@ -455,14 +478,14 @@ int run_series(const lyapunov_command_options& o) {
     cli::plot_panel panel{
         .title = fmt::format("Stretching curve of {} (Kantz; m = {}, tau = {:.4g} s): slope {:.4g} "
                              "+- {:.2g} 1/s over {:.4g} ... {:.4g} s",
-                             x.name, dimension, static_cast<double>(tau) * dt,
-                             r.maximal_exponent, r.uncertainty, r.fit_from, r.fit_to),
+                             x.name, dimension, static_cast<double>(tau) * dt, r.maximal_exponent,
+                             r.uncertainty, r.fit_from, r.fit_to),
         .xlabel = "Δt (s)",
         .ylabel = "S(Δt) = <ln mean distance>",
-        .commands = {fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2",
-                                 r.fit_from),
-                     fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2", r.fit_to),
-                     "set key left top"}};
+        .commands = {
+            fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2", r.fit_from),
+            fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2", r.fit_to),
+            "set key left top"}};
     for (std::size_t q = 0; q < r.stretching.curves.size(); ++q) {
       panel.curves.push_back({data, fmt::format("1:{}", q + 2), "lines lw 1.5",
                               fmt::format("ε = {:.3g}", r.stretching.curves[q].radius)});
@@ -507,16 +530,16 @@ int run_series(const lyapunov_command_options& o) {
     for (std::size_t q = 0; q < r.fits.size(); ++q) {
       const auto& f = r.fits[q];
       const auto& c = r.stretching.curves[q];
-      fits.push_back({{"radius", f.radius},
-                      {"slope", f.slope},
-                      {"standard_error", std::isfinite(f.standard_error)
-                                             ? nlohmann::json(f.standard_error)
-                                             : nlohmann::json()},
-                      {"group_standard_error", std::isfinite(f.group_standard_error)
-                                                   ? nlohmann::json(f.group_standard_error)
-                                                   : nlohmann::json()},
-                      {"references", c.references},
-                      {"mean_neighbours", c.mean_neighbours}});
+      fits.push_back(
+          {{"radius", f.radius},
+           {"slope", f.slope},
+           {"standard_error",
+            std::isfinite(f.standard_error) ? nlohmann::json(f.standard_error) : nlohmann::json()},
+           {"group_standard_error", std::isfinite(f.group_standard_error)
+                                        ? nlohmann::json(f.group_standard_error)
+                                        : nlohmann::json()},
+           {"references", c.references},
+           {"mean_neighbours", c.mean_neighbours}});
       curve_s.push_back(numbers(c.s));
     }
     j["fits"] = fits;
@@ -529,15 +552,17 @@ int run_series(const lyapunov_command_options& o) {
     return 0;
   }
   fmt::print("Maximal Lyapunov exponent of {} (Kantz's method)\n\n", series_summary(x));
-  fmt::print("delay embedding{}: m = {}, tau = {:.6g} s ({} samples; {}), Theiler window {:.6g} s\n",
-             observables.empty()
-                 ? std::string()
-                 : fmt::format(" of {} standardised columns side by side", observables.size()),
-             dimension, static_cast<double>(tau) * dt, tau, tau_method,
-             static_cast<double>(s.theiler_window) * dt);
-  fmt::print("stretching curve S(dt) up to {:.6g} s; slope fitted over {:.6g} ... {:.6g} s ({})\n\n",
-             static_cast<double>(s.horizon) * dt, r.fit_from, r.fit_to,
-             r.automatic_range ? "chosen automatically" : "given");
+  fmt::print(
+      "delay embedding{}: m = {}, tau = {:.6g} s ({} samples; {}), Theiler window {:.6g} s\n",
+      observables.empty()
+          ? std::string()
+          : fmt::format(" of {} standardised columns side by side", observables.size()),
+      dimension, static_cast<double>(tau) * dt, tau, tau_method,
+      static_cast<double>(s.theiler_window) * dt);
+  fmt::print(
+      "stretching curve S(dt) up to {:.6g} s; slope fitted over {:.6g} ... {:.6g} s ({})\n\n",
+      static_cast<double>(s.horizon) * dt, r.fit_from, r.fit_to,
+      r.automatic_range ? "chosen automatically" : "given");
   fmt::print("{:>12}  {:>12}  {:>12}  {:>11}\n", "radius", "slope (1/s)", "references",
              "neighbours");
   for (std::size_t q = 0; q < r.fits.size(); ++q)
@@ -546,9 +571,10 @@ int run_series(const lyapunov_command_options& o) {
   if (r.linear_region)
     fmt::print("\nmaximal exponent = {:.5g} +- {:.2g} 1/s\n", r.maximal_exponent, r.uncertainty);
   else
-    fmt::print("\nno estimate of the maximal exponent (the slope over the fit range is {:.5g} "
-               "1/s, but the range is no linear region)\n",
-               r.maximal_exponent);
+    fmt::print(
+        "\nno estimate of the maximal exponent (the slope over the fit range is {:.5g} "
+        "1/s, but the range is no linear region)\n",
+        r.maximal_exponent);
   fmt::print(
       "+- = sqrt(statistical^2 + radius^2 + range^2) = sqrt({:.2g}^2 + {:.2g}^2 + {:.2g}^2): the "
       "slopes' standard error over {} groups of reference points, half the slopes' range over "
