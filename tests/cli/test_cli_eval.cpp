@@ -1,10 +1,11 @@
 // `npend eval` as a user runs it: JSON keys and values, and each bad input's message and
 // exit status.
+#include <doctest/doctest.h>
+
+#include <nlohmann/json.hpp>
+
 #include "npend/chain.hpp"
 #include "support/test_support.hpp"
-
-#include <doctest/doctest.h>
-#include <nlohmann/json.hpp>
 
 using npend::test::run_npend;
 
@@ -46,19 +47,25 @@ TEST_CASE("npend eval: bad input gets a one-line message naming the problem, exi
     const char* message;
   };
   const bad_case cases[] = {
-      {"eval --links 2 --state 0,0,0", "--state: expected 4 values (phi_1..phi_2, p_1..p_2), got 3"},
-      {"eval --links 2 --masses 1 --state 0,0,0,0", "--masses: expected 2 values (m_1..m_2), got 1"},
-      {"eval --links 2 --masses 1,-2 --state 0,0,0,0", "mass 2 is -2: it must be a positive finite number"},
-      {"eval --links 2 --lengths 1,0 --state 0,0,0,0", "length 2 is 0: it must be a positive finite number"},
+      {"eval --links 2 --state 0,0,0",
+       "--state: expected 4 values (phi_1..phi_2, p_1..p_2), got 3"},
+      {"eval --links 3 --masses 1,2 --state 0,0,0,0,0,0",
+       "--masses: expected 3 values (m_1..m_3) or one for all links, got 2"},
+      {"eval --links 2 --masses 1,-2 --state 0,0,0,0",
+       "mass 2 is -2: it must be a positive finite number"},
+      {"eval --links 2 --lengths 1,0 --state 0,0,0,0",
+       "length 2 is 0: it must be a positive finite number"},
       {"eval --links 2 --g 0 --state 0,0,0,0", "g is 0: it must be a positive finite number"},
-      {"eval --links 2 --state 0,nan,0,0", "--state: 'nan' is not a finite number (item 2 of '0,nan,0,0')"},
+      {"eval --links 2 --state 0,nan,0,0",
+       "--state: 'nan' is not a finite number (item 2 of '0,nan,0,0')"},
       {"eval --links 2 --state 0,inf,0,0", "--state: 'inf' is not a finite number"},
       {"eval --links 2 --state 0,x,0,0", "--state: 'x' is not a number (item 2 of '0,x,0,0')"},
       {"eval --links 2 --state 0,,0,0", "--state: empty value (item 2 of '0,,0,0')"},
       {"eval --links 2 --state 0,1e999,0,0", "--state: '1e999' is out of the range of a double"},
       {"eval --links 99 --state 0,0", "99 links are not built into this program"},
       {"eval --links 0 --state 0,0", "--links: must be at least 1, got 0"},
-      {"eval --links 2 --state 0,0,0,0 --bogus", "The following argument was not expected: --bogus"},
+      {"eval --links 2 --state 0,0,0,0 --bogus",
+       "The following argument was not expected: --bogus"},
   };
   for (const auto& bad : cases) {
     const auto r = run_npend(bad.args);
@@ -75,5 +82,20 @@ TEST_CASE("npend equations: prints the derived LaTeX for a link count") {
   const auto r = run_npend("equations --links 2");
   CHECK(r.exit_code == 0);
   CHECK(r.out.find("\\begin{align*}") != std::string::npos);
-  CHECK(r.out.find("A_{12} &= \\mu_{2} l_{1} l_{2} \\cos(\\varphi_{1} - \\varphi_{2})") != std::string::npos);
+  CHECK(r.out.find("A_{12} &= \\mu_{2} l_{1} l_{2} \\cos(\\varphi_{1} - \\varphi_{2})") !=
+        std::string::npos);
+}
+
+TEST_CASE("npend eval: one value of --masses or --lengths is every link's") {
+  const auto one =
+      run_npend("eval --links 3 --masses 2 --lengths 0.5 --state 0.3,-0.2,0.5,0.1,0.2,-0.1 --json");
+  const auto all = run_npend(
+      "eval --links 3 --masses 2,2,2 --lengths 0.5,0.5,0.5 --state 0.3,-0.2,0.5,0.1,0.2,-0.1 "
+      "--json");
+  REQUIRE(one.exit_code == 0);
+  REQUIRE(all.exit_code == 0);
+  CHECK(one.out == all.out);
+  const auto j = nlohmann::json::parse(one.out);
+  CHECK(j["masses"] == std::vector<double>{2, 2, 2});
+  CHECK(j["lengths"] == std::vector<double>{0.5, 0.5, 0.5});
 }
