@@ -6,14 +6,13 @@
 //
 // prints the 6 exponents with their block standard errors and the pair sums; exits 1 if a
 // pair sum exceeds 1e-8 /s (with the symplectic tangent map they vanish to round-off).
-#include <npend/analysis/lyapunov.hpp>
-#include <npend/chain.hpp>
-
 #include <fmt/format.h>
 
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <npend/analysis/lyapunov.hpp>
+#include <npend/chain.hpp>
 #include <string>
 #include <vector>
 

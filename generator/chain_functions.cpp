@@ -1,10 +1,10 @@
 #include "chain_functions.hpp"
 
+#include <string>
+
 #include "articulated_form.hpp"
 #include "general_form.hpp"
 #include "polynomial.hpp"
-
-#include <string>
 
 namespace npend::gen {
 
@@ -53,17 +53,18 @@ std::vector<sx> potential_force(const polynomial_space& space, const chain_mecha
                                 expr_graph& graph) {
   const std::vector<sx> vars = variable_nodes(space, graph);
   std::vector<sx> out;
-  for (const auto& dv : mech.grad_potential) out.push_back(-to_graph(space.canonical(dv), vars, graph));
+  for (const auto& dv : mech.grad_potential)
+    out.push_back(-to_graph(space.canonical(dv), vars, graph));
   return out;
 }
 
 emitted_function rhs_function(int n, const polynomial_space& space, const chain_mechanics& mech) {
-  emitted_function f = make(
-      "rhs", argument_layout::state,
-      {"Hamilton's equations f(x): dxdt = [dphi/dt (dim n), dp/dt (dim n)].",
-       "phi' = A^-1 p by an O(n) articulated-body elimination (no inverse masses), "
-       "p' = -dH/dphi."},
-      "dxdt");
+  emitted_function f =
+      make("rhs", argument_layout::state,
+           {"Hamilton's equations f(x): dxdt = [dphi/dt (dim n), dp/dt (dim n)].",
+            "phi' = A^-1 p by an O(n) articulated-body elimination (no inverse masses), "
+            "p' = -dH/dphi."},
+           "dxdt");
   expr_graph& g = *f.graph;
   const articulated_form form(n, g);
   const auto motion = form.solve(inputs(g, input_kind::p, n));
@@ -75,11 +76,11 @@ emitted_function rhs_function(int n, const polynomial_space& space, const chain_
 
 emitted_function jacobian_function(int n, const polynomial_space& space,
                                    const chain_mechanics& mech) {
-  emitted_function f = make(
-      "jacobian", argument_layout::state,
-      {"Exact Jacobian J = df/dx of rhs, row-major (2n x 2n): J[i*2n + j] = df_i/dx_j.",
-       "Hamiltonian structure: J = [[B, A^-1], [C, -B^T]] with C symmetric."},
-      "jac");
+  emitted_function f =
+      make("jacobian", argument_layout::state,
+           {"Exact Jacobian J = df/dx of rhs, row-major (2n x 2n): J[i*2n + j] = df_i/dx_j.",
+            "Hamiltonian structure: J = [[B, A^-1], [C, -B^T]] with C symmetric."},
+           "jac");
   expr_graph& g = *f.graph;
   const articulated_form form(n, g);
   const auto p = inputs(g, input_kind::p, n);
@@ -211,9 +212,7 @@ const char* solver_name(kinetic_solver solver) {
   return solver == kinetic_solver::articulated ? "articulated" : "ldlt";
 }
 
-kinetic_solver default_solver(const chain_symbols& /*sym*/) {
-  return kinetic_solver::articulated;
-}
+kinetic_solver default_solver(const chain_symbols& /*sym*/) { return kinetic_solver::articulated; }
 
 std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
                                                     const chain_mechanics& mech,
@@ -262,8 +261,8 @@ std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
     xy.push_back(mech.y[u(k)]);
   }
   out.push_back(from_expressions(space, "positions", argument_layout::phi,
-                                 {"Bob positions [x_1, y_1, ..., x_n, y_n] (dim 2n), y down."},
-                                 xy, "xy"));
+                                 {"Bob positions [x_1, y_1, ..., x_n, y_n] (dim 2n), y down."}, xy,
+                                 "xy"));
   if (n <= closed_form_max_links) out.push_back(closed_form_function(sym, space, mech));
   return out;
 }

@@ -4,12 +4,12 @@
 // equations, their Jacobian, velocities, H, det A; see articulated_form.hpp).
 #pragma once
 
-#include "chain_model.hpp"
-#include "expr_graph.hpp"
-
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "chain_model.hpp"
+#include "expr_graph.hpp"
 
 namespace npend::gen {
 
@@ -25,8 +25,8 @@ struct emitted_function {
   std::string name;
   std::vector<std::string> doc;  ///< lines of the /// comment
   argument_layout layout = argument_layout::state;
-  bool returns_scalar = false;   ///< `double f(...)`; otherwise `void f(..., double* out)`
-  std::string output_name;       ///< name of the output array of a void function
+  bool returns_scalar = false;  ///< `double f(...)`; otherwise `void f(..., double* out)`
+  std::string output_name;      ///< name of the output array of a void function
   std::unique_ptr<expr_graph> graph;
   std::vector<sx> outputs;
 };

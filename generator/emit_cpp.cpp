@@ -1,11 +1,10 @@
 #include "emit_cpp.hpp"
 
-#include <npend/chain_kernels.hpp>
-
 #include <fmt/format.h>
 
 #include <cmath>
 #include <map>
+#include <npend/chain_kernels.hpp>
 #include <stdexcept>
 
 namespace npend::gen {
@@ -73,22 +72,28 @@ std::string input_text(argument_layout layout, int n, const node& in) {
       if (layout == argument_layout::state)
         return fmt::format("x[{}]", chain_layout::momentum_index(n, in.index));
       return fmt::format("p[{}]", in.index);
-    case input_kind::dphi: return fmt::format("dphi[{}]", in.index);
-    case input_kind::mass: return fmt::format("params[{}]", chain_layout::mass_index(n, in.index));
+    case input_kind::dphi:
+      return fmt::format("dphi[{}]", in.index);
+    case input_kind::mass:
+      return fmt::format("params[{}]", chain_layout::mass_index(n, in.index));
     case input_kind::length:
       return fmt::format("params[{}]", chain_layout::length_index(n, in.index));
-    case input_kind::gravity: return fmt::format("params[{}]", chain_layout::gravity_index(n));
+    case input_kind::gravity:
+      return fmt::format("params[{}]", chain_layout::gravity_index(n));
   }
   throw std::logic_error("emit: unknown input");
 }
 
 bool layout_has(argument_layout layout, input_kind kind) {
   switch (kind) {
-    case input_kind::phi: return true;
+    case input_kind::phi:
+      return true;
     case input_kind::p:
       return layout == argument_layout::state || layout == argument_layout::phi_p;
-    case input_kind::dphi: return layout == argument_layout::phi_dphi;
-    default: return true;
+    case input_kind::dphi:
+      return layout == argument_layout::phi_dphi;
+    default:
+      return true;
   }
 }
 
@@ -99,10 +104,18 @@ std::string wrap(const printed& p, int min_prec) {
 std::string signature(const emitted_function& f) {
   std::string args;
   switch (f.layout) {
-    case argument_layout::state: args = "const double* x"; break;
-    case argument_layout::phi_dphi: args = "const double* phi, const double* dphi"; break;
-    case argument_layout::phi_p: args = "const double* phi, const double* p"; break;
-    case argument_layout::phi: args = "const double* phi"; break;
+    case argument_layout::state:
+      args = "const double* x";
+      break;
+    case argument_layout::phi_dphi:
+      args = "const double* phi, const double* dphi";
+      break;
+    case argument_layout::phi_p:
+      args = "const double* phi, const double* p";
+      break;
+    case argument_layout::phi:
+      args = "const double* phi";
+      break;
   }
   args += ", const double* params";
   if (!f.returns_scalar) args += ", double* " + f.output_name;
@@ -136,7 +149,9 @@ std::string body(int n, const emitted_function& f) {
           throw std::logic_error("emit: " + f.name + " uses an input it does not take");
         p = {input_text(f.layout, n, nd), atom};
         break;
-      case op::neg: p = {"-" + wrap(child(nd.lhs), unary), unary}; break;
+      case op::neg:
+        p = {"-" + wrap(child(nd.lhs), unary), unary};
+        break;
       case op::add:
       case op::sub: {
         // The right operand is bracketed at equal precedence: a + (b + c) must not be
@@ -152,8 +167,12 @@ std::string body(int n, const emitted_function& f) {
              multiplicative};
         break;
       }
-      case op::sin: p = {"std::sin(" + child(nd.lhs).text + ")", atom}; break;
-      case op::cos: p = {"std::cos(" + child(nd.lhs).text + ")", atom}; break;
+      case op::sin:
+        p = {"std::sin(" + child(nd.lhs).text + ")", atom};
+        break;
+      case op::cos:
+        p = {"std::cos(" + child(nd.lhs).text + ")", atom};
+        break;
     }
     const bool leaf = nd.kind == op::constant || nd.kind == op::input;
     const bool trig = nd.kind == op::sin || nd.kind == op::cos;
@@ -186,13 +205,24 @@ operation_count count_operations(const emitted_function& f) {
   for (const int id : postorder(*f.graph, f.outputs)) {
     switch (f.graph->at(id).kind) {
       case op::add:
-      case op::sub: ++c.add; break;
-      case op::mul: ++c.mul; break;
-      case op::div: ++c.div; break;
-      case op::neg: ++c.neg; break;
+      case op::sub:
+        ++c.add;
+        break;
+      case op::mul:
+        ++c.mul;
+        break;
+      case op::div:
+        ++c.div;
+        break;
+      case op::neg:
+        ++c.neg;
+        break;
       case op::sin:
-      case op::cos: ++c.trig; break;
-      default: break;
+      case op::cos:
+        ++c.trig;
+        break;
+      default:
+        break;
     }
   }
   return c;
@@ -212,18 +242,21 @@ chain_sources emit_chain(int n, const std::vector<emitted_function>& functions,
   const std::string banner = generated_banner(
       fmt::format("npend-gen --links {}{}{}", n, options.empty() ? "" : " ", options));
   chain_sources out;
-  out.header = banner + fmt::format(
-      "#pragma once\n\n"
-      "// The planar {0}-link pendulum: point masses m_i on massless rods l_i under gravity g.\n"
-      "// State x = [phi_1..phi_n, p_1..p_n] (dim 2n = {1}); angles from the downward vertical.\n"
-      "// Parameters params = [m_1..m_n, l_1..l_n, g] (dim 2n+1 = {2}).\n"
-      "// (The layout is npend::chain_layout's, in <npend/chain_kernels.hpp>.)\n\n"
-      "#include <npend/chain_kernels.hpp>\n\n"
-      "namespace npend::generated::chain_{0} {{\n\n"
-      "inline constexpr int links = {0};\n"
-      "inline constexpr int state_size = {1};\n"
-      "inline constexpr int param_size = {2};\n\n",
-      n, chain_layout::state_size(n), chain_layout::param_size(n));
+  out.header =
+      banner + fmt::format(
+                   "#pragma once\n\n"
+                   "// The planar {0}-link pendulum: point masses m_i on massless rods l_i under "
+                   "gravity g.\n"
+                   "// State x = [phi_1..phi_n, p_1..p_n] (dim 2n = {1}); angles from the downward "
+                   "vertical.\n"
+                   "// Parameters params = [m_1..m_n, l_1..l_n, g] (dim 2n+1 = {2}).\n"
+                   "// (The layout is npend::chain_layout's, in <npend/chain_kernels.hpp>.)\n\n"
+                   "#include <npend/chain_kernels.hpp>\n\n"
+                   "namespace npend::generated::chain_{0} {{\n\n"
+                   "inline constexpr int links = {0};\n"
+                   "inline constexpr int state_size = {1};\n"
+                   "inline constexpr int param_size = {2};\n\n",
+                   n, chain_layout::state_size(n), chain_layout::param_size(n));
   out.source = banner + fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n\n", chain_stem(n)) +
                fmt::format("namespace npend::generated::chain_{} {{\n", n);
   for (const auto& f : functions) {
@@ -238,7 +271,9 @@ chain_sources emit_chain(int n, const std::vector<emitted_function>& functions,
   out.source += "\n" + latex_signature + " {\n  return R\"npend(" + latex + ")npend\";\n}\n";
   // The table entry, filled by field name from the functions just emitted: the runtime's
   // chain_kernels must have a field of the same name and type for each.
-  out.header += "/// This link count's entry of the runtime's kernel table.\nextern const chain_kernels kernels;\n\n";
+  out.header +=
+      "/// This link count's entry of the runtime's kernel table.\nextern const chain_kernels "
+      "kernels;\n\n";
   out.source += fmt::format(
       "\nconst chain_kernels kernels = {{\n    .links = links,\n    .state_size = state_size,\n"
       "    .param_size = param_size,\n");
@@ -272,7 +307,8 @@ const int* built_links(int* count) noexcept;
 )";
   out.source = banner + fmt::format("#include \"{}.hpp\"\n\n", index_stem);
   for (const int n : links) out.source += fmt::format("#include \"{}.hpp\"\n", chain_stem(n));
-  out.source += "\nnamespace npend::generated {\n\nnamespace {\n\nconst chain_kernels* const table[] = {";
+  out.source +=
+      "\nnamespace npend::generated {\n\nnamespace {\n\nconst chain_kernels* const table[] = {";
   for (std::size_t i = 0; i < links.size(); ++i)
     out.source += fmt::format("{}&chain_{}::kernels", i ? ", " : "", links[i]);
   out.source += "};\n\nconst int links_built[] = {";

@@ -1,19 +1,19 @@
 // npend-gen: derives the equations of planar n-link pendulums with GiNaC and writes them
 // as flat C++ (see docs/generator.md).
-#include "chain_functions.hpp"
-#include "chain_model.hpp"
-#include "emit_cpp.hpp"
-#include "latex.hpp"
-#include "verify.hpp"
-
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
+
+#include "chain_functions.hpp"
+#include "chain_model.hpp"
+#include "emit_cpp.hpp"
+#include "latex.hpp"
+#include "verify.hpp"
 
 namespace fs = std::filesystem;
 
@@ -71,10 +71,10 @@ generated_chain generate(int n, const std::string& solver) {
   std::ostringstream latex;
   print_latex(sym, mech, latex);
   // The banner names the solver only where it is not the chain's own choice.
-  out.sources = emit_chain(n, out.functions, latex.str(),
-                           chosen == default_solver(sym)
-                               ? std::string()
-                               : fmt::format("--solver {}", solver_name(chosen)));
+  out.sources =
+      emit_chain(n, out.functions, latex.str(),
+                 chosen == default_solver(sym) ? std::string()
+                                               : fmt::format("--solver {}", solver_name(chosen)));
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
@@ -86,10 +86,11 @@ const emitted_function& function_named(const generated_chain& g, const std::stri
 }
 
 void print_stats(const std::vector<int>& links, bool json, const std::string& solver) {
-  if (json) std::cout << "[";
+  if (json)
+    std::cout << "[";
   else
-    fmt::print("{:>4} {:>10} {:>10} {:>9} {:>9} {:>6} {:>11}\n", "n", "seconds", "bytes",
-               "rhs ops", "jac ops", "trig", "rhs divs");
+    fmt::print("{:>4} {:>10} {:>10} {:>9} {:>9} {:>6} {:>11}\n", "n", "seconds", "bytes", "rhs ops",
+               "jac ops", "trig", "rhs divs");
   bool first = true;
   for (const int n : links) {
     const generated_chain g = generate(n, solver);
@@ -97,10 +98,10 @@ void print_stats(const std::vector<int>& links, bool json, const std::string& so
     const auto jac = count_operations(function_named(g, "jacobian"));
     const std::size_t bytes = g.sources.header.size() + g.sources.source.size();
     if (json) {
-      fmt::print("{}{{\"n\": {}, \"seconds\": {:.3f}, \"bytes\": {}, \"rhs_ops\": {}, "
-                 "\"jacobian_ops\": {}, \"rhs_trig\": {}, \"rhs_div\": {}}}",
-                 first ? "" : ",\n ", n, g.seconds, bytes, rhs.total(), jac.total(), rhs.trig,
-                 rhs.div);
+      fmt::print(
+          "{}{{\"n\": {}, \"seconds\": {:.3f}, \"bytes\": {}, \"rhs_ops\": {}, "
+          "\"jacobian_ops\": {}, \"rhs_trig\": {}, \"rhs_div\": {}}}",
+          first ? "" : ",\n ", n, g.seconds, bytes, rhs.total(), jac.total(), rhs.trig, rhs.div);
     } else {
       fmt::print("{:>4} {:>10.3f} {:>10} {:>9} {:>9} {:>6} {:>11}\n", n, g.seconds, bytes,
                  rhs.total(), jac.total(), rhs.trig, rhs.div);

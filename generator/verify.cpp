@@ -1,15 +1,15 @@
 #include "verify.hpp"
 
-#include "chain_functions.hpp"
-#include "chain_model.hpp"
-#include "polynomial.hpp"
-
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
 #include <ostream>
 #include <random>
 #include <stdexcept>
+
+#include "chain_functions.hpp"
+#include "chain_model.hpp"
+#include "polynomial.hpp"
 
 namespace npend::gen {
 
@@ -46,8 +46,8 @@ class checker {
     ++m_checks;
     if (got == want) return;
     if (m_failures++ < 10)
-      fmt::print(m_report, "  MISMATCH {}: emitted {} != derived {}\n", what,
-                 got.to_double(), want.to_double());
+      fmt::print(m_report, "  MISMATCH {}: emitted {} != derived {}\n", what, got.to_double(),
+                 want.to_double());
   }
   int checks() const { return m_checks; }
   int failures() const { return m_failures; }
@@ -119,13 +119,26 @@ bool verify_chain(int n, int points, std::ostream& report, kinetic_solver solver
           values[u(id)] = mu;
           break;
         }
-        case var_kind::length: values[u(id)] = in.length[k]; break;
-        case var_kind::gravity: values[u(id)] = in.gravity; break;
-        case var_kind::sin: values[u(id)] = in.sin_phi[k]; break;
-        case var_kind::cos: values[u(id)] = in.cos_phi[k]; break;
-        case var_kind::dphi: values[u(id)] = dphi[k]; break;
-        case var_kind::p: values[u(id)] = in.p[k]; break;
-        case var_kind::ddphi: break;
+        case var_kind::length:
+          values[u(id)] = in.length[k];
+          break;
+        case var_kind::gravity:
+          values[u(id)] = in.gravity;
+          break;
+        case var_kind::sin:
+          values[u(id)] = in.sin_phi[k];
+          break;
+        case var_kind::cos:
+          values[u(id)] = in.cos_phi[k];
+          break;
+        case var_kind::dphi:
+          values[u(id)] = dphi[k];
+          break;
+        case var_kind::p:
+          values[u(id)] = in.p[k];
+          break;
+        case var_kind::ddphi:
+          break;
       }
     }
     const auto matrix_of = [&](const std::vector<polynomial>& polys) {
@@ -133,8 +146,7 @@ bool verify_chain(int n, int points, std::ostream& report, kinetic_solver solver
       for (const auto& poly : polys) m.v.push_back(evaluate(poly, values));
       return m;
     };
-    const exact_matrix A = matrix_of(a_poly), Lpp = matrix_of(lpp_poly),
-                       Lpd = matrix_of(lpd_poly);
+    const exact_matrix A = matrix_of(a_poly), Lpp = matrix_of(lpp_poly), Lpd = matrix_of(lpd_poly);
 
     // Legendre transform both ways.
     const auto p_emitted = eval("momenta");

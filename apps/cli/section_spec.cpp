@@ -1,10 +1,10 @@
 #include "section_spec.hpp"
 
-#include "input_parsing.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
+
+#include "input_parsing.hpp"
 
 namespace npend::cli {
 

@@ -3,15 +3,15 @@
 // a cli::input_error with a one-line message naming the option.
 #pragma once
 
-#include "npend/analysis/event_times.hpp"
-#include "npend/analysis/poincare_section.hpp"
-#include "npend/analysis/sampled_signals.hpp"
-
 #include <cstddef>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
+
+#include "npend/analysis/event_times.hpp"
+#include "npend/analysis/poincare_section.hpp"
+#include "npend/analysis/sampled_signals.hpp"
 
 namespace npend::cli {
 

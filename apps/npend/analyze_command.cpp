@@ -1,25 +1,24 @@
 // npend analyze: every analysis of paper §6.6 for one simulated start, written to a folder
 // with the data (CSV), the plots (PNG from kept gnuplot scripts) and an index (Markdown).
-#include "command.hpp"
-#include "figure_index.hpp"
-#include "input_parsing.hpp"
-#include "output_file.hpp"
-#include "section_spec.hpp"
-#include "series_figures.hpp"
-#include "series_output.hpp"
-#include "time_series_source.hpp"
-
-#include "npend/analysis/motion_analysis.hpp"
-#include "npend/excitation.hpp"
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "figure_index.hpp"
+#include "input_parsing.hpp"
+#include "npend/analysis/motion_analysis.hpp"
+#include "npend/excitation.hpp"
+#include "output_file.hpp"
+#include "section_spec.hpp"
+#include "series_figures.hpp"
+#include "series_output.hpp"
+#include "time_series_source.hpp"
 
 namespace npend::app {
 
@@ -62,9 +61,8 @@ int run_analyze(const analyze_options& o) {
 
   motion_analysis a;
   try {
-    a = cli::on_terminal(*simulation, [&](const simulated_start& run) {
-      return analyze_motion(run, options);
-    });
+    a = cli::on_terminal(*simulation,
+                         [&](const simulated_start& run) { return analyze_motion(run, options); });
   } catch (const std::invalid_argument& e) {  // the options were checked: the start is at fault
     throw cli::input_error(e.what());
   }
@@ -76,29 +74,29 @@ int run_analyze(const analyze_options& o) {
   figure_folder folder(dir, "npend analyze: ", " of " + x.source);
   const double duration = x.dt * static_cast<double>(x.values.size() - 1);
   folder.add("series", "Time series",
-         fmt::format("{}(t) over the {} samples analysed below (dt = {:g} s). Regular motion "
-                     "looks like a beat of a few oscillations; chaotic motion like calm phases "
-                     "and sudden flurries taking turns.",
-                     x.name, x.values.size(), x.dt),
-         [&](series_output& out) {
-           return std::vector{time_series_panel(out, "", a.signals, options.coordinate)};
-         });
+             fmt::format("{}(t) over the {} samples analysed below (dt = {:g} s). Regular motion "
+                         "looks like a beat of a few oscillations; chaotic motion like calm phases "
+                         "and sudden flurries taking turns.",
+                         x.name, x.values.size(), x.dt),
+             [&](series_output& out) {
+               return std::vector{time_series_panel(out, "", a.signals, options.coordinate)};
+             });
   folder.add("spectrum", "Spectral density",
-         fmt::format("ρ(ω) = |x̂(ω)|² of {} (mean removed, Hann window), on a log scale, its "
-                     "peaks marked. A few sharp lines mean periodic or quasi-periodic motion "
-                     "(for small oscillations: the normal modes); a broad continuous spectrum "
-                     "is a sign of chaos.",
-                     x.name),
-         [&](series_output& out) {
-           return std::vector{spectrum_panel(out, "", x, a.spectrum, a.peaks)};
-         });
+             fmt::format("ρ(ω) = |x̂(ω)|² of {} (mean removed, Hann window), on a log scale, its "
+                         "peaks marked. A few sharp lines mean periodic or quasi-periodic motion "
+                         "(for small oscillations: the normal modes); a broad continuous spectrum "
+                         "is a sign of chaos.",
+                         x.name),
+             [&](series_output& out) {
+               return std::vector{spectrum_panel(out, "", x, a.spectrum, a.peaks)};
+             });
   folder.add("autocorrelation", "Autocorrelation",
-         fmt::format("C_xx(τ) of {}, normalised to C_xx(0) = 1. It keeps oscillating for a "
-                     "discrete spectrum (long memory) and decays towards 0 for chaotic motion.",
-                     x.name),
-         [&](series_output& out) {
-           return std::vector{autocorrelation_panel(out, "", x, a.autocorrelation)};
-         });
+             fmt::format("C_xx(τ) of {}, normalised to C_xx(0) = 1. It keeps oscillating for a "
+                         "discrete spectrum (long memory) and decays towards 0 for chaotic motion.",
+                         x.name),
+             [&](series_output& out) {
+               return std::vector{autocorrelation_panel(out, "", x, a.autocorrelation)};
+             });
   if (!a.section.empty())
     folder.add(
         "poincare", "Poincaré section",

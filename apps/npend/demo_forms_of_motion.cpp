@@ -1,18 +1,6 @@
 // npend demo, section 5: the forms of motion of the triple pendulum (paper §6.6) — the
 // paper's figures 6.8–6.13 for a regular (weak) and a chaotic (strong) excitation, in one
 // folder with their data, gnuplot scripts and an index, each with a short text.
-#include "demo_sections.hpp"
-
-#include "figure_index.hpp"
-#include "output_file.hpp"
-#include "series_figures.hpp"
-#include "series_output.hpp"
-#include "time_series_source.hpp"
-
-#include "npend/analysis/motion_analysis.hpp"
-#include "npend/analysis/normal_modes.hpp"
-#include "npend/excitation.hpp"
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -22,6 +10,16 @@
 #include <filesystem>
 #include <numbers>
 #include <tuple>
+
+#include "demo_sections.hpp"
+#include "figure_index.hpp"
+#include "npend/analysis/motion_analysis.hpp"
+#include "npend/analysis/normal_modes.hpp"
+#include "npend/excitation.hpp"
+#include "output_file.hpp"
+#include "series_figures.hpp"
+#include "series_output.hpp"
+#include "time_series_source.hpp"
 
 namespace npend::app {
 
@@ -159,23 +157,22 @@ void demo_forms_of_motion(const demo_context& demo) {
       {"normal-mode frequencies (rad/s)", fmt::format("{}", fmt::join(mode_frequencies, ", "))});
 
   // The motions themselves (the beats the paper mentions with Abb. 6.9a).
-  folder.add(
-      "time_series", "The two motions: φ₃(t)",
-      fmt::format("phi_3(t) over the 2^14 samples. Weak: a beat of the three normal modes, "
-                  "|phi_3| <= {:.3f} rad. Strong: irregular swings, calm stretches and sudden "
-                  "flurries taking turns, |phi_3| up to {:.2f} rad; {}.",
-                  largest_magnitude(weak.a.series.values),
-                  largest_magnitude(strong.a.series.values),
-                  largest_angle(strong.a.signals) < std::numbers::pi
-                      ? "no arm goes over the top, as in the paper's runs"
-                      : "an arm goes over the top"),
-      [&](series_output& out) {
-        std::vector<cli::plot_panel> panels;
-        for (const auto& k : cases)
-          panels.push_back(titled(time_series_panel(out, k.key, k.a.signals, 2), k.label));
-        return panels;
-      },
-      {1400, 520, 2});
+  folder.add("time_series", "The two motions: φ₃(t)",
+             fmt::format(
+                 "phi_3(t) over the 2^14 samples. Weak: a beat of the three normal modes, "
+                 "|phi_3| <= {:.3f} rad. Strong: irregular swings, calm stretches and sudden "
+                 "flurries taking turns, |phi_3| up to {:.2f} rad; {}.",
+                 largest_magnitude(weak.a.series.values), largest_magnitude(strong.a.series.values),
+                 largest_angle(strong.a.signals) < std::numbers::pi
+                     ? "no arm goes over the top, as in the paper's runs"
+                     : "an arm goes over the top"),
+             [&](series_output& out) {
+               std::vector<cli::plot_panel> panels;
+               for (const auto& k : cases)
+                 panels.push_back(titled(time_series_panel(out, k.key, k.a.signals, 2), k.label));
+               return panels;
+             },
+             {1400, 520, 2});
 
   // Abb. 6.8: the Poincaré section.
   double mode_spread = 0;

@@ -1,13 +1,12 @@
 // npend demo, section 3: a weak and a strong excitation integrated with Gauss-Legendre.
-#include "demo_sections.hpp"
-
-#include "npend/excitation.hpp"
-#include "npend/analysis/energy_drift.hpp"
-#include "npend/integrate.hpp"
-
 #include <fmt/format.h>
 
 #include <cmath>
+
+#include "demo_sections.hpp"
+#include "npend/analysis/energy_drift.hpp"
+#include "npend/excitation.hpp"
+#include "npend/integrate.hpp"
 
 namespace npend::app {
 
@@ -22,7 +21,8 @@ struct excitation_run {
   double neighbour_separation;  // of a start 1e-9 rad away in φ_3, at t_end
 };
 
-// The largest relative energy error along the run with `stepper`; the observer also sees every state.
+// The largest relative energy error along the run with `stepper`; the observer also sees every
+// state.
 template <class Observer>
 double energy_error(const chain& c, const std::vector<double>& x0, integration_options o,
                     stepper_kind stepper, Observer&& also) {

@@ -1,19 +1,18 @@
 // npend demo, section 4: stability — the 8 equilibria, the normal modes and how far the
 // harmonic approximation carries, and the Lyapunov spectra of a weak and a strong excitation.
-#include "demo_sections.hpp"
-#include "stability_tables.hpp"
-
-#include "npend/analysis/backbone.hpp"
-#include "npend/analysis/equilibria.hpp"
-#include "npend/analysis/lyapunov.hpp"
-#include "npend/analysis/normal_modes.hpp"
-#include "npend/excitation.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+
+#include "demo_sections.hpp"
+#include "npend/analysis/backbone.hpp"
+#include "npend/analysis/equilibria.hpp"
+#include "npend/analysis/lyapunov.hpp"
+#include "npend/analysis/normal_modes.hpp"
+#include "npend/excitation.hpp"
+#include "stability_tables.hpp"
 
 namespace npend::app {
 
@@ -102,13 +101,12 @@ void lyapunov_spectra(const chain& c) {
   constexpr const char* row = "{:<36}{:>20}{:>20}\n";
   fmt::print(row, "", "weak (eps = 0.1)", "strong (eps = 1.5)");
   for (std::size_t i = 0; i < 6; ++i)
-    fmt::print(row, fmt::format("lambda_{} (1/s) +- block std error", i + 1),
-               fmt::format("{:+.4f} +- {:.4f}", weak.exponents[i], weak.block_standard_error[i]),
-               fmt::format("{:+.4f} +- {:.4f}", strong.exponents[i],
-                           strong.block_standard_error[i]));
+    fmt::print(
+        row, fmt::format("lambda_{} (1/s) +- block std error", i + 1),
+        fmt::format("{:+.4f} +- {:.4f}", weak.exponents[i], weak.block_standard_error[i]),
+        fmt::format("{:+.4f} +- {:.4f}", strong.exponents[i], strong.block_standard_error[i]));
   fmt::print(row, "sum (1/s)", fmt::format("{:.1e}", weak.sum), fmt::format("{:.1e}", strong.sum));
-  fmt::print(row, "max |lambda_i + lambda_(7-i)|",
-             fmt::format("{:.1e}", largest_pair_sum(weak)),
+  fmt::print(row, "max |lambda_i + lambda_(7-i)|", fmt::format("{:.1e}", largest_pair_sum(weak)),
              fmt::format("{:.1e}", largest_pair_sum(strong)));
   for (double t : {125.0, 250.0, 500.0, 1000.0})
     fmt::print(row, fmt::format("running lambda_1 at t = {:g} s", t),

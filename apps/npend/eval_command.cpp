@@ -1,14 +1,14 @@
 // npend eval: the generated functions at one state.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <chain_index.hpp>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
 #include "chain_options.hpp"
 #include "command.hpp"
 #include "series_output.hpp"
-
-#include <chain_index.hpp>
-#include <fmt/format.h>
-#include <fmt/ranges.h>
-#include <nlohmann/json.hpp>
-
-#include <iostream>
 
 namespace npend::app {
 
@@ -86,8 +86,7 @@ void add_eval_command(CLI::App& app, command_list& commands) {
   CLI::App* cmd = app.add_subcommand(
       "eval", "Evaluate the generated functions (H, f, Jacobian, mass matrix) at one state");
   opts->chain.add_to(*cmd);
-  cmd->add_option("--state", opts->state,
-                  "The state phi_1,...,phi_n,p_1,...,p_n (rad, kg m^2/s)")
+  cmd->add_option("--state", opts->state, "The state phi_1,...,phi_n,p_1,...,p_n (rad, kg m^2/s)")
       ->required();
   cmd->add_flag("--json", opts->json, "Print one JSON object");
   commands.push_back({cmd, [opts] { return run_eval(*opts); }});

@@ -1,23 +1,22 @@
 // npend simulate: integrate a chain from a start state and write the trajectory as CSV.
-#include "output_file.hpp"
-#include "chain_options.hpp"
-#include "command.hpp"
-#include "series_output.hpp"
-#include "input_parsing.hpp"
-#include "integrator_options.hpp"
-#include "terminal_run.hpp"
-#include "start_options.hpp"
-
-#include "npend/analysis/energy_drift.hpp"
-#include "npend/integrate.hpp"
-
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <iostream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 #include <optional>
+
+#include "chain_options.hpp"
+#include "command.hpp"
+#include "input_parsing.hpp"
+#include "integrator_options.hpp"
+#include "npend/analysis/energy_drift.hpp"
+#include "npend/integrate.hpp"
+#include "output_file.hpp"
+#include "series_output.hpp"
+#include "start_options.hpp"
+#include "terminal_run.hpp"
 
 namespace npend::app {
 

@@ -1,15 +1,8 @@
 #include "npend/analysis/lyapunov.hpp"
 
-#include "detail/explicit_system.hpp"
-#include "npend/analysis/energy_drift.hpp"
-#include "npend/chain_system.hpp"
-#include "npend/gauss_legendre.hpp"
-#include "npend/integrate_system.hpp"
-#include "npend/integration_error.hpp"
-
-#include <Eigen/Dense>
 #include <fmt/format.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -17,6 +10,13 @@
 #include <numeric>
 #include <random>
 #include <stdexcept>
+
+#include "detail/explicit_system.hpp"
+#include "npend/analysis/energy_drift.hpp"
+#include "npend/chain_system.hpp"
+#include "npend/gauss_legendre.hpp"
+#include "npend/integrate_system.hpp"
+#include "npend/integration_error.hpp"
 
 namespace npend {
 

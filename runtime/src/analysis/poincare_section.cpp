@@ -1,20 +1,20 @@
 #include "npend/analysis/poincare_section.hpp"
 
-#include "npend/analysis/energy_drift.hpp"
-
-#include <boost/numeric/odeint/integrate/integrate_adaptive.hpp>
-#include <boost/numeric/odeint/stepper/generation.hpp>
-#include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
+#include <boost/numeric/odeint/integrate/integrate_adaptive.hpp>
+#include <boost/numeric/odeint/stepper/generation.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 #include <cmath>
 #include <functional>
 #include <memory>
 #include <numbers>
 #include <stdexcept>
 #include <utility>
+
+#include "npend/analysis/energy_drift.hpp"
 
 namespace npend {
 

@@ -2,15 +2,15 @@
 // Benettin et al., and the maximal exponent alone.
 #pragma once
 
-#include "npend/chain.hpp"
-#include "npend/integrate.hpp"
-
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <span>
 #include <string>
 #include <vector>
+
+#include "npend/chain.hpp"
+#include "npend/integrate.hpp"
 
 namespace npend {
 
@@ -120,8 +120,8 @@ std::vector<double> pair_sums(std::span<const double> exponents);
 /// [φ, p]), by the method of Benettin et al. with 2n tangent vectors starting as the unit
 /// vectors ordered (φ_1..φ_n, p_n..p_1) (see lyapunov_options). That order is kept by any
 /// symplectic tangent map and makes λ_k + λ_{2n+1−k} = 0 hold at every finite time with the
-/// Gauss–Legendre steppers (to round-off), not only in the limit. Throws std::invalid_argument for a start state of the
-/// wrong size or non-finite, bad options or the rosenbrock4 stepper, and
+/// Gauss–Legendre steppers (to round-off), not only in the limit. Throws std::invalid_argument for
+/// a start state of the wrong size or non-finite, bad options or the rosenbrock4 stepper, and
 /// npend::integration_error when the integration cannot go on.
 lyapunov_result lyapunov_spectrum(const chain& c, std::span<const double> x0,
                                   const lyapunov_options& options,

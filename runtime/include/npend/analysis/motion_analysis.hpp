@@ -4,6 +4,11 @@
 // npend demo runs it for a periodic and a chaotic start and draws the paper's figures.
 #pragma once
 
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "npend/analysis/autocorrelation.hpp"
 #include "npend/analysis/delay_embedding.hpp"
 #include "npend/analysis/embedding_dimension.hpp"
@@ -12,11 +17,6 @@
 #include "npend/analysis/recurrence_times.hpp"
 #include "npend/analysis/sampled_signals.hpp"
 #include "npend/analysis/spectral_peaks.hpp"
-
-#include <cstddef>
-#include <optional>
-#include <string>
-#include <vector>
 
 namespace npend {
 
