@@ -1,5 +1,6 @@
 #include "chain_functions.hpp"
 
+#include <stdexcept>
 #include <string>
 
 #include "articulated_form.hpp"
@@ -212,12 +213,18 @@ const char* solver_name(kinetic_solver solver) {
   return solver == kinetic_solver::articulated ? "articulated" : "ldlt";
 }
 
-kinetic_solver default_solver(const chain_symbols& /*sym*/) { return kinetic_solver::articulated; }
+kinetic_solver default_solver(const chain_symbols& sym) {
+  return sym.kind == link_kind::point_mass ? kinetic_solver::articulated : kinetic_solver::ldlt;
+}
 
 std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
                                                     const chain_mechanics& mech,
                                                     kinetic_solver solver) {
   const int n = sym.n;
+  if (solver == kinetic_solver::articulated && sym.kind != link_kind::point_mass)
+    throw std::invalid_argument(
+        "the articulated-body form fits point masses on massless rods only: use the general "
+        "solver (ldlt) for rigid links");
   const polynomial_space space(sym);
   std::vector<emitted_function> out;
   std::vector<emitted_function> general;

@@ -41,12 +41,12 @@ enum class kinetic_solver {
 const char* solver_name(kinetic_solver solver);
 
 /// The solver for a chain: the articulated-body form where its structure fits — point masses
-/// on massless rods, the only model derive_mechanics builds so far — the general path
-/// otherwise.
+/// on massless rods — the general path otherwise (rigid links).
 kinetic_solver default_solver(const chain_symbols& sym);
 
 /// Every emitted function of the n-link chain, in the order they are written; the kinetic
-/// functions (rhs, jacobian, hamiltonian, velocities, det_mass_matrix) by `solver`.
+/// functions (rhs, jacobian, hamiltonian, velocities, det_mass_matrix) by `solver`. Throws
+/// std::invalid_argument for the articulated solver on a chain it does not fit.
 std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
                                                     const chain_mechanics& mech,
                                                     kinetic_solver solver);

@@ -18,14 +18,21 @@ std::size_t u(int i) { return static_cast<std::size_t>(i); }
 
 }  // namespace
 
-chain_symbols::chain_symbols(int links)
+const char* link_kind_name(link_kind kind) {
+  return kind == link_kind::point_mass ? "point" : "rigid";
+}
+
+chain_symbols::chain_symbols(int links, link_kind kind_)
     : n(links),
+      kind(kind_),
       phi(indexed_symbols("phi", links)),
       dphi(indexed_symbols("dphi", links)),
       ddphi(indexed_symbols("ddphi", links)),
       p(indexed_symbols("p", links)),
       mass(indexed_symbols("m", links)),
       length(indexed_symbols("l", links)),
+      com(indexed_symbols("com", links)),
+      inertia(indexed_symbols("J", links)),
       mu(indexed_symbols("mu", links)),
       g("g"),
       s(indexed_symbols("s", links)),
@@ -55,14 +62,23 @@ chain_mechanics derive_mechanics(const chain_symbols& sym) {
     mech.y.push_back(y);
   }
 
-  // Energies of point masses: T = Σ m_k/2 |ṙ_k|², V = Σ m_k g (rest height − height).
-  GiNaC::ex T = 0, V = 0, rest_depth = 0;
+  // Energies: T = Σ m_k/2 |ṙ_k|² (+ J_k/2 φ̇_k² for a rigid link's rotation about its centre
+  // of mass, König), V = Σ m_k g (rest depth − depth) of each mass point r_k.
+  const bool rigid = sym.kind == link_kind::rigid;
+  GiNaC::ex T = 0, V = 0, joint_depth = 0;
   for (int k = 0; k < n; ++k) {
-    const GiNaC::ex vx = time_derivative(sym, mech.x[u(k)]);
-    const GiNaC::ex vy = time_derivative(sym, mech.y[u(k)]);
+    // The mass point: the bob, or the centre of mass c_k down link k from joint k.
+    const GiNaC::ex reach = rigid ? GiNaC::ex(sym.com[u(k)]) : GiNaC::ex(sym.length[u(k)]);
+    const GiNaC::ex above_x = k > 0 ? mech.x[u(k - 1)] : GiNaC::ex(0);
+    const GiNaC::ex above_y = k > 0 ? mech.y[u(k - 1)] : GiNaC::ex(0);
+    const GiNaC::ex rx = above_x + reach * GiNaC::sin(sym.phi[u(k)]);
+    const GiNaC::ex ry = above_y + reach * GiNaC::cos(sym.phi[u(k)]);
+    const GiNaC::ex vx = time_derivative(sym, rx);
+    const GiNaC::ex vy = time_derivative(sym, ry);
     T += sym.mass[u(k)] / 2 * (vx * vx + vy * vy);
-    rest_depth += sym.length[u(k)];
-    V += sym.mass[u(k)] * sym.g * (rest_depth - mech.y[u(k)]);
+    if (rigid) T += sym.inertia[u(k)] / 2 * sym.dphi[u(k)] * sym.dphi[u(k)];
+    V += sym.mass[u(k)] * sym.g * (joint_depth + reach - ry);
+    joint_depth += sym.length[u(k)];
   }
   mech.kinetic = T.expand();
   mech.potential = V.expand();

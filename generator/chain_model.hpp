@@ -15,14 +15,25 @@
 
 namespace npend::gen {
 
+/// What the links are. Point masses on massless rods is the paper's model. Rigid links put
+/// link k's mass m_k at its centre of mass, a distance c_k from its upper joint along the
+/// link, with a moment of inertia J_k about it (a uniform rod: c = l/2, J = m l²/12; c = l,
+/// J = 0 is the point mass again) — the physical pendulum of the paper's §6.2 remark.
+enum class link_kind { point_mass, rigid };
+
+/// "point" or "rigid".
+const char* link_kind_name(link_kind kind);
+
 /// The GiNaC symbols of an n-link chain. Vectors are indexed 0..n-1; printed names are
 /// 1-based as in the paper (phi1, m1, ...).
 struct chain_symbols {
-  explicit chain_symbols(int links);
+  explicit chain_symbols(int links, link_kind kind = link_kind::point_mass);
 
   int n;
+  link_kind kind;
   std::vector<GiNaC::realsymbol> phi, dphi, ddphi, p;  ///< angles, their rates, momenta
   std::vector<GiNaC::realsymbol> mass, length;         ///< run-time parameters m_i, l_i
+  std::vector<GiNaC::realsymbol> com, inertia;  ///< c_i, J_i of rigid links (unused otherwise)
   std::vector<GiNaC::realsymbol> mu;  ///< μ_j = m_j + … + m_n, the mass at and below joint j
   GiNaC::realsymbol g;
   std::vector<GiNaC::realsymbol> s, c;  ///< stand-ins for sin φ_i, cos φ_i in polynomials
@@ -30,18 +41,20 @@ struct chain_symbols {
 
 /// The Lagrangian mechanics of the chain.
 struct chain_mechanics {
-  std::vector<GiNaC::ex> x, y;  ///< bob positions, y pointing down (eq. 6.1)
-  GiNaC::ex kinetic;            ///< T(φ, φ̇)
-  GiNaC::ex potential;          ///< V(φ), zero at the hanging rest position (eq. 6.12)
-  GiNaC::ex lagrangian;         ///< L = T − V
-  std::vector<GiNaC::ex> momenta;        ///< p_i = ∂L/∂φ̇_i
-  GiNaC::matrix mass_matrix;             ///< A_ij = ∂p_i/∂φ̇_j (n × n)
-  std::vector<GiNaC::ex> dL_dphi;        ///< ∂L/∂φ_i at fixed φ̇; equals ṗ_i on the flow
+  std::vector<GiNaC::ex> x, y;            ///< link-end (bob) positions, y pointing down (eq. 6.1)
+  GiNaC::ex kinetic;                      ///< T(φ, φ̇)
+  GiNaC::ex potential;                    ///< V(φ), zero at the hanging rest position (eq. 6.12)
+  GiNaC::ex lagrangian;                   ///< L = T − V
+  std::vector<GiNaC::ex> momenta;         ///< p_i = ∂L/∂φ̇_i
+  GiNaC::matrix mass_matrix;              ///< A_ij = ∂p_i/∂φ̇_j (n × n)
+  std::vector<GiNaC::ex> dL_dphi;         ///< ∂L/∂φ_i at fixed φ̇; equals ṗ_i on the flow
   std::vector<GiNaC::ex> grad_potential;  ///< ∂V/∂φ_i
   GiNaC::matrix hess_potential;           ///< ∂²V/∂φ_i∂φ_j (n × n)
 };
 
-/// Derives the mechanics of the n-link chain with point masses m_i on massless rods l_i.
+/// Derives the mechanics of the n-link chain of sym.kind: point masses m_i on massless rods
+/// l_i, or rigid links (masses at their centres c_i, moments of inertia J_i). x, y are the
+/// positions of the link ends (the bobs of point masses).
 chain_mechanics derive_mechanics(const chain_symbols& sym);
 
 /// ∂/∂φ_k of every entry of the mass matrix, k = 0..n-1 (used to check the Jacobian).

@@ -80,6 +80,10 @@ std::string input_text(argument_layout layout, int n, const node& in) {
       return fmt::format("params[{}]", chain_layout::length_index(n, in.index));
     case input_kind::gravity:
       return fmt::format("params[{}]", chain_layout::gravity_index(n));
+    case input_kind::com:
+      return fmt::format("params[{}]", chain_layout::com_index(n, in.index));
+    case input_kind::inertia:
+      return fmt::format("params[{}]", chain_layout::inertia_index(n, in.index));
   }
   throw std::logic_error("emit: unknown input");
 }

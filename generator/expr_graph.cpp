@@ -30,8 +30,8 @@ bool is_power_of_two(const GiNaC::numeric& v) {
 }  // namespace
 
 sx expr_graph::intern(node n) {
-  key k{n.kind, n.lhs, n.rhs, n.input, n.index,
-        n.kind == op::constant ? numeric_key(n.value) : std::string{}};
+  key k{n.kind,  n.lhs,   n.rhs,
+        n.input, n.index, n.kind == op::constant ? numeric_key(n.value) : std::string{}};
   if (auto it = m_index.find(k); it != m_index.end()) return {this, it->second};
   m_nodes.push_back(std::move(n));
   const int id = static_cast<int>(m_nodes.size()) - 1;
@@ -146,32 +146,66 @@ std::vector<GiNaC::numeric> expr_graph::evaluate(const std::vector<sx>& outputs,
     const node& n = m_nodes[i];
     const auto L = [&] { return value[static_cast<std::size_t>(n.lhs)]; };
     const auto R = [&] { return value[static_cast<std::size_t>(n.rhs)]; };
-    const bool binary = n.kind == op::add || n.kind == op::sub || n.kind == op::mul ||
-                        n.kind == op::div;
+    const bool binary =
+        n.kind == op::add || n.kind == op::sub || n.kind == op::mul || n.kind == op::div;
     if (n.kind == op::neg || binary)
       angle_dependent[i] = angle_dependent[static_cast<std::size_t>(n.lhs)] ||
                            (binary && angle_dependent[static_cast<std::size_t>(n.rhs)]);
     switch (n.kind) {
-      case op::constant: value[i] = n.value; break;
+      case op::constant:
+        value[i] = n.value;
+        break;
       case op::input: {
         const auto k = static_cast<std::size_t>(n.index);
         switch (n.input) {
-          case input_kind::phi: angle_dependent[i] = true; break;
-          case input_kind::dphi: value[i] = in.dphi.at(k); break;
-          case input_kind::p: value[i] = in.p.at(k); break;
-          case input_kind::mass: value[i] = in.mass.at(k); break;
-          case input_kind::length: value[i] = in.length.at(k); break;
-          case input_kind::gravity: value[i] = in.gravity; break;
+          case input_kind::phi:
+            angle_dependent[i] = true;
+            break;
+          case input_kind::dphi:
+            value[i] = in.dphi.at(k);
+            break;
+          case input_kind::p:
+            value[i] = in.p.at(k);
+            break;
+          case input_kind::mass:
+            value[i] = in.mass.at(k);
+            break;
+          case input_kind::length:
+            value[i] = in.length.at(k);
+            break;
+          case input_kind::gravity:
+            value[i] = in.gravity;
+            break;
+          case input_kind::com:
+            value[i] = in.com.at(k);
+            break;
+          case input_kind::inertia:
+            value[i] = in.inertia.at(k);
+            break;
         }
         break;
       }
-      case op::neg: value[i] = -L(); break;
-      case op::add: value[i] = L() + R(); break;
-      case op::sub: value[i] = L() - R(); break;
-      case op::mul: value[i] = L() * R(); break;
-      case op::div: value[i] = L() / R(); break;
-      case op::sin: value[i] = in.sin_phi.at(angle_index(n.lhs)); break;
-      case op::cos: value[i] = in.cos_phi.at(angle_index(n.lhs)); break;
+      case op::neg:
+        value[i] = -L();
+        break;
+      case op::add:
+        value[i] = L() + R();
+        break;
+      case op::sub:
+        value[i] = L() - R();
+        break;
+      case op::mul:
+        value[i] = L() * R();
+        break;
+      case op::div:
+        value[i] = L() / R();
+        break;
+      case op::sin:
+        value[i] = in.sin_phi.at(angle_index(n.lhs));
+        break;
+      case op::cos:
+        value[i] = in.cos_phi.at(angle_index(n.lhs));
+        break;
     }
   }
   std::vector<GiNaC::numeric> out;

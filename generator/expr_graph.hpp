@@ -20,7 +20,7 @@ namespace npend::gen {
 enum class op : std::uint8_t { constant, input, neg, add, sub, mul, div, sin, cos };
 
 /// What an input node stands for; the emitter maps each to an argument array.
-enum class input_kind : std::uint8_t { phi, dphi, p, mass, length, gravity };
+enum class input_kind : std::uint8_t { phi, dphi, p, mass, length, gravity, com, inertia };
 
 struct node {
   op kind = op::constant;
@@ -62,6 +62,7 @@ class expr_graph {
   /// angle (the verifier evaluates at rational points of the unit circle).
   struct exact_inputs {
     std::vector<GiNaC::numeric> sin_phi, cos_phi, dphi, p, mass, length;
+    std::vector<GiNaC::numeric> com, inertia;  ///< of rigid links
     GiNaC::numeric gravity;
   };
   std::vector<GiNaC::numeric> evaluate(const std::vector<sx>& outputs,

@@ -1,9 +1,5 @@
 #include "latex.hpp"
 
-#include "chain_functions.hpp"
-#include "chain_model.hpp"
-#include "polynomial.hpp"
-
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
@@ -11,6 +7,10 @@
 #include <map>
 #include <ostream>
 #include <sstream>
+
+#include "chain_functions.hpp"
+#include "chain_model.hpp"
+#include "polynomial.hpp"
 
 namespace npend::gen {
 
@@ -25,14 +25,26 @@ bool is_dynamic(var_kind k) {
 std::string variable_latex(const variable& v) {
   const int i = v.index + 1;
   switch (v.kind) {
-    case var_kind::mu: return fmt::format("\\mu_{{{}}}", i);
-    case var_kind::length: return fmt::format("l_{{{}}}", i);
-    case var_kind::gravity: return "g";
-    case var_kind::sin: return fmt::format("\\sin\\varphi_{{{}}}", i);
-    case var_kind::cos: return fmt::format("\\cos\\varphi_{{{}}}", i);
-    case var_kind::dphi: return fmt::format("\\dot\\varphi_{{{}}}", i);
-    case var_kind::p: return fmt::format("p_{{{}}}", i);
-    case var_kind::ddphi: return fmt::format("\\ddot\\varphi_{{{}}}", i);
+    case var_kind::mu:
+      return fmt::format("\\mu_{{{}}}", i);
+    case var_kind::length:
+      return fmt::format("l_{{{}}}", i);
+    case var_kind::gravity:
+      return "g";
+    case var_kind::sin:
+      return fmt::format("\\sin\\varphi_{{{}}}", i);
+    case var_kind::cos:
+      return fmt::format("\\cos\\varphi_{{{}}}", i);
+    case var_kind::dphi:
+      return fmt::format("\\dot\\varphi_{{{}}}", i);
+    case var_kind::p:
+      return fmt::format("p_{{{}}}", i);
+    case var_kind::ddphi:
+      return fmt::format("\\ddot\\varphi_{{{}}}", i);
+    case var_kind::com:
+      return fmt::format("c_{{{}}}", i);
+    case var_kind::inertia:
+      return fmt::format("J_{{{}}}", i);
   }
   return "?";
 }
@@ -138,9 +150,8 @@ std::string coefficient_latex(const std::map<trig_term, polynomial>& by_trig,
       }
       std::string prefix = monomial_latex(common, space);
       if (!prefix.empty()) prefix += " ";
-      terms.emplace_back(prefix + "\\left(" + sum_latex(inner) + "\\right)" +
-                             (trig.empty() ? "" : " " + trig),
-                         1);
+      terms.emplace_back(
+          prefix + "\\left(" + sum_latex(inner) + "\\right)" + (trig.empty() ? "" : " " + trig), 1);
     }
   }
   std::string out;
@@ -169,8 +180,7 @@ struct dynamic_order {
 // A polynomial printed as Σ_{dynamic monomials} [coefficient] · monomial, one per line.
 std::string grouped_latex(const polynomial& poly, const polynomial_space& space,
                           const std::string& line_break = " \\\\\n  &\\quad ") {
-  std::map<monomial, std::map<trig_term, polynomial>, dynamic_order> groups(
-      dynamic_order{&space});
+  std::map<monomial, std::map<trig_term, polynomial>, dynamic_order> groups(dynamic_order{&space});
   for (const auto& [key, coeff] : to_trig_form(poly, space)) {
     monomial dyn, rest;
     for (const auto& [v, e] : key.first)
@@ -224,7 +234,8 @@ void print_latex(const chain_symbols& sym, const chain_mechanics& mech, std::ost
     for (int j = i; j < n; ++j)
       fmt::print(out, "A_{{{}{}}} &= {} \\\\\n", i + 1, j + 1, tex(mech.mass_matrix(u(i), u(j))));
   for (int i = 0; i < n; ++i)
-    fmt::print(out, "p_{{{}}} &= \\frac{{\\partial L}}{{\\partial\\dot\\varphi_{{{}}}}} = {} \\\\\n",
+    fmt::print(out,
+               "p_{{{}}} &= \\frac{{\\partial L}}{{\\partial\\dot\\varphi_{{{}}}}} = {} \\\\\n",
                i + 1, i + 1, tex(mech.momenta[u(i)]));
 
   if (n <= closed_form_max_links) {
@@ -233,22 +244,25 @@ void print_latex(const chain_symbols& sym, const chain_mechanics& mech, std::ost
     fmt::print(out, "H &= \\frac{{1}}{{2\\det A}} \\Big[ {} \\Big] + V \\\\\n",
                tex(closed.numerator));
     for (int i = 0; i < n; ++i)
-      fmt::print(out, "\\dot\\varphi_{{{}}} &= \\frac{{\\partial H}}{{\\partial p_{{{}}}}} = "
-                      "\\frac{{1}}{{\\det A}} \\Big[ {} \\Big] \\\\\n",
+      fmt::print(out,
+                 "\\dot\\varphi_{{{}}} &= \\frac{{\\partial H}}{{\\partial p_{{{}}}}} = "
+                 "\\frac{{1}}{{\\det A}} \\Big[ {} \\Big] \\\\\n",
                  i + 1, i + 1, tex(closed.numerator.diff(sym.p[u(i)]) / 2));
   } else {
     out << "H &= \\tfrac{1}{2} p^\\top A^{-1} p + V, \\qquad \\dot\\varphi = A^{-1} p \\\\\n";
   }
   for (int i = 0; i < n; ++i)
-    fmt::print(out,
-               "\\dot p_{{{}}} &= -\\frac{{\\partial H}}{{\\partial\\varphi_{{{}}}}} = "
-               "\\frac{{\\partial L}}{{\\partial\\varphi_{{{}}}}}\\Big|_{{\\dot\\varphi = A^{{-1}}p}}"
-               " = {} \\\\\n",
-               i + 1, i + 1, i + 1, tex(mech.dL_dphi[u(i)]));
+    fmt::print(
+        out,
+        "\\dot p_{{{}}} &= -\\frac{{\\partial H}}{{\\partial\\varphi_{{{}}}}} = "
+        "\\frac{{\\partial L}}{{\\partial\\varphi_{{{}}}}}\\Big|_{{\\dot\\varphi = A^{{-1}}p}}"
+        " = {} \\\\\n",
+        i + 1, i + 1, i + 1, tex(mech.dL_dphi[u(i)]));
   for (int i = 0; i < n; ++i) {
     const GiNaC::ex el = time_derivative(sym, mech.momenta[u(i)]) - mech.dL_dphi[u(i)];
-    fmt::print(out, "0 &= \\frac{{d}}{{dt}}\\frac{{\\partial L}}{{\\partial\\dot\\varphi_{{{}}}}} - "
-                    "\\frac{{\\partial L}}{{\\partial\\varphi_{{{}}}}} = {}{}\n",
+    fmt::print(out,
+               "0 &= \\frac{{d}}{{dt}}\\frac{{\\partial L}}{{\\partial\\dot\\varphi_{{{}}}}} - "
+               "\\frac{{\\partial L}}{{\\partial\\varphi_{{{}}}}} = {}{}\n",
                i + 1, i + 1, tex(el), i + 1 < n ? " \\\\" : "");
   }
   out << "\\end{align*}\n";

@@ -61,9 +61,9 @@ kinetic_solver chosen_solver(const std::string& name, const chain_symbols& sym) 
   return default_solver(sym);
 }
 
-generated_chain generate(int n, const std::string& solver) {
+generated_chain generate(int n, const std::string& solver, link_kind kind = link_kind::point_mass) {
   const auto start = std::chrono::steady_clock::now();
-  const chain_symbols sym(n);
+  const chain_symbols sym(n, kind);
   const chain_mechanics mech = derive_mechanics(sym);
   const kinetic_solver chosen = chosen_solver(solver, sym);
   generated_chain out;
@@ -85,7 +85,8 @@ const emitted_function& function_named(const generated_chain& g, const std::stri
   throw std::logic_error("no function " + name);
 }
 
-void print_stats(const std::vector<int>& links, bool json, const std::string& solver) {
+void print_stats(const std::vector<int>& links, bool json, const std::string& solver,
+                 link_kind kind) {
   if (json)
     std::cout << "[";
   else
@@ -93,7 +94,7 @@ void print_stats(const std::vector<int>& links, bool json, const std::string& so
                "jac ops", "trig", "rhs divs");
   bool first = true;
   for (const int n : links) {
-    const generated_chain g = generate(n, solver);
+    const generated_chain g = generate(n, solver, kind);
     const auto rhs = count_operations(function_named(g, "rhs"));
     const auto jac = count_operations(function_named(g, "jacobian"));
     const std::size_t bytes = g.sources.header.size() + g.sources.source.size();
@@ -123,7 +124,7 @@ int main(int argc, char** argv) {
   int latex = 0, verify = 0, points = 3;
   std::vector<int> stats;
   bool json = false;
-  std::string solver = "auto";
+  std::string solver = "auto", model = "point";
   app.add_option("--links", links, "Link counts to generate (comma-separated), written to --out")
       ->delimiter(',')
       ->check(CLI::Range(1, max_links));
@@ -150,10 +151,23 @@ int main(int argc, char** argv) {
                  "emitted code), or auto (articulated where the model fits it)")
       ->check(CLI::IsMember({"auto", "articulated", "ldlt"}))
       ->capture_default_str();
+  app.add_option("--model", model,
+                 "The chain --verify and --stats derive: point (point masses on massless rods, "
+                 "the paper's) or rigid (rigid links: mass m_i at its centre of mass c_i down the "
+                 "link, moment of inertia J_i; parameters [m, l, g, c, J]). --links and --latex "
+                 "write the point-mass chain, the one the runtime takes")
+      ->check(CLI::IsMember({"point", "rigid"}))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   if (links.empty() && index.empty() && latex == 0 && verify == 0 && stats.empty()) {
     std::cerr << app.help();
+    return 2;
+  }
+  const link_kind kind = model == "rigid" ? link_kind::rigid : link_kind::point_mass;
+  if (kind != link_kind::point_mass && (!links.empty() || !index.empty() || latex > 0)) {
+    std::cerr << "npend-gen: --model rigid goes with --verify and --stats only: the runtime "
+                 "takes point-mass chains\n";
     return 2;
   }
   if ((!links.empty() || !index.empty()) && out_dir.empty()) {
@@ -178,9 +192,9 @@ int main(int argc, char** argv) {
       const chain_symbols sym(latex);
       print_latex(sym, derive_mechanics(sym), std::cout);
     }
-    if (!stats.empty()) print_stats(stats, json, solver);
-    if (verify > 0 &&
-        !verify_chain(verify, points, std::cout, chosen_solver(solver, chain_symbols(verify))))
+    if (!stats.empty()) print_stats(stats, json, solver, kind);
+    if (verify > 0 && !verify_chain(chain_symbols(verify, kind), points, std::cout,
+                                    chosen_solver(solver, chain_symbols(verify, kind))))
       return 1;
   } catch (const std::exception& e) {
     std::cerr << "npend-gen: " << e.what() << "\n";

@@ -33,6 +33,10 @@ polynomial_space::polynomial_space(const chain_symbols& sym) : m_sym(sym) {
   for (int i = 0; i < n; ++i) add(var_kind::dphi, i, sym.dphi[u(i)]);
   for (int i = 0; i < n; ++i) add(var_kind::p, i, sym.p[u(i)]);
   for (int i = 0; i < n; ++i) add(var_kind::ddphi, i, sym.ddphi[u(i)]);
+  if (sym.kind == link_kind::rigid) {
+    for (int i = 0; i < n; ++i) add(var_kind::com, i, sym.com[u(i)]);
+    for (int i = 0; i < n; ++i) add(var_kind::inertia, i, sym.inertia[u(i)]);
+  }
 
   for (int i = 0; i < n; ++i) {
     m_to_variables.append(GiNaC::sin(sym.phi[u(i)]) == sym.s[u(i)]);
@@ -110,14 +114,35 @@ std::vector<sx> variable_nodes(const polynomial_space& space, expr_graph& graph)
   for (int id = 0; id < space.count(); ++id) {
     const variable& v = space.var(id);
     switch (v.kind) {
-      case var_kind::mu: nodes[u(id)] = mu[u(v.index)]; break;
-      case var_kind::length: nodes[u(id)] = graph.input(input_kind::length, v.index); break;
-      case var_kind::gravity: nodes[u(id)] = graph.input(input_kind::gravity); break;
-      case var_kind::sin: nodes[u(id)] = sin(graph.input(input_kind::phi, v.index)); break;
-      case var_kind::cos: nodes[u(id)] = cos(graph.input(input_kind::phi, v.index)); break;
-      case var_kind::dphi: nodes[u(id)] = graph.input(input_kind::dphi, v.index); break;
-      case var_kind::p: nodes[u(id)] = graph.input(input_kind::p, v.index); break;
-      case var_kind::ddphi: break;  // only printed, never emitted
+      case var_kind::mu:
+        nodes[u(id)] = mu[u(v.index)];
+        break;
+      case var_kind::length:
+        nodes[u(id)] = graph.input(input_kind::length, v.index);
+        break;
+      case var_kind::gravity:
+        nodes[u(id)] = graph.input(input_kind::gravity);
+        break;
+      case var_kind::sin:
+        nodes[u(id)] = sin(graph.input(input_kind::phi, v.index));
+        break;
+      case var_kind::cos:
+        nodes[u(id)] = cos(graph.input(input_kind::phi, v.index));
+        break;
+      case var_kind::dphi:
+        nodes[u(id)] = graph.input(input_kind::dphi, v.index);
+        break;
+      case var_kind::p:
+        nodes[u(id)] = graph.input(input_kind::p, v.index);
+        break;
+      case var_kind::ddphi:
+        break;  // only printed, never emitted
+      case var_kind::com:
+        nodes[u(id)] = graph.input(input_kind::com, v.index);
+        break;
+      case var_kind::inertia:
+        nodes[u(id)] = graph.input(input_kind::inertia, v.index);
+        break;
     }
   }
   return nodes;

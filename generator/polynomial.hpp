@@ -8,9 +8,6 @@
 // scheme) or, through product-to-sum formulas, into the trigonometric form printed as LaTeX.
 #pragma once
 
-#include "chain_model.hpp"
-#include "expr_graph.hpp"
-
 #include <ginac/ginac.h>
 
 #include <cstdint>
@@ -19,10 +16,15 @@
 #include <utility>
 #include <vector>
 
+#include "chain_model.hpp"
+#include "expr_graph.hpp"
+
 namespace npend::gen {
 
 /// Variable kinds in their canonical order (ties in Horner's scheme go to the earlier one).
-enum class var_kind : std::uint8_t { mu, length, gravity, sin, cos, dphi, p, ddphi };
+/// (com and inertia, of rigid links only, come last so that a point-mass chain's variables and
+/// so its emitted code are those of the point-mass derivation.)
+enum class var_kind : std::uint8_t { mu, length, gravity, sin, cos, dphi, p, ddphi, com, inertia };
 
 struct variable {
   var_kind kind;

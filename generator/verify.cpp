@@ -64,8 +64,9 @@ num random_rational(std::mt19937_64& rng, int lo_num, int hi_num, int den) {
 
 }  // namespace
 
-bool verify_chain(int n, int points, std::ostream& report, kinetic_solver solver) {
-  const chain_symbols sym(n);
+bool verify_chain(const chain_symbols& sym, int points, std::ostream& report,
+                  kinetic_solver solver) {
+  const int n = sym.n;
   const chain_mechanics mech = derive_mechanics(sym);
   const lagrangian_hessians hess = derive_lagrangian_hessians(sym, mech);
   const auto functions = build_chain_functions(sym, mech, solver);
@@ -95,6 +96,10 @@ bool verify_chain(int n, int points, std::ostream& report, kinetic_solver solver
       in.mass.push_back(random_rational(rng, 4, 30, 7));
       in.length.push_back(random_rational(rng, 4, 30, 11));
       in.p.push_back(random_rational(rng, -30, 30, 9));
+      if (sym.kind == link_kind::rigid) {
+        in.com.push_back(random_rational(rng, 1, 40, 17));
+        in.inertia.push_back(random_rational(rng, 0, 30, 19));
+      }
     }
     in.gravity = num(981, 100);
     // The general path's graphs hold φ̇ input nodes that nothing reads (the computed φ̇
@@ -138,6 +143,12 @@ bool verify_chain(int n, int points, std::ostream& report, kinetic_solver solver
           values[u(id)] = in.p[k];
           break;
         case var_kind::ddphi:
+          break;
+        case var_kind::com:
+          values[u(id)] = in.com[k];
+          break;
+        case var_kind::inertia:
+          values[u(id)] = in.inertia[k];
           break;
       }
     }
@@ -198,8 +209,9 @@ bool verify_chain(int n, int points, std::ostream& report, kinetic_solver solver
   }
   const bool ok = check.failures() == 0;
   fmt::print(report,
-             "npend-gen --verify {} --solver {}: {} exact identities at {} rational points: {}\n",
-             n, solver_name(solver), check.checks(), points,
+             "npend-gen --verify {} --model {} --solver {}: {} exact identities at {} rational "
+             "points: {}\n",
+             n, link_kind_name(sym.kind), solver_name(solver), check.checks(), points,
              ok ? "all hold" : fmt::format("{} FAILED", check.failures()));
   return ok;
 }
