@@ -21,7 +21,8 @@ double parse_item(std::string_view item, std::string_view option, std::string_vi
   double value = 0;
   const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
   if (ec == std::errc::result_out_of_range)
-    throw input_error(fmt::format("{}: '{}' is out of the range of a double{}", option, item, where));
+    throw input_error(
+        fmt::format("{}: '{}' is out of the range of a double{}", option, item, where));
   if (ec != std::errc{} || end != digits.data() + digits.size())
     throw input_error(fmt::format("{}: '{}' is not a number{}", option, item, where));
   if (!std::isfinite(value))
@@ -41,17 +42,23 @@ double parse_number(std::string_view text, std::string_view option) {
   return parse_item(text, option, text, 0);
 }
 
-std::vector<double> parse_number_list(std::string_view text, std::string_view option) {
-  std::vector<double> out;
+std::vector<std::string_view> split_list(std::string_view text) {
+  std::vector<std::string_view> pieces;
   std::size_t start = 0;
-  for (std::size_t item = 1;; ++item) {
+  while (true) {
     const std::size_t comma = text.find(',', start);
-    const std::string_view piece =
-        text.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
-    out.push_back(parse_item(piece, option, text, item));
-    if (comma == std::string_view::npos) break;
+    pieces.push_back(text.substr(
+        start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
+    if (comma == std::string_view::npos) return pieces;
     start = comma + 1;
   }
+}
+
+std::vector<double> parse_number_list(std::string_view text, std::string_view option) {
+  std::vector<double> out;
+  const std::vector<std::string_view> pieces = split_list(text);
+  for (std::size_t item = 0; item < pieces.size(); ++item)
+    out.push_back(parse_item(pieces[item], option, text, item + 1));
   return out;
 }
 
@@ -59,8 +66,8 @@ std::vector<double> parse_number_list(std::string_view text, std::string_view op
                                       std::size_t expected, std::string_view what) {
   std::vector<double> values = parse_number_list(text, option);
   if (values.size() != expected)
-    throw input_error(fmt::format("{}: expected {} values ({}), got {}", option, expected, what,
-                                  values.size()));
+    throw input_error(
+        fmt::format("{}: expected {} values ({}), got {}", option, expected, what, values.size()));
   return values;
 }
 

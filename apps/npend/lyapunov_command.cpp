@@ -294,14 +294,7 @@ std::pair<double, double> fit_range(const std::string& text) {
 // --column: one selector, or several separated by commas (none: the default signal).
 std::vector<std::string> column_list(const std::string& text) {
   std::vector<std::string> out;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = text.find(',', start);
-    out.push_back(
-        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
+  for (const std::string_view piece : cli::split_list(text)) out.emplace_back(piece);
   if (out.size() > 1)
     for (const auto& c : out)
       if (c.empty()) throw cli::input_error(fmt::format("--column: an empty name in '{}'", text));
