@@ -10,6 +10,12 @@ function(run_generator out_dir links)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "npend-gen failed (${rc}): ${err}")
   endif()
+  execute_process(
+    COMMAND "${GEN}" --links ${links} --model physical --out "${out_dir}"
+    RESULT_VARIABLE rc ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "npend-gen --model physical failed (${rc}): ${err}")
+  endif()
 endfunction()
 
 function(compare_dirs a b hint)

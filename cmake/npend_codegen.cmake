@@ -26,8 +26,10 @@ function(npend_generated_library target)
       message(FATAL_ERROR "NPEND_LINKS: '${n}' is not a positive link count")
     endif()
     if(n IN_LIST NPEND_COMMITTED_LINKS)
-      list(APPEND sources "${PROJECT_SOURCE_DIR}/generated/chain_${n}.cpp")
-      list(APPEND headers "${PROJECT_SOURCE_DIR}/generated/chain_${n}.hpp")
+      foreach(stem chain_${n} physical_${n})
+        list(APPEND sources "${PROJECT_SOURCE_DIR}/generated/${stem}.cpp")
+        list(APPEND headers "${PROJECT_SOURCE_DIR}/generated/${stem}.hpp")
+      endforeach()
     else()
       if(NOT TARGET npend-gen)
         message(FATAL_ERROR "NPEND_LINKS asks for ${n} links, which are not committed in "
@@ -35,14 +37,16 @@ function(npend_generated_library target)
                             "(-DNPEND_BUILD_GENERATOR=ON, with GiNaC installed).")
       endif()
       set(out "${NPEND_GENERATED_BUILD_DIR}/chain_${n}")
+      set(physical "${NPEND_GENERATED_BUILD_DIR}/physical_${n}")
       add_custom_command(
-        OUTPUT "${out}.hpp" "${out}.cpp"
+        OUTPUT "${out}.hpp" "${out}.cpp" "${physical}.hpp" "${physical}.cpp"
         COMMAND npend-gen --links ${n} --out "${NPEND_GENERATED_BUILD_DIR}"
+        COMMAND npend-gen --links ${n} --model physical --out "${NPEND_GENERATED_BUILD_DIR}"
         DEPENDS npend-gen
-        COMMENT "npend-gen: deriving the ${n}-link chain"
+        COMMENT "npend-gen: deriving the ${n}-link chain (point-mass and physical)"
         VERBATIM)
-      list(APPEND sources "${out}.cpp")
-      list(APPEND headers "${out}.hpp")
+      list(APPEND sources "${out}.cpp" "${physical}.cpp")
+      list(APPEND headers "${out}.hpp" "${physical}.hpp")
       set(generated_in_build TRUE)
     endif()
   endforeach()
@@ -96,6 +100,8 @@ function(npend_add_regenerate_target)
   _npend_join(list_arg ${NPEND_COMMITTED_LINKS})
   add_custom_target(npend_regenerate
     COMMAND npend-gen --links ${list_arg} --index ${list_arg}
+            --out "${PROJECT_SOURCE_DIR}/generated"
+    COMMAND npend-gen --links ${list_arg} --model physical
             --out "${PROJECT_SOURCE_DIR}/generated"
     DEPENDS npend-gen
     COMMENT "npend-gen: regenerating generated/ for link counts ${list_arg}"

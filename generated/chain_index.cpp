@@ -7,6 +7,12 @@
 #include "chain_4.hpp"
 #include "chain_5.hpp"
 #include "chain_6.hpp"
+#include "physical_1.hpp"
+#include "physical_2.hpp"
+#include "physical_3.hpp"
+#include "physical_4.hpp"
+#include "physical_5.hpp"
+#include "physical_6.hpp"
 
 namespace npend::generated {
 
@@ -14,12 +20,20 @@ namespace {
 
 const chain_kernels* const table[] = {&chain_1::kernels, &chain_2::kernels, &chain_3::kernels, &chain_4::kernels, &chain_5::kernels, &chain_6::kernels};
 
+const physical_kernels* const physical_table[] = {&physical_1::kernels, &physical_2::kernels, &physical_3::kernels, &physical_4::kernels, &physical_5::kernels, &physical_6::kernels};
+
 const int links_built[] = {1, 2, 3, 4, 5, 6};
 
 }  // namespace
 
 const chain_kernels* find_chain(int links) noexcept {
   for (const chain_kernels* k : table)
+    if (k->links == links) return k;
+  return nullptr;
+}
+
+const physical_kernels* find_physical(int links) noexcept {
+  for (const physical_kernels* k : physical_table)
     if (k->links == links) return k;
   return nullptr;
 }

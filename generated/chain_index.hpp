@@ -10,6 +10,9 @@ namespace npend::generated {
 /// The kernels for `links` links, or nullptr when that link count was not built.
 const chain_kernels* find_chain(int links) noexcept;
 
+/// The physical chain's kernels for `links` links, or nullptr when not built.
+const physical_kernels* find_physical(int links) noexcept;
+
 /// The built link counts, ascending: a pointer to `*count` entries.
 const int* built_links(int* count) noexcept;
 

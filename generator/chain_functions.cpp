@@ -167,6 +167,28 @@ emitted_function closed_form_function(const chain_symbols& sym, const polynomial
   return f;
 }
 
+// ∂f/∂w of a physical chain, w = [a_x, a_y, u_1..u_n]: f is affine in w and φ̇ = A⁻¹p does not
+// depend on it, so only ṗ = ∂L/∂φ + Q has entries, functions of φ alone.
+emitted_function input_matrix_function(const chain_symbols& sym, const polynomial_space& space,
+                                       const chain_mechanics& mech) {
+  const int n = sym.n;
+  std::vector<GiNaC::realsymbol> w{sym.drive_x, sym.drive_y};
+  for (const auto& ui : sym.torque) w.push_back(ui);
+  std::vector<GiNaC::ex> entries_rowmajor;
+  for (int i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < w.size(); ++j) entries_rowmajor.push_back(0);
+  for (int i = 0; i < n; ++i) {
+    const GiNaC::ex rate = mech.dL_dphi[u(i)] + mech.force[u(i)];
+    for (const auto& wj : w) entries_rowmajor.push_back(rate.diff(wj).expand());
+  }
+  return from_expressions(
+      space, "input_matrix", argument_layout::phi,
+      {"Input matrix df/dw, row-major (2n x (n+2)), for the inputs w = [a_x, a_y, u_1..u_n]:",
+       "the pivot's acceleration and the joint torques. Its last n columns are B = df/du; "
+       "df/dt = (df/dw) dw/dt."},
+      entries_rowmajor, "dfdw");
+}
+
 // The kinetic functions by the general path: rhs, jacobian, hamiltonian, velocities and
 // det_mass_matrix, each from its own general_form over its own graph.
 std::vector<emitted_function> general_functions(const polynomial_space& space,
@@ -189,6 +211,13 @@ std::vector<emitted_function> general_functions(const polynomial_space& space,
                      {"Inverse Legendre transform: dphi = A^-1 p (dim n)."}, "dphi"));
   out.push_back(make("det_mass_matrix", argument_layout::phi,
                      {"det A(phi) = prod D_i, the pivots of A = L D L^T."}));
+  if (hessians.has_damping) {
+    out[0].doc[1] += " + Q, Q the joint torques, springs aside, and damping forces.";
+    out[1].doc[1] = "With damping the flow is not Hamiltonian: no symmetry of J is assumed.";
+    out[2].doc[0] =
+        "H(phi, p) = 1/2 p^T A^-1 p + V: the energy in the pivot's frame, V with the springs "
+        "and the inertial potential of the pivot's acceleration.";
+  }
   for (auto& f : out) {
     const general_form form(space, mech, hessians, *f.graph);
     if (f.name == "rhs") {
@@ -211,6 +240,13 @@ std::vector<emitted_function> general_functions(const polynomial_space& space,
 
 const char* solver_name(kinetic_solver solver) {
   return solver == kinetic_solver::articulated ? "articulated" : "ldlt";
+}
+
+bool reads_inputs(const std::string& function_name) {
+  for (const char* name : {"rhs", "jacobian", "hamiltonian", "lagrangian", "potential_energy",
+                           "potential_gradient", "potential_hessian"})
+    if (function_name == name) return true;
+  return false;
 }
 
 kinetic_solver default_solver(const chain_symbols& sym) {
@@ -270,7 +306,12 @@ std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
   out.push_back(from_expressions(space, "positions", argument_layout::phi,
                                  {"Bob positions [x_1, y_1, ..., x_n, y_n] (dim 2n), y down."}, xy,
                                  "xy"));
-  if (n <= closed_form_max_links) out.push_back(closed_form_function(sym, space, mech));
+  if (sym.kind != link_kind::physical) {
+    if (n <= closed_form_max_links) out.push_back(closed_form_function(sym, space, mech));
+    return out;
+  }
+  out.push_back(input_matrix_function(sym, space, mech));
+  for (auto& f : out) f.takes_inputs = reads_inputs(f.name);
   return out;
 }
 

@@ -27,6 +27,9 @@ struct emitted_function {
   argument_layout layout = argument_layout::state;
   bool returns_scalar = false;  ///< `double f(...)`; otherwise `void f(..., double* out)`
   std::string output_name;      ///< name of the output array of a void function
+  /// Takes the time-dependent inputs w = [a_x, a_y, u_1..u_n] of a physical chain as
+  /// `const double* inputs` after params.
+  bool takes_inputs = false;
   std::unique_ptr<expr_graph> graph;
   std::vector<sx> outputs;
 };
@@ -44,9 +47,15 @@ const char* solver_name(kinetic_solver solver);
 /// on massless rods — the general path otherwise (rigid links).
 kinetic_solver default_solver(const chain_symbols& sym);
 
+/// The functions of a physical chain that read its time-dependent inputs (the drive enters V,
+/// the torques Q): rhs, jacobian, hamiltonian, lagrangian, potential_energy,
+/// potential_gradient, potential_hessian.
+bool reads_inputs(const std::string& function_name);
+
 /// Every emitted function of the n-link chain, in the order they are written; the kinetic
 /// functions (rhs, jacobian, hamiltonian, velocities, det_mass_matrix) by `solver`. Throws
-/// std::invalid_argument for the articulated solver on a chain it does not fit.
+/// std::invalid_argument for the articulated solver on a chain it does not fit. A physical
+/// chain also gets input_matrix, ∂f/∂w for its inputs w.
 std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
                                                     const chain_mechanics& mech,
                                                     kinetic_solver solver);

@@ -19,7 +19,15 @@ std::size_t u(int i) { return static_cast<std::size_t>(i); }
 }  // namespace
 
 const char* link_kind_name(link_kind kind) {
-  return kind == link_kind::point_mass ? "point" : "rigid";
+  switch (kind) {
+    case link_kind::point_mass:
+      return "point";
+    case link_kind::rigid:
+      return "rigid";
+    case link_kind::physical:
+      return "physical";
+  }
+  return "?";
 }
 
 chain_symbols::chain_symbols(int links, link_kind kind_)
@@ -33,6 +41,12 @@ chain_symbols::chain_symbols(int links, link_kind kind_)
       length(indexed_symbols("l", links)),
       com(indexed_symbols("com", links)),
       inertia(indexed_symbols("J", links)),
+      stiffness(indexed_symbols("k", links)),
+      rest_angle(indexed_symbols("rest", links)),
+      damping(indexed_symbols("b", links)),
+      torque(indexed_symbols("u", links)),
+      drive_x("ax"),
+      drive_y("ay"),
       mu(indexed_symbols("mu", links)),
       g("g"),
       s(indexed_symbols("s", links)),
@@ -64,7 +78,14 @@ chain_mechanics derive_mechanics(const chain_symbols& sym) {
 
   // Energies: T = Σ m_k/2 |ṙ_k|² (+ J_k/2 φ̇_k² for a rigid link's rotation about its centre
   // of mass, König), V = Σ m_k g (rest depth − depth) of each mass point r_k.
-  const bool rigid = sym.kind == link_kind::rigid;
+  //
+  // A moving pivot r₀(t) is taken in its own frame: the lab-frame Lagrangian's cross term
+  // Σ m_k ṙ₀·ρ̇_k is d/dt(Σ m_k ṙ₀·ρ_k) − Σ m_k r̈₀·ρ_k, and dropping the total derivative and
+  // the function of t alone leaves the fixed-pivot T and the potential of the inertial force,
+  // Σ m_k a·ρ_k with a = r̈₀: gravity g becomes g − a_y and a_x adds a horizontal field.
+  const bool rigid = has_rigid_links(sym.kind);
+  const bool physical = sym.kind == link_kind::physical;
+  const GiNaC::ex gravity = physical ? sym.g - sym.drive_y : GiNaC::ex(sym.g);
   GiNaC::ex T = 0, V = 0, joint_depth = 0;
   for (int k = 0; k < n; ++k) {
     // The mass point: the bob, or the centre of mass c_k down link k from joint k.
@@ -77,9 +98,24 @@ chain_mechanics derive_mechanics(const chain_symbols& sym) {
     const GiNaC::ex vy = time_derivative(sym, ry);
     T += sym.mass[u(k)] / 2 * (vx * vx + vy * vy);
     if (rigid) T += sym.inertia[u(k)] / 2 * sym.dphi[u(k)] * sym.dphi[u(k)];
-    V += sym.mass[u(k)] * sym.g * (joint_depth + reach - ry);
+    V += sym.mass[u(k)] * gravity * (joint_depth + reach - ry);
+    if (physical) V += sym.mass[u(k)] * sym.drive_x * rx;
     joint_depth += sym.length[u(k)];
   }
+  // Joints: θ_j = φ_j − φ_{j−1}; springs ½ k_j (θ_j − θ_j⁰)² in V, damping in the Rayleigh
+  // function R = ½ Σ b_j θ̇_j², and the torque u_j doing the virtual work u_j δθ_j.
+  GiNaC::ex R = 0, torque_work = 0;
+  for (int j = 0; j < n; ++j) {
+    const GiNaC::ex theta = j > 0 ? sym.phi[u(j)] - sym.phi[u(j - 1)] : GiNaC::ex(sym.phi[0]);
+    mech.joint_angle.push_back(theta);
+    if (!physical) continue;
+    const GiNaC::ex stretch = theta - sym.rest_angle[u(j)];
+    V += sym.stiffness[u(j)] / 2 * stretch * stretch;
+    const GiNaC::ex rate = time_derivative(sym, theta);
+    R += sym.damping[u(j)] / 2 * rate * rate;
+    torque_work += sym.torque[u(j)] * theta;
+  }
+  mech.rayleigh = R.expand();
   mech.kinetic = T.expand();
   mech.potential = V.expand();
   mech.lagrangian = mech.kinetic - mech.potential;
@@ -91,6 +127,8 @@ chain_mechanics derive_mechanics(const chain_symbols& sym) {
     mech.momenta.push_back(mech.lagrangian.diff(sym.dphi[u(i)]));
     mech.dL_dphi.push_back(mech.lagrangian.diff(sym.phi[u(i)]));
     mech.grad_potential.push_back(mech.potential.diff(sym.phi[u(i)]));
+    mech.force.push_back(
+        (torque_work.diff(sym.phi[u(i)]) - mech.rayleigh.diff(sym.dphi[u(i)])).expand());
   }
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
@@ -116,11 +154,13 @@ std::vector<GiNaC::matrix> mass_matrix_derivatives(const chain_symbols& sym,
 lagrangian_hessians derive_lagrangian_hessians(const chain_symbols& sym,
                                                const chain_mechanics& mech) {
   const auto n = u(sym.n);
-  lagrangian_hessians h{GiNaC::matrix(n, n), GiNaC::matrix(n, n)};
+  lagrangian_hessians h{GiNaC::matrix(n, n), GiNaC::matrix(n, n), GiNaC::matrix(n, n)};
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = 0; j < n; ++j) {
       h.phi_phi(i, j) = mech.dL_dphi[i].diff(sym.phi[j]);
       h.phi_dphi(i, j) = mech.dL_dphi[i].diff(sym.dphi[j]);
+      h.force_dphi(i, j) = mech.force[i].diff(sym.dphi[j]);
+      if (!h.force_dphi(i, j).is_zero()) h.has_damping = true;
     }
   return h;
 }

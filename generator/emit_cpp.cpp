@@ -84,11 +84,22 @@ std::string input_text(argument_layout layout, int n, const node& in) {
       return fmt::format("params[{}]", chain_layout::com_index(n, in.index));
     case input_kind::inertia:
       return fmt::format("params[{}]", chain_layout::inertia_index(n, in.index));
+    case input_kind::stiffness:
+      return fmt::format("params[{}]", chain_layout::stiffness_index(n, in.index));
+    case input_kind::rest_angle:
+      return fmt::format("params[{}]", chain_layout::rest_angle_index(n, in.index));
+    case input_kind::damping:
+      return fmt::format("params[{}]", chain_layout::damping_index(n, in.index));
+    case input_kind::drive:
+      return fmt::format("inputs[{}]", chain_layout::pivot_acceleration_index(in.index));
+    case input_kind::torque:
+      return fmt::format("inputs[{}]", chain_layout::torque_index(n, in.index));
   }
   throw std::logic_error("emit: unknown input");
 }
 
-bool layout_has(argument_layout layout, input_kind kind) {
+bool layout_has(const emitted_function& f, input_kind kind) {
+  const argument_layout layout = f.layout;
   switch (kind) {
     case input_kind::phi:
       return true;
@@ -96,6 +107,9 @@ bool layout_has(argument_layout layout, input_kind kind) {
       return layout == argument_layout::state || layout == argument_layout::phi_p;
     case input_kind::dphi:
       return layout == argument_layout::phi_dphi;
+    case input_kind::drive:
+    case input_kind::torque:
+      return f.takes_inputs;
     default:
       return true;
   }
@@ -122,6 +136,7 @@ std::string signature(const emitted_function& f) {
       break;
   }
   args += ", const double* params";
+  if (f.takes_inputs) args += ", const double* inputs";
   if (!f.returns_scalar) args += ", double* " + f.output_name;
   return fmt::format("{} {}({}) noexcept", f.returns_scalar ? "double" : "void", f.name, args);
 }
@@ -149,7 +164,7 @@ std::string body(int n, const emitted_function& f) {
         p = {literal(nd.value), nd.value < 0 ? int{unary} : int{atom}};
         break;
       case op::input:
-        if (!layout_has(f.layout, nd.input))
+        if (!layout_has(f, nd.input))
           throw std::logic_error("emit: " + f.name + " uses an input it does not take");
         p = {input_text(f.layout, n, nd), atom};
         break;
@@ -239,30 +254,62 @@ std::string generated_banner(const std::string& command) {
       command);
 }
 
-std::string chain_stem(int links) { return fmt::format("chain_{}", links); }
+std::string chain_stem(int links, link_kind kind) {
+  return fmt::format("{}_{}", kind == link_kind::physical ? "physical" : "chain", links);
+}
+
+namespace {
+
+// The header's opening: what the chain is and how its arrays are laid out.
+std::string header_preamble(int n, link_kind kind) {
+  if (kind != link_kind::physical)
+    return fmt::format(
+        "#pragma once\n\n"
+        "// The planar {0}-link pendulum: point masses m_i on massless rods l_i under "
+        "gravity g.\n"
+        "// State x = [phi_1..phi_n, p_1..p_n] (dim 2n = {1}); angles from the downward "
+        "vertical.\n"
+        "// Parameters params = [m_1..m_n, l_1..l_n, g] (dim 2n+1 = {2}).\n"
+        "// (The layout is npend::chain_layout's, in <npend/chain_kernels.hpp>.)\n\n"
+        "#include <npend/chain_kernels.hpp>\n\n"
+        "namespace npend::generated::chain_{0} {{\n\n"
+        "inline constexpr int links = {0};\n"
+        "inline constexpr int state_size = {1};\n"
+        "inline constexpr int param_size = {2};\n\n",
+        n, chain_layout::state_size(n), chain_layout::param_size(n));
+  return fmt::format(
+      "#pragma once\n\n"
+      "// The physical planar {0}-link pendulum: rigid links (mass m_i at its centre of mass c_i\n"
+      "// down the link, inertia J_i about it), joint springs k_i with rest angles theta0_i,\n"
+      "// joint damping b_i and joint torques u_i, the pivot moving with acceleration a.\n"
+      "// State x = [phi_1..phi_n, p_1..p_n] (dim 2n = {1}); angles from the downward vertical;\n"
+      "// everything in the pivot's frame (docs/model.md).\n"
+      "// Parameters params = [m, l, g, c, J, k, theta0, b] (dim 7n+1 = {2}); inputs\n"
+      "// w = [a_x, a_y, u_1..u_n] (dim n+2 = {3}).\n"
+      "// (The layout is npend::chain_layout's, in <npend/chain_kernels.hpp>.)\n\n"
+      "#include <npend/chain_kernels.hpp>\n\n"
+      "namespace npend::generated::physical_{0} {{\n\n"
+      "inline constexpr int links = {0};\n"
+      "inline constexpr int state_size = {1};\n"
+      "inline constexpr int param_size = {2};\n"
+      "inline constexpr int input_size = {3};\n\n",
+      n, chain_layout::state_size(n), chain_layout::physical_param_size(n),
+      chain_layout::input_size(n));
+}
+
+}  // namespace
 
 chain_sources emit_chain(int n, const std::vector<emitted_function>& functions,
-                         const std::string& latex, const std::string& options) {
-  const std::string banner = generated_banner(
-      fmt::format("npend-gen --links {}{}{}", n, options.empty() ? "" : " ", options));
+                         const std::string& latex, const std::string& options, link_kind kind) {
+  const bool physical = kind == link_kind::physical;
+  const std::string stem = chain_stem(n, kind);
+  const std::string banner = generated_banner(fmt::format("npend-gen --links {}{}{}{}", n,
+                                                          physical ? " --model physical" : "",
+                                                          options.empty() ? "" : " ", options));
   chain_sources out;
-  out.header =
-      banner + fmt::format(
-                   "#pragma once\n\n"
-                   "// The planar {0}-link pendulum: point masses m_i on massless rods l_i under "
-                   "gravity g.\n"
-                   "// State x = [phi_1..phi_n, p_1..p_n] (dim 2n = {1}); angles from the downward "
-                   "vertical.\n"
-                   "// Parameters params = [m_1..m_n, l_1..l_n, g] (dim 2n+1 = {2}).\n"
-                   "// (The layout is npend::chain_layout's, in <npend/chain_kernels.hpp>.)\n\n"
-                   "#include <npend/chain_kernels.hpp>\n\n"
-                   "namespace npend::generated::chain_{0} {{\n\n"
-                   "inline constexpr int links = {0};\n"
-                   "inline constexpr int state_size = {1};\n"
-                   "inline constexpr int param_size = {2};\n\n",
-                   n, chain_layout::state_size(n), chain_layout::param_size(n));
-  out.source = banner + fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n\n", chain_stem(n)) +
-               fmt::format("namespace npend::generated::chain_{} {{\n", n);
+  out.header = banner + header_preamble(n, kind);
+  out.source = banner + fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n\n", stem) +
+               fmt::format("namespace npend::generated::{} {{\n", stem);
   for (const auto& f : functions) {
     out.header += doc_comment(f) + signature(f) + ";\n\n";
     out.source += "\n" + signature(f) + " {\n" + body(n, f) + "}\n";
@@ -275,16 +322,18 @@ chain_sources emit_chain(int n, const std::vector<emitted_function>& functions,
   out.source += "\n" + latex_signature + " {\n  return R\"npend(" + latex + ")npend\";\n}\n";
   // The table entry, filled by field name from the functions just emitted: the runtime's
   // chain_kernels must have a field of the same name and type for each.
-  out.header +=
-      "/// This link count's entry of the runtime's kernel table.\nextern const chain_kernels "
-      "kernels;\n\n";
+  const char* table = physical ? "physical_kernels" : "chain_kernels";
+  out.header += fmt::format(
+      "/// This link count's entry of the runtime's kernel table.\nextern const {} kernels;\n\n",
+      table);
   out.source += fmt::format(
-      "\nconst chain_kernels kernels = {{\n    .links = links,\n    .state_size = state_size,\n"
-      "    .param_size = param_size,\n");
+      "\nconst {} kernels = {{\n    .links = links,\n    .state_size = state_size,\n"
+      "    .param_size = param_size,\n{}",
+      table, physical ? "    .input_size = input_size,\n" : "");
   for (const auto& f : functions) out.source += fmt::format("    .{0} = &{0},\n", f.name);
   out.source += "    .equations_latex = &equations_latex,\n};\n";
-  out.header += fmt::format("}}  // namespace npend::generated::chain_{}\n", n);
-  out.source += fmt::format("\n}}  // namespace npend::generated::chain_{}\n", n);
+  out.header += fmt::format("}}  // namespace npend::generated::{}\n", stem);
+  out.source += fmt::format("\n}}  // namespace npend::generated::{}\n", stem);
   return out;
 }
 
@@ -304,6 +353,9 @@ namespace npend::generated {
 /// The kernels for `links` links, or nullptr when that link count was not built.
 const chain_kernels* find_chain(int links) noexcept;
 
+/// The physical chain's kernels for `links` links, or nullptr when not built.
+const physical_kernels* find_physical(int links) noexcept;
+
 /// The built link counts, ascending: a pointer to `*count` entries.
 const int* built_links(int* count) noexcept;
 
@@ -311,10 +363,15 @@ const int* built_links(int* count) noexcept;
 )";
   out.source = banner + fmt::format("#include \"{}.hpp\"\n\n", index_stem);
   for (const int n : links) out.source += fmt::format("#include \"{}.hpp\"\n", chain_stem(n));
+  for (const int n : links)
+    out.source += fmt::format("#include \"{}.hpp\"\n", chain_stem(n, link_kind::physical));
   out.source +=
       "\nnamespace npend::generated {\n\nnamespace {\n\nconst chain_kernels* const table[] = {";
   for (std::size_t i = 0; i < links.size(); ++i)
     out.source += fmt::format("{}&chain_{}::kernels", i ? ", " : "", links[i]);
+  out.source += "};\n\nconst physical_kernels* const physical_table[] = {";
+  for (std::size_t i = 0; i < links.size(); ++i)
+    out.source += fmt::format("{}&physical_{}::kernels", i ? ", " : "", links[i]);
   out.source += "};\n\nconst int links_built[] = {";
   for (std::size_t i = 0; i < links.size(); ++i)
     out.source += (i ? ", " : "") + std::to_string(links[i]);
@@ -324,6 +381,12 @@ const int* built_links(int* count) noexcept;
 
 const chain_kernels* find_chain(int links) noexcept {
   for (const chain_kernels* k : table)
+    if (k->links == links) return k;
+  return nullptr;
+}
+
+const physical_kernels* find_physical(int links) noexcept {
+  for (const physical_kernels* k : physical_table)
     if (k->links == links) return k;
   return nullptr;
 }

@@ -3,10 +3,10 @@
 // integer powers as products and 17 significant digits (a double round-trips).
 #pragma once
 
-#include "chain_functions.hpp"
-
 #include <string>
 #include <vector>
+
+#include "chain_functions.hpp"
 
 namespace npend::gen {
 
@@ -28,14 +28,19 @@ struct chain_sources {
 /// `latex` is the text of print_latex, embedded so that programs can show the equations;
 /// `options` are further npend-gen options that made the functions ("--solver ldlt"), for
 /// the banner's regeneration command.
+/// A physical chain (kind link_kind::physical) is written as physical_<n>.hpp/.cpp with its
+/// own table entry type, npend::physical_kernels.
 chain_sources emit_chain(int links, const std::vector<emitted_function>& functions,
-                         const std::string& latex, const std::string& options = {});
+                         const std::string& latex, const std::string& options = {},
+                         link_kind kind = link_kind::point_mass);
 
-/// chain_index.hpp / chain_index.cpp: the table of built link counts for the runtime.
+/// chain_index.hpp / chain_index.cpp: the tables of built link counts for the runtime, of the
+/// point-mass chains and of the physical chains (the same counts).
 chain_sources emit_index(const std::vector<int>& links);
 
-/// File names of the sources for n links and of the index.
-std::string chain_stem(int links);
+/// File names of the sources for n links (chain_<n>, or physical_<n> for physical chains)
+/// and of the index.
+std::string chain_stem(int links, link_kind kind = link_kind::point_mass);
 inline constexpr const char* index_stem = "chain_index";
 
 }  // namespace npend::gen

@@ -159,7 +159,10 @@ std::vector<GiNaC::numeric> expr_graph::evaluate(const std::vector<sx>& outputs,
         const auto k = static_cast<std::size_t>(n.index);
         switch (n.input) {
           case input_kind::phi:
-            angle_dependent[i] = true;
+            if (k < in.phi.size())
+              value[i] = in.phi[k];
+            else
+              angle_dependent[i] = true;
             break;
           case input_kind::dphi:
             value[i] = in.dphi.at(k);
@@ -181,6 +184,21 @@ std::vector<GiNaC::numeric> expr_graph::evaluate(const std::vector<sx>& outputs,
             break;
           case input_kind::inertia:
             value[i] = in.inertia.at(k);
+            break;
+          case input_kind::stiffness:
+            value[i] = in.stiffness.at(k);
+            break;
+          case input_kind::rest_angle:
+            value[i] = in.rest_angle.at(k);
+            break;
+          case input_kind::damping:
+            value[i] = in.damping.at(k);
+            break;
+          case input_kind::drive:
+            value[i] = in.drive.at(k);
+            break;
+          case input_kind::torque:
+            value[i] = in.torque.at(k);
             break;
         }
         break;

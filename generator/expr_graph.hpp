@@ -19,8 +19,23 @@ namespace npend::gen {
 
 enum class op : std::uint8_t { constant, input, neg, add, sub, mul, div, sin, cos };
 
-/// What an input node stands for; the emitter maps each to an argument array.
-enum class input_kind : std::uint8_t { phi, dphi, p, mass, length, gravity, com, inertia };
+/// What an input node stands for; the emitter maps each to an argument array. drive (index 0
+/// a_x, 1 a_y) and torque are the time-dependent inputs of physical chains.
+enum class input_kind : std::uint8_t {
+  phi,
+  dphi,
+  p,
+  mass,
+  length,
+  gravity,
+  com,
+  inertia,
+  stiffness,
+  rest_angle,
+  damping,
+  drive,
+  torque
+};
 
 struct node {
   op kind = op::constant;
@@ -59,10 +74,14 @@ class expr_graph {
   bool is_constant(sx a) const { return at(a.id).kind == op::constant; }
 
   /// Exact value of a node, given exact values for the inputs and for the sin/cos of each
-  /// angle (the verifier evaluates at rational points of the unit circle).
+  /// angle (the verifier evaluates at rational points of the unit circle). An angle read
+  /// other than through sin/cos (a spring's θ) takes its value from `phi`; without one such
+  /// a read is an error. (sin/cos never see `phi`: a rational angle has no rational sine,
+  /// and the identities checked hold for independent values of both.)
   struct exact_inputs {
     std::vector<GiNaC::numeric> sin_phi, cos_phi, dphi, p, mass, length;
     std::vector<GiNaC::numeric> com, inertia;  ///< of rigid links
+    std::vector<GiNaC::numeric> phi, stiffness, rest_angle, damping, drive, torque;  ///< physical
     GiNaC::numeric gravity;
   };
   std::vector<GiNaC::numeric> evaluate(const std::vector<sx>& outputs,

@@ -54,7 +54,8 @@ sx general_form::node(const GiNaC::ex& e) const {
 
 std::vector<sx> general_form::momentum_rates() const {
   std::vector<sx> out;
-  for (const auto& dl : m_mech->dL_dphi) out.push_back(node(dl));
+  for (int i = 0; i < m_n; ++i)
+    out.push_back(node((m_mech->dL_dphi[u(i)] + m_mech->force[u(i)]).expand()));
   return out;
 }
 
@@ -80,11 +81,15 @@ std::vector<sx> general_form::jacobian() const {
     e[u(k)] = g.constant(1);
     w[u(k)] = solve(e);
   }
-  std::vector<std::vector<sx>> lpp(u(n), std::vector<sx>(u(n))), lpd = lpp;
+  // lpd is ∂²L/∂φ∂φ̇ (Lpd(k, :) = ∂p/∂φ_k, which gives ∂φ̇/∂φ); fpd = ∂ṗ/∂φ̇ at fixed φ
+  // adds the damping forces' ∂Q/∂φ̇ to it.
+  std::vector<std::vector<sx>> lpp(u(n), std::vector<sx>(u(n))), lpd = lpp, fpd = lpp;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       lpp[u(i)][u(j)] = node(m_hessians->phi_phi(u(i), u(j)));
       lpd[u(i)][u(j)] = node(m_hessians->phi_dphi(u(i), u(j)));
+      fpd[u(i)][u(j)] =
+          node((m_hessians->phi_dphi(u(i), u(j)) + m_hessians->force_dphi(u(i), u(j))).expand());
     }
   std::vector<sx> out(u(dim * dim));
   auto at = [&](int row, int col) -> sx& { return out[u(row * dim + col)]; };
@@ -100,14 +105,30 @@ std::vector<sx> general_form::jacobian() const {
     for (int k = 0; k < n; ++k) {
       at(i, k) = b[u(i)][u(k)];
       at(i, n + k) = w[u(k)][u(i)];
-      at(n + k, n + i) = -b[u(i)][u(k)];  // ∂ṗ/∂p = −(∂φ̇/∂φ)ᵀ
     }
-  // C = L_φφ + L_φφ̇ B, symmetric: each pair computed once.
-  for (int k = 0; k < n; ++k)
-    for (int i = k; i < n; ++i) {
-      sx c = lpp[u(i)][u(k)];
-      for (int j = 0; j < n; ++j) c = c + lpd[u(i)][u(j)] * b[u(j)][u(k)];
-      at(n + i, k) = at(n + k, i) = c;
+  if (!m_hessians->has_damping) {
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < n; ++k) at(n + k, n + i) = -b[u(i)][u(k)];  // ∂ṗ/∂p = −(∂φ̇/∂φ)ᵀ
+    // C = L_φφ + L_φφ̇ B, symmetric: each pair computed once.
+    for (int k = 0; k < n; ++k)
+      for (int i = k; i < n; ++i) {
+        sx c = lpp[u(i)][u(k)];
+        for (int j = 0; j < n; ++j) c = c + lpd[u(i)][u(j)] * b[u(j)][u(k)];
+        at(n + i, k) = at(n + k, i) = c;
+      }
+    return out;
+  }
+  // Damped: the flow is no longer Hamiltonian, so neither shortcut holds. With
+  // F = ∂ṗ/∂φ̇|_φ = L_φφ̇ + ∂Q/∂φ̇: ∂ṗ/∂φ = L_φφ + F B and ∂ṗ/∂p = F A⁻¹.
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < n; ++k) {
+      sx c = lpp[u(i)][u(k)], d = g.constant(0);
+      for (int j = 0; j < n; ++j) {
+        c = c + fpd[u(i)][u(j)] * b[u(j)][u(k)];
+        d = d + fpd[u(i)][u(j)] * w[u(k)][u(j)];
+      }
+      at(n + i, k) = c;
+      at(n + i, n + k) = d;
     }
   return out;
 }

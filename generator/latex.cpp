@@ -45,6 +45,18 @@ std::string variable_latex(const variable& v) {
       return fmt::format("c_{{{}}}", i);
     case var_kind::inertia:
       return fmt::format("J_{{{}}}", i);
+    case var_kind::angle:
+      return fmt::format("\\varphi_{{{}}}", i);
+    case var_kind::stiffness:
+      return fmt::format("k_{{{}}}", i);
+    case var_kind::rest_angle:
+      return fmt::format("\\bar\\theta_{{{}}}", i);
+    case var_kind::damping:
+      return fmt::format("b_{{{}}}", i);
+    case var_kind::drive:
+      return i == 1 ? "a_x" : "a_y";
+    case var_kind::torque:
+      return fmt::format("u_{{{}}}", i);
   }
   return "?";
 }
@@ -218,11 +230,27 @@ void print_latex(const chain_symbols& sym, const chain_mechanics& mech, std::ost
   const polynomial_space space(sym);
   const auto tex = [&](const GiNaC::ex& e) { return grouped_latex(space.canonical(e), space); };
 
-  fmt::print(out,
-             "% The planar {0}-link pendulum, derived by `npend-gen --latex {0}` (GiNaC).\n"
-             "% Point masses m_i on massless rods l_i, angles from the downward vertical,\n"
-             "% y pointing down, V = 0 at the hanging rest position; mu_j = m_j + ... + m_{0}.\n",
-             n);
+  const bool physical = sym.kind == link_kind::physical;
+  if (physical)
+    fmt::print(out,
+               "% The planar {0}-link pendulum, derived by `npend-gen --latex {0} --model "
+               "physical` (GiNaC).\n"
+               "% Rigid links (centre of mass c_i down link i, inertia J_i about it), joint "
+               "springs k_i\n"
+               "% with rest angles bar theta_i, joint damping b_i (Rayleigh function R), joint "
+               "torques u_i,\n"
+               "% pivot acceleration (a_x, a_y) taken in the pivot's frame; angles from the "
+               "downward\n"
+               "% vertical, y pointing down, V = 0 at the hanging rest position; mu_j = m_j + "
+               "... + m_{0}.\n",
+               n);
+  else
+    fmt::print(out,
+               "% The planar {0}-link pendulum, derived by `npend-gen --latex {0}` (GiNaC).\n"
+               "% Point masses m_i on massless rods l_i, angles from the downward vertical,\n"
+               "% y pointing down, V = 0 at the hanging rest position; mu_j = m_j + ... + "
+               "m_{0}.\n",
+               n);
   out << "\\begin{align*}\n";
   for (int k = 0; k < n; ++k)
     fmt::print(out, "x_{{{0}}} &= {1}, & y_{{{0}}} &= {2} \\\\\n", k + 1, tex(mech.x[u(k)]),
@@ -258,12 +286,20 @@ void print_latex(const chain_symbols& sym, const chain_mechanics& mech, std::ost
         "\\frac{{\\partial L}}{{\\partial\\varphi_{{{}}}}}\\Big|_{{\\dot\\varphi = A^{{-1}}p}}"
         " = {} \\\\\n",
         i + 1, i + 1, i + 1, tex(mech.dL_dphi[u(i)]));
+  if (physical) {
+    fmt::print(out, "R &= {} \\\\\n", tex(mech.rayleigh));
+    for (int i = 0; i < n; ++i)
+      fmt::print(out, "Q_{{{}}} &= {} \\qquad (\\dot p_{{{}}} \\mathrel{{+}}= Q_{{{}}}) \\\\\n",
+                 i + 1, tex(mech.force[u(i)]), i + 1, i + 1);
+  }
   for (int i = 0; i < n; ++i) {
-    const GiNaC::ex el = time_derivative(sym, mech.momenta[u(i)]) - mech.dL_dphi[u(i)];
+    const GiNaC::ex el =
+        time_derivative(sym, mech.momenta[u(i)]) - mech.dL_dphi[u(i)] - mech.force[u(i)];
     fmt::print(out,
                "0 &= \\frac{{d}}{{dt}}\\frac{{\\partial L}}{{\\partial\\dot\\varphi_{{{}}}}} - "
-               "\\frac{{\\partial L}}{{\\partial\\varphi_{{{}}}}} = {}{}\n",
-               i + 1, i + 1, tex(el), i + 1 < n ? " \\\\" : "");
+               "\\frac{{\\partial L}}{{\\partial\\varphi_{{{}}}}}{} = {}{}\n",
+               i + 1, i + 1, physical ? fmt::format(" - Q_{{{}}}", i + 1) : "", tex(el),
+               i + 1 < n ? " \\\\" : "");
   }
   out << "\\end{align*}\n";
 }

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <npend/chain_kernels.hpp>
 #include <sstream>
 
 #include "chain_functions.hpp"
@@ -21,7 +22,7 @@ using namespace npend::gen;
 
 namespace {
 
-constexpr int max_links = 64;
+constexpr int max_links = npend::chain_layout::max_links;
 
 // Writes `content` to dir/name only if it differs, via a temporary file and a rename, so
 // that an unchanged file keeps its timestamp (no needless rebuilds) and a failed write
@@ -74,7 +75,8 @@ generated_chain generate(int n, const std::string& solver, link_kind kind = link
   out.sources =
       emit_chain(n, out.functions, latex.str(),
                  chosen == default_solver(sym) ? std::string()
-                                               : fmt::format("--solver {}", solver_name(chosen)));
+                                               : fmt::format("--solver {}", solver_name(chosen)),
+                 kind);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
@@ -152,11 +154,13 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "articulated", "ldlt"}))
       ->capture_default_str();
   app.add_option("--model", model,
-                 "The chain --verify and --stats derive: point (point masses on massless rods, "
-                 "the paper's) or rigid (rigid links: mass m_i at its centre of mass c_i down the "
-                 "link, moment of inertia J_i; parameters [m, l, g, c, J]). --links and --latex "
-                 "write the point-mass chain, the one the runtime takes")
-      ->check(CLI::IsMember({"point", "rigid"}))
+                 "The chain to derive: point (point masses on massless rods, the paper's), "
+                 "rigid (rigid links: mass m_i at its centre of mass c_i down the link, moment "
+                 "of inertia J_i; parameters [m, l, g, c, J]; --verify and --stats only) or "
+                 "physical (rigid links with joint springs, damping and torques and a moving "
+                 "pivot; parameters [m, l, g, c, J, k, theta0, b], inputs [a_x, a_y, u]; "
+                 "--links writes physical_<n>)")
+      ->check(CLI::IsMember({"point", "rigid", "physical"}))
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
@@ -164,10 +168,12 @@ int main(int argc, char** argv) {
     std::cerr << app.help();
     return 2;
   }
-  const link_kind kind = model == "rigid" ? link_kind::rigid : link_kind::point_mass;
-  if (kind != link_kind::point_mass && (!links.empty() || !index.empty() || latex > 0)) {
+  const link_kind kind = model == "rigid"      ? link_kind::rigid
+                         : model == "physical" ? link_kind::physical
+                                               : link_kind::point_mass;
+  if (kind == link_kind::rigid && (!links.empty() || latex > 0)) {
     std::cerr << "npend-gen: --model rigid goes with --verify and --stats only: the runtime "
-                 "takes point-mass chains\n";
+                 "takes rigid links as the physical chain (--model physical)\n";
     return 2;
   }
   if ((!links.empty() || !index.empty()) && out_dir.empty()) {
@@ -177,9 +183,9 @@ int main(int argc, char** argv) {
   try {
     if (!out_dir.empty()) fs::create_directories(out_dir);
     for (const int n : links) {
-      const generated_chain g = generate(n, solver);
-      write_if_changed(out_dir, chain_stem(n) + ".hpp", g.sources.header);
-      write_if_changed(out_dir, chain_stem(n) + ".cpp", g.sources.source);
+      const generated_chain g = generate(n, solver, kind);
+      write_if_changed(out_dir, chain_stem(n, kind) + ".hpp", g.sources.header);
+      write_if_changed(out_dir, chain_stem(n, kind) + ".cpp", g.sources.source);
     }
     if (!index.empty()) {
       std::sort(index.begin(), index.end());
@@ -189,7 +195,7 @@ int main(int argc, char** argv) {
       write_if_changed(out_dir, std::string(index_stem) + ".cpp", idx.source);
     }
     if (latex > 0) {
-      const chain_symbols sym(latex);
+      const chain_symbols sym(latex, kind);
       print_latex(sym, derive_mechanics(sym), std::cout);
     }
     if (!stats.empty()) print_stats(stats, json, solver, kind);

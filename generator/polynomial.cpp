@@ -33,9 +33,18 @@ polynomial_space::polynomial_space(const chain_symbols& sym) : m_sym(sym) {
   for (int i = 0; i < n; ++i) add(var_kind::dphi, i, sym.dphi[u(i)]);
   for (int i = 0; i < n; ++i) add(var_kind::p, i, sym.p[u(i)]);
   for (int i = 0; i < n; ++i) add(var_kind::ddphi, i, sym.ddphi[u(i)]);
-  if (sym.kind == link_kind::rigid) {
+  if (has_rigid_links(sym.kind)) {
     for (int i = 0; i < n; ++i) add(var_kind::com, i, sym.com[u(i)]);
     for (int i = 0; i < n; ++i) add(var_kind::inertia, i, sym.inertia[u(i)]);
+  }
+  if (sym.kind == link_kind::physical) {
+    for (int i = 0; i < n; ++i) add(var_kind::angle, i, sym.phi[u(i)]);
+    for (int i = 0; i < n; ++i) add(var_kind::stiffness, i, sym.stiffness[u(i)]);
+    for (int i = 0; i < n; ++i) add(var_kind::rest_angle, i, sym.rest_angle[u(i)]);
+    for (int i = 0; i < n; ++i) add(var_kind::damping, i, sym.damping[u(i)]);
+    add(var_kind::drive, 0, sym.drive_x);
+    add(var_kind::drive, 1, sym.drive_y);
+    for (int i = 0; i < n; ++i) add(var_kind::torque, i, sym.torque[u(i)]);
   }
 
   for (int i = 0; i < n; ++i) {
@@ -142,6 +151,24 @@ std::vector<sx> variable_nodes(const polynomial_space& space, expr_graph& graph)
         break;
       case var_kind::inertia:
         nodes[u(id)] = graph.input(input_kind::inertia, v.index);
+        break;
+      case var_kind::angle:
+        nodes[u(id)] = graph.input(input_kind::phi, v.index);
+        break;
+      case var_kind::stiffness:
+        nodes[u(id)] = graph.input(input_kind::stiffness, v.index);
+        break;
+      case var_kind::rest_angle:
+        nodes[u(id)] = graph.input(input_kind::rest_angle, v.index);
+        break;
+      case var_kind::damping:
+        nodes[u(id)] = graph.input(input_kind::damping, v.index);
+        break;
+      case var_kind::drive:
+        nodes[u(id)] = graph.input(input_kind::drive, v.index);
+        break;
+      case var_kind::torque:
+        nodes[u(id)] = graph.input(input_kind::torque, v.index);
         break;
     }
   }

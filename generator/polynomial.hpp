@@ -22,13 +22,31 @@
 namespace npend::gen {
 
 /// Variable kinds in their canonical order (ties in Horner's scheme go to the earlier one).
-/// (com and inertia, of rigid links only, come last so that a point-mass chain's variables and
-/// so its emitted code are those of the point-mass derivation.)
-enum class var_kind : std::uint8_t { mu, length, gravity, sin, cos, dphi, p, ddphi, com, inertia };
+/// (com and inertia, of rigid links only, and the joint and drive variables of physical chains
+/// come last so that a point-mass chain's variables and so its emitted code are those of the
+/// point-mass derivation. `angle` is φ itself, which the springs bring in.)
+enum class var_kind : std::uint8_t {
+  mu,
+  length,
+  gravity,
+  sin,
+  cos,
+  dphi,
+  p,
+  ddphi,
+  com,
+  inertia,
+  angle,
+  stiffness,
+  rest_angle,
+  damping,
+  drive,
+  torque
+};
 
 struct variable {
   var_kind kind;
-  int index;  ///< 0-based link index (0 for g)
+  int index;  ///< 0-based link index (0 for g; for the drive 0 = a_x, 1 = a_y)
 };
 
 /// (variable id, exponent > 0), sorted by id.

@@ -72,13 +72,20 @@ bool verify_chain(const chain_symbols& sym, int points, std::ostream& report,
   const auto functions = build_chain_functions(sym, mech, solver);
   const polynomial_space space(sym);
 
-  std::vector<polynomial> a_poly, dl_poly, lpp_poly, lpd_poly;
+  const bool physical = sym.kind == link_kind::physical;
+  // ṗ = ∂L/∂φ + Q; F = ∂ṗ/∂φ̇ at fixed φ = L_φφ̇ + ∂Q/∂φ̇. And Lagrange's equations of the
+  // second kind with the Rayleigh function and the torques, d/dt ∂L/∂φ̇ − ∂L/∂φ − Q = 0,
+  // linear in φ̈: checked with φ̈ = d/dt φ̇ = (J f)_φ from the emitted rhs and Jacobian.
+  std::vector<polynomial> a_poly, dl_poly, lpp_poly, lpd_poly, f_poly, el_poly;
   for (int i = 0; i < n; ++i) {
-    dl_poly.push_back(space.canonical(mech.dL_dphi[u(i)]));
+    dl_poly.push_back(space.canonical(mech.dL_dphi[u(i)] + mech.force[u(i)]));
+    el_poly.push_back(space.canonical(time_derivative(sym, mech.momenta[u(i)]) -
+                                      mech.dL_dphi[u(i)] - mech.force[u(i)]));
     for (int j = 0; j < n; ++j) {
       a_poly.push_back(space.canonical(mech.mass_matrix(u(i), u(j))));
       lpp_poly.push_back(space.canonical(hess.phi_phi(u(i), u(j))));
       lpd_poly.push_back(space.canonical(hess.phi_dphi(u(i), u(j))));
+      f_poly.push_back(space.canonical(hess.phi_dphi(u(i), u(j)) + hess.force_dphi(u(i), u(j))));
     }
   }
   const polynomial t_poly = space.canonical(mech.kinetic);
@@ -96,11 +103,20 @@ bool verify_chain(const chain_symbols& sym, int points, std::ostream& report,
       in.mass.push_back(random_rational(rng, 4, 30, 7));
       in.length.push_back(random_rational(rng, 4, 30, 11));
       in.p.push_back(random_rational(rng, -30, 30, 9));
-      if (sym.kind == link_kind::rigid) {
+      if (has_rigid_links(sym.kind)) {
         in.com.push_back(random_rational(rng, 1, 40, 17));
         in.inertia.push_back(random_rational(rng, 0, 30, 19));
       }
+      if (physical) {
+        // φ itself (the springs read it) independent of (s, c): see exact_inputs.
+        in.phi.push_back(random_rational(rng, -40, 40, 9));
+        in.stiffness.push_back(random_rational(rng, 0, 30, 7));
+        in.rest_angle.push_back(random_rational(rng, -20, 20, 11));
+        in.damping.push_back(random_rational(rng, 0, 30, 13));
+        in.torque.push_back(random_rational(rng, -30, 30, 7));
+      }
     }
+    if (physical) in.drive = {random_rational(rng, -50, 50, 7), random_rational(rng, -50, 50, 7)};
     in.gravity = num(981, 100);
     // The general path's graphs hold φ̇ input nodes that nothing reads (the computed φ̇
     // replaces them); evaluate() visits every node, so they need a value.
@@ -150,6 +166,24 @@ bool verify_chain(const chain_symbols& sym, int points, std::ostream& report,
         case var_kind::inertia:
           values[u(id)] = in.inertia[k];
           break;
+        case var_kind::angle:
+          values[u(id)] = in.phi[k];
+          break;
+        case var_kind::stiffness:
+          values[u(id)] = in.stiffness[k];
+          break;
+        case var_kind::rest_angle:
+          values[u(id)] = in.rest_angle[k];
+          break;
+        case var_kind::damping:
+          values[u(id)] = in.damping[k];
+          break;
+        case var_kind::drive:
+          values[u(id)] = in.drive[k];
+          break;
+        case var_kind::torque:
+          values[u(id)] = in.torque[k];
+          break;
       }
     }
     const auto matrix_of = [&](const std::vector<polynomial>& polys) {
@@ -157,7 +191,8 @@ bool verify_chain(const chain_symbols& sym, int points, std::ostream& report,
       for (const auto& poly : polys) m.v.push_back(evaluate(poly, values));
       return m;
     };
-    const exact_matrix A = matrix_of(a_poly), Lpp = matrix_of(lpp_poly), Lpd = matrix_of(lpd_poly);
+    const exact_matrix A = matrix_of(a_poly), Lpp = matrix_of(lpp_poly), Lpd = matrix_of(lpd_poly),
+                       F = matrix_of(f_poly);
 
     // Legendre transform both ways.
     const auto p_emitted = eval("momenta");
@@ -176,7 +211,7 @@ bool verify_chain(const chain_symbols& sym, int points, std::ostream& report,
     }
     const num energy = evaluate(t_poly, values) + evaluate(v_poly, values);
     check.equal("hamiltonian = T + V", eval("hamiltonian").at(0), energy);
-    if (n <= closed_form_max_links)
+    if (n <= closed_form_max_links && !physical)
       check.equal("closed-form hamiltonian", eval("hamiltonian_closed_form").at(0), energy);
 
     // The Jacobian by implicit differentiation of p = ∂L/∂φ̇(φ, φ̇) and ṗ = ∂L/∂φ(φ, φ̇).
@@ -190,8 +225,8 @@ bool verify_chain(const chain_symbols& sym, int points, std::ostream& report,
         C.v.push_back(J[u((n + i) * dim + k)]);
         D.v.push_back(J[u((n + i) * dim + n + k)]);
       }
-    const exact_matrix AW = multiply(A, W), AB = multiply(A, B), LB = multiply(Lpd, B),
-                       LW = multiply(Lpd, W);
+    const exact_matrix AW = multiply(A, W), AB = multiply(A, B), LB = multiply(F, B),
+                       LW = multiply(F, W);
     for (int i = 0; i < n; ++i)
       for (int k = 0; k < n; ++k) {
         check.equal(fmt::format("(A dphi'/dp)_{}{}", i + 1, k + 1), AW(i, k), num(i == k ? 1 : 0));
@@ -199,6 +234,34 @@ bool verify_chain(const chain_symbols& sym, int points, std::ostream& report,
         check.equal(fmt::format("dp'_{}/dphi_{}", i + 1, k + 1), C(i, k), Lpp(i, k) + LB(i, k));
         check.equal(fmt::format("dp'_{}/dp_{}", i + 1, k + 1), D(i, k), LW(i, k));
       }
+
+    // Lagrange's equations with φ̈ from the emitted flow: φ̈_i = Σ_j J_ij f_j.
+    for (int i = 0; i < n; ++i) {
+      num ddphi = 0;
+      for (int j = 0; j < dim; ++j) ddphi += J[u(i * dim + j)] * f[u(j)];
+      values[u(space.id(var_kind::ddphi, i))] = ddphi;
+    }
+    for (int i = 0; i < n; ++i)
+      check.equal(fmt::format("Euler-Lagrange residual {}", i + 1), evaluate(el_poly[u(i)], values),
+                  0);
+
+    if (physical) {
+      // f is affine in w = [a_x, a_y, u]: f(w + e_j) − f(w) is column j of df/dw exactly.
+      const auto dfdw = eval("input_matrix");
+      const int inputs = n + 2;
+      for (int j = 0; j < inputs; ++j) {
+        expr_graph::exact_inputs shifted = in;
+        if (j < 2)
+          shifted.drive[u(j)] += 1;
+        else
+          shifted.torque[u(j - 2)] += 1;
+        const auto& rhs = find(functions, "rhs");
+        const auto f1 = rhs.graph->evaluate(rhs.outputs, shifted);
+        for (int i = 0; i < dim; ++i)
+          check.equal(fmt::format("df_{}/dw_{}", i + 1, j + 1), dfdw[u(i * inputs + j)],
+                      f1[u(i)] - f[u(i)]);
+      }
+    }
 
     // det A by fraction-free elimination of the exact matrix.
     GiNaC::matrix Am(u(n), u(n));

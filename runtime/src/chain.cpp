@@ -1,9 +1,11 @@
 #include "npend/chain.hpp"
 
-#include <chain_index.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
+#include <array>
+#include <chain_index.hpp>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -32,16 +34,70 @@ chain::chain(chain_parameters params) : m_params(std::move(params)) {
   m_params.validate();
   m_links = m_params.links();
   m_kernels = generated::find_chain(m_links);
-  if (m_kernels == nullptr) throw std::invalid_argument(not_built_message(m_links));
+  m_physical_kernels = generated::find_physical(m_links);
+  if (m_kernels == nullptr || m_physical_kernels == nullptr)
+    throw std::invalid_argument(not_built_message(m_links));
   // Where generated code meets the runtime: the kernels must index the arrays as packed().
-  if (m_kernels->state_size != chain_layout::state_size(m_links) ||
-      m_kernels->param_size != chain_layout::param_size(m_links))
-    throw std::logic_error(fmt::format(
+  const auto mismatch = [&](int state, int param, int want_param) {
+    return std::logic_error(fmt::format(
         "the generated kernels for {} links take {} state and {} parameter entries, the runtime "
         "packs {} and {}: regenerate them (cmake --build <build> --target npend_regenerate)",
-        m_links, m_kernels->state_size, m_kernels->param_size, chain_layout::state_size(m_links),
-        chain_layout::param_size(m_links)));
-  m_packed = m_params.packed();
+        m_links, state, param, chain_layout::state_size(m_links), want_param));
+  };
+  if (m_kernels->state_size != chain_layout::state_size(m_links) ||
+      m_kernels->param_size != chain_layout::param_size(m_links))
+    throw mismatch(m_kernels->state_size, m_kernels->param_size, chain_layout::param_size(m_links));
+  if (m_physical_kernels->state_size != chain_layout::state_size(m_links) ||
+      m_physical_kernels->param_size != chain_layout::physical_param_size(m_links) ||
+      m_physical_kernels->input_size != chain_layout::input_size(m_links))
+    throw mismatch(m_physical_kernels->state_size, m_physical_kernels->param_size,
+                   chain_layout::physical_param_size(m_links));
+  m_physical = m_params.is_physical();
+  m_packed = m_physical ? m_params.physical_packed() : m_params.packed();
+}
+
+const chain_kernels& chain::kernels() const {
+  if (m_physical)
+    throw std::logic_error("chain::kernels(): a physical chain runs on physical_table()");
+  return *m_kernels;
+}
+
+const char* chain::equations_latex() const {
+  return m_physical ? m_physical_kernels->equations_latex() : m_kernels->equations_latex();
+}
+
+void chain::fill_inputs(double t, double* w) const noexcept {
+  const auto a = m_params.pivot.acceleration_at(t);
+  w[chain_layout::pivot_acceleration_index(0)] = a[0];
+  w[chain_layout::pivot_acceleration_index(1)] = a[1];
+  for (int i = 0; i < m_links; ++i) w[chain_layout::torque_index(m_links, i)] = 0.0;
+}
+
+std::vector<double> chain::inputs_at(double t) const {
+  std::vector<double> w(static_cast<std::size_t>(chain_layout::input_size(m_links)));
+  fill_inputs(t, w.data());
+  return w;
+}
+
+namespace {
+
+// The inputs of one evaluation, on the stack: no allocation inside an integrator's step.
+using input_buffer = std::array<double, chain_layout::input_size(chain_layout::max_links)>;
+
+}  // namespace
+
+void chain::evaluate_rhs(const double* x, double t, double* dxdt) const noexcept {
+  if (!m_physical) return m_kernels->rhs(x, m_packed.data(), dxdt);
+  input_buffer w;
+  fill_inputs(t, w.data());
+  m_physical_kernels->rhs(x, m_packed.data(), w.data(), dxdt);
+}
+
+void chain::evaluate_jacobian(const double* x, double t, double* jac) const noexcept {
+  if (!m_physical) return m_kernels->jacobian(x, m_packed.data(), jac);
+  input_buffer w;
+  fill_inputs(t, w.data());
+  m_physical_kernels->jacobian(x, m_packed.data(), w.data(), jac);
 }
 
 void chain::check_size(std::span<const double> v, int expected, const char* what) const {
@@ -54,25 +110,56 @@ void chain::check_size(std::span<double> v, int expected, const char* what) cons
   check_size(std::span<const double>(v.data(), v.size()), expected, what);
 }
 
-void chain::rhs(std::span<const double> x, std::span<double> dxdt) const {
+void chain::rhs(std::span<const double> x, std::span<double> dxdt, double t) const {
   check_size(x, state_size(), "state x");
   check_size(dxdt, state_size(), "dxdt");
-  m_kernels->rhs(x.data(), m_packed.data(), dxdt.data());
+  evaluate_rhs(x.data(), t, dxdt.data());
 }
 
-void chain::jacobian(std::span<const double> x, std::span<double> jac) const {
+void chain::jacobian(std::span<const double> x, std::span<double> jac, double t) const {
   check_size(x, state_size(), "state x");
   check_size(jac, state_size() * state_size(), "jacobian");
-  m_kernels->jacobian(x.data(), m_packed.data(), jac.data());
+  evaluate_jacobian(x.data(), t, jac.data());
 }
 
-double chain::hamiltonian(std::span<const double> x) const {
+void chain::input_matrix(std::span<const double> phi, std::span<double> dfdw) const {
+  check_size(phi, m_links, "phi");
+  check_size(dfdw, state_size() * chain_layout::input_size(m_links), "input matrix");
+  // A point-mass chain is the physical chain with c = l and nothing else: same B.
+  const std::vector<double> params = m_physical ? m_packed : m_params.physical_packed();
+  m_physical_kernels->input_matrix(phi.data(), params.data(), dfdw.data());
+}
+
+void chain::time_derivative(std::span<const double> x, std::span<double> dfdt, double t) const {
   check_size(x, state_size(), "state x");
-  return m_kernels->hamiltonian(x.data(), m_packed.data());
+  check_size(dfdt, state_size(), "dfdt");
+  std::fill(dfdt.begin(), dfdt.end(), 0.0);
+  if (!m_params.pivot.moves()) return;
+  // f is affine in w and w depends on t through the pivot's acceleration only.
+  const int dim = state_size(), inputs = chain_layout::input_size(m_links);
+  std::vector<double> dfdw(static_cast<std::size_t>(dim * inputs));
+  input_matrix(x.first(static_cast<std::size_t>(m_links)), dfdw);
+  const auto jerk = m_params.pivot.jerk_at(t);
+  for (int i = 0; i < dim; ++i)
+    dfdt[static_cast<std::size_t>(i)] =
+        dfdw[static_cast<std::size_t>(i * inputs + chain_layout::pivot_acceleration_index(0))] *
+            jerk[0] +
+        dfdw[static_cast<std::size_t>(i * inputs + chain_layout::pivot_acceleration_index(1))] *
+            jerk[1];
+}
+
+double chain::hamiltonian(std::span<const double> x, double t) const {
+  check_size(x, state_size(), "state x");
+  if (!m_physical) return m_kernels->hamiltonian(x.data(), m_packed.data());
+  const std::vector<double> w = inputs_at(t);
+  return m_physical_kernels->hamiltonian(x.data(), m_packed.data(), w.data());
 }
 
 double chain::hamiltonian_closed_form(std::span<const double> x) const {
   check_size(x, state_size(), "state x");
+  if (m_physical)
+    throw std::invalid_argument(
+        "the closed-form Hamiltonian is emitted for point-mass chains only");
   if (m_kernels->hamiltonian_closed_form == nullptr)
     throw std::invalid_argument(
         fmt::format("the closed-form Hamiltonian is emitted for up to 3 links, not {}", m_links));
@@ -84,7 +171,8 @@ void chain::velocities(std::span<const double> phi, std::span<const double> p,
   check_size(phi, m_links, "phi");
   check_size(p, m_links, "p");
   check_size(dphi, m_links, "dphi");
-  m_kernels->velocities(phi.data(), p.data(), m_packed.data(), dphi.data());
+  (m_physical ? m_physical_kernels->velocities : m_kernels->velocities)(
+      phi.data(), p.data(), m_packed.data(), dphi.data());
 }
 
 void chain::momenta(std::span<const double> phi, std::span<const double> dphi,
@@ -92,53 +180,68 @@ void chain::momenta(std::span<const double> phi, std::span<const double> dphi,
   check_size(phi, m_links, "phi");
   check_size(dphi, m_links, "dphi");
   check_size(p, m_links, "p");
-  m_kernels->momenta(phi.data(), dphi.data(), m_packed.data(), p.data());
+  (m_physical ? m_physical_kernels->momenta : m_kernels->momenta)(phi.data(), dphi.data(),
+                                                                  m_packed.data(), p.data());
 }
 
-double chain::lagrangian(std::span<const double> phi, std::span<const double> dphi) const {
+double chain::lagrangian(std::span<const double> phi, std::span<const double> dphi,
+                         double t) const {
   check_size(phi, m_links, "phi");
   check_size(dphi, m_links, "dphi");
-  return m_kernels->lagrangian(phi.data(), dphi.data(), m_packed.data());
+  if (!m_physical) return m_kernels->lagrangian(phi.data(), dphi.data(), m_packed.data());
+  const std::vector<double> w = inputs_at(t);
+  return m_physical_kernels->lagrangian(phi.data(), dphi.data(), m_packed.data(), w.data());
 }
 
 double chain::kinetic_energy(std::span<const double> phi, std::span<const double> dphi) const {
   check_size(phi, m_links, "phi");
   check_size(dphi, m_links, "dphi");
-  return m_kernels->kinetic_energy(phi.data(), dphi.data(), m_packed.data());
+  return (m_physical ? m_physical_kernels->kinetic_energy : m_kernels->kinetic_energy)(
+      phi.data(), dphi.data(), m_packed.data());
 }
 
-double chain::potential_energy(std::span<const double> phi) const {
+double chain::potential_energy(std::span<const double> phi, double t) const {
   check_size(phi, m_links, "phi");
-  return m_kernels->potential_energy(phi.data(), m_packed.data());
+  if (!m_physical) return m_kernels->potential_energy(phi.data(), m_packed.data());
+  const std::vector<double> w = inputs_at(t);
+  return m_physical_kernels->potential_energy(phi.data(), m_packed.data(), w.data());
 }
 
 void chain::mass_matrix(std::span<const double> phi, std::span<double> A) const {
   check_size(phi, m_links, "phi");
   check_size(A, m_links * m_links, "mass matrix");
-  m_kernels->mass_matrix(phi.data(), m_packed.data(), A.data());
+  (m_physical ? m_physical_kernels->mass_matrix : m_kernels->mass_matrix)(
+      phi.data(), m_packed.data(), A.data());
 }
 
 double chain::det_mass_matrix(std::span<const double> phi) const {
   check_size(phi, m_links, "phi");
-  return m_kernels->det_mass_matrix(phi.data(), m_packed.data());
+  return (m_physical ? m_physical_kernels->det_mass_matrix : m_kernels->det_mass_matrix)(
+      phi.data(), m_packed.data());
 }
 
-void chain::potential_gradient(std::span<const double> phi, std::span<double> grad) const {
+void chain::potential_gradient(std::span<const double> phi, std::span<double> grad,
+                               double t) const {
   check_size(phi, m_links, "phi");
   check_size(grad, m_links, "gradient");
-  m_kernels->potential_gradient(phi.data(), m_packed.data(), grad.data());
+  if (!m_physical) return m_kernels->potential_gradient(phi.data(), m_packed.data(), grad.data());
+  const std::vector<double> w = inputs_at(t);
+  m_physical_kernels->potential_gradient(phi.data(), m_packed.data(), w.data(), grad.data());
 }
 
-void chain::potential_hessian(std::span<const double> phi, std::span<double> hess) const {
+void chain::potential_hessian(std::span<const double> phi, std::span<double> hess, double t) const {
   check_size(phi, m_links, "phi");
   check_size(hess, m_links * m_links, "hessian");
-  m_kernels->potential_hessian(phi.data(), m_packed.data(), hess.data());
+  if (!m_physical) return m_kernels->potential_hessian(phi.data(), m_packed.data(), hess.data());
+  const std::vector<double> w = inputs_at(t);
+  m_physical_kernels->potential_hessian(phi.data(), m_packed.data(), w.data(), hess.data());
 }
 
 void chain::positions(std::span<const double> phi, std::span<double> xy) const {
   check_size(phi, m_links, "phi");
   check_size(xy, 2 * m_links, "positions");
-  m_kernels->positions(phi.data(), m_packed.data(), xy.data());
+  (m_physical ? m_physical_kernels->positions : m_kernels->positions)(phi.data(), m_packed.data(),
+                                                                      xy.data());
 }
 
 std::vector<double> chain::rhs(std::span<const double> x) const {

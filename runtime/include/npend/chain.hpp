@@ -1,22 +1,29 @@
 // A chain: the generated functions of one link count bound to its parameters.
 #pragma once
 
-#include "npend/chain_kernels.hpp"
-#include "npend/parameters.hpp"
-
 #include <span>
 #include <vector>
+
+#include "npend/chain_kernels.hpp"
+#include "npend/parameters.hpp"
 
 namespace npend {
 
 /// The link counts compiled into this build (ascending).
 std::vector<int> built_link_counts();
 
-/// An n-link chain with fixed parameters, calling the generated kernels for n.
+/// An n-link chain with fixed parameters, calling the generated kernels for n: the
+/// point-mass kernels for the paper's model, the physical kernels (rigid links, joint springs
+/// and damping, a moving pivot; see chain_parameters) when the parameters ask for any of it.
 ///
 /// State layout everywhere: x = [φ_1..φ_n, p_1..p_n] (dim 2n), angles in rad from the
 /// downward vertical, p the canonical momenta (kg m²/s). Matrices are row-major. Every
 /// method checks the sizes of its arguments and throws std::invalid_argument on a mismatch.
+///
+/// A moving pivot is taken in its own frame (docs/model.md): positions are relative to the
+/// pivot, p = ∂L/∂φ̇ of the pivot-frame Lagrangian, and H(x, t) = T + V with V holding the
+/// potential of the inertial force −m a(t). The functions that depend on time take t
+/// (default 0); on a chain with a fixed pivot they do not depend on it.
 class chain {
  public:
   /// Throws std::invalid_argument if the parameters are invalid (see
@@ -27,20 +34,31 @@ class chain {
   int links() const { return m_links; }
   int state_size() const { return chain_layout::state_size(m_links); }
   const chain_parameters& parameters() const { return m_params; }
-  /// [m_1..m_n, l_1..l_n, g] as the kernels take it.
+  /// Whether this chain runs on the physical kernels.
+  bool is_physical() const { return m_physical; }
+  /// The packed parameters the kernels take: [m, l, g] for a point-mass chain, the physical
+  /// layout (chain_layout::physical_param_size) for a physical one.
   const std::vector<double>& packed_parameters() const { return m_packed; }
-  /// The generated functions behind this chain (the contract of chain_kernels.hpp).
-  const chain_kernels& kernels() const { return *m_kernels; }
+  /// The point-mass kernels behind this chain; throws std::logic_error for a physical chain.
+  const chain_kernels& kernels() const;
+  /// The physical kernels of this link count (used by every chain for input_matrix).
+  const physical_kernels& physical_table() const { return *m_physical_kernels; }
   /// The derived equations of this link count as LaTeX (npend-gen --latex).
-  const char* equations_latex() const { return m_kernels->equations_latex(); }
+  const char* equations_latex() const;
 
-  /// Hamilton's equations: dxdt = f(x) (both dim 2n).
-  void rhs(std::span<const double> x, std::span<double> dxdt) const;
+  /// Hamilton's equations: dxdt = f(x, t) (both dim 2n).
+  void rhs(std::span<const double> x, std::span<double> dxdt, double t = 0) const;
   /// Exact Jacobian ∂f/∂x, row-major (dim 2n × 2n).
-  void jacobian(std::span<const double> x, std::span<double> jac) const;
-  /// H(φ, p) = T + V (J).
-  double hamiltonian(std::span<const double> x) const;
-  /// Closed-form H, available for n ≤ 3 (throws std::invalid_argument otherwise).
+  void jacobian(std::span<const double> x, std::span<double> jac, double t = 0) const;
+  /// ∂f/∂t (dim 2n): zero unless the pivot moves.
+  void time_derivative(std::span<const double> x, std::span<double> dfdt, double t = 0) const;
+  /// ∂f/∂w for the inputs w = [a_x, a_y, u_1..u_n] (pivot acceleration, joint torques),
+  /// row-major 2n × (n + 2); its last n columns are the input matrix B = ∂f/∂u.
+  void input_matrix(std::span<const double> phi, std::span<double> dfdw) const;
+  /// H(φ, p, t) = T + V (J).
+  double hamiltonian(std::span<const double> x, double t = 0) const;
+  /// Closed-form H, available for point-mass chains of n ≤ 3 (throws std::invalid_argument
+  /// otherwise).
   double hamiltonian_closed_form(std::span<const double> x) const;
 
   /// φ̇ = A⁻¹ p (phi, p, dphi: dim n).
@@ -49,18 +67,27 @@ class chain {
   /// p = A φ̇ = ∂L/∂φ̇ (dim n).
   void momenta(std::span<const double> phi, std::span<const double> dphi,
                std::span<double> p) const;
-  /// L(φ, φ̇) = T − V.
-  double lagrangian(std::span<const double> phi, std::span<const double> dphi) const;
+  /// L(φ, φ̇, t) = T − V.
+  double lagrangian(std::span<const double> phi, std::span<const double> dphi, double t = 0) const;
   double kinetic_energy(std::span<const double> phi, std::span<const double> dphi) const;
-  double potential_energy(std::span<const double> phi) const;
+  double potential_energy(std::span<const double> phi, double t = 0) const;
   /// Mass matrix A(φ), row-major (dim n × n).
   void mass_matrix(std::span<const double> phi, std::span<double> A) const;
   double det_mass_matrix(std::span<const double> phi) const;
   /// ∂V/∂φ (dim n) and ∂²V/∂φ² (row-major n × n).
-  void potential_gradient(std::span<const double> phi, std::span<double> grad) const;
-  void potential_hessian(std::span<const double> phi, std::span<double> hess) const;
-  /// Bob positions [x_1, y_1, ..., x_n, y_n] (dim 2n; m, y pointing down).
+  void potential_gradient(std::span<const double> phi, std::span<double> grad, double t = 0) const;
+  void potential_hessian(std::span<const double> phi, std::span<double> hess, double t = 0) const;
+  /// Link-end (bob) positions [x_1, y_1, ..., x_n, y_n] (dim 2n; m, y pointing down),
+  /// relative to the pivot.
   void positions(std::span<const double> phi, std::span<double> xy) const;
+
+  /// The inputs w(t) = [a_x, a_y, u_1..u_n] the physical kernels get at time t (the
+  /// torques are zero here; a controller adds its own).
+  std::vector<double> inputs_at(double t) const;
+
+  /// Unchecked forms for integrators: x, dxdt dim 2n, jac 2n × 2n.
+  void evaluate_rhs(const double* x, double t, double* dxdt) const noexcept;
+  void evaluate_jacobian(const double* x, double t, double* jac) const noexcept;
 
   /// Convenience forms returning vectors.
   std::vector<double> rhs(std::span<const double> x) const;
@@ -72,11 +99,15 @@ class chain {
  private:
   void check_size(std::span<const double> v, int expected, const char* what) const;
   void check_size(std::span<double> v, int expected, const char* what) const;
+  // The inputs at t into w (dim n + 2).
+  void fill_inputs(double t, double* w) const noexcept;
 
   chain_parameters m_params;
   std::vector<double> m_packed;
   const chain_kernels* m_kernels = nullptr;
+  const physical_kernels* m_physical_kernels = nullptr;
   int m_links = 0;
+  bool m_physical = false;
 };
 
 /// An angle on the circle: φ reduced to [−π, π] (the state carries angles unwrapped).

@@ -14,6 +14,9 @@ namespace npend {
 /// kernels take (indices 0-based).
 namespace chain_layout {
 
+/// The most links npend-gen derives (the runtime sizes its input buffers by it).
+constexpr int max_links = 64;
+
 /// x = [φ_1..φ_n, p_1..p_n]: angles from the downward vertical, then their momenta.
 constexpr int state_size(int n) { return 2 * n; }
 constexpr int angle_index(int /*n*/, int i) { return i; }
@@ -31,6 +34,21 @@ constexpr int gravity_index(int n) { return 2 * n; }
 constexpr int rigid_param_size(int n) { return 4 * n + 1; }
 constexpr int com_index(int n, int i) { return 2 * n + 1 + i; }
 constexpr int inertia_index(int n, int i) { return 3 * n + 1 + i; }
+
+/// Physical chains extend them again: params = [m, l, g, c, J, k_1..k_n, θ⁰_1..θ⁰_n,
+/// b_1..b_n] — joint spring stiffnesses (N m/rad), their rest angles (rad) and joint damping
+/// coefficients (N m s/rad), joint j joining link j−1 to link j.
+constexpr int physical_param_size(int n) { return 7 * n + 1; }
+constexpr int stiffness_index(int n, int i) { return 4 * n + 1 + i; }
+constexpr int rest_angle_index(int n, int i) { return 5 * n + 1 + i; }
+constexpr int damping_index(int n, int i) { return 6 * n + 1 + i; }
+
+/// The time-dependent inputs of physical chains, w = [a_x, a_y, u_1..u_n]: the pivot's
+/// acceleration (m/s², x right, y down) and the motor torque at each joint (N m, acting on
+/// link j with its reaction on link j−1).
+constexpr int input_size(int n) { return n + 2; }
+constexpr int pivot_acceleration_index(int axis) { return axis; }  ///< axis 0 = x, 1 = y
+constexpr int torque_index(int /*n*/, int i) { return 2 + i; }
 
 }  // namespace chain_layout
 
@@ -58,6 +76,39 @@ struct chain_kernels {
   /// emitted (more than 3 links).
   double (*hamiltonian_closed_form)(const double* x, const double* params) noexcept = nullptr;
   /// The derived equations as LaTeX.
+  const char* (*equations_latex)() noexcept = nullptr;
+};
+
+/// The emitted functions of one link count of the physical chain (rigid links, joint springs,
+/// damping and torques, a moving pivot; see generated physical_<n>.hpp). Parameters as
+/// chain_layout::physical_param_size, inputs w as chain_layout::input_size. The functions
+/// that depend on w take it; the others are those of chain_kernels.
+struct physical_kernels {
+  int links;
+  int state_size;
+  int param_size;
+  int input_size;
+  void (*rhs)(const double* x, const double* params, const double* inputs, double* dxdt) noexcept;
+  void (*jacobian)(const double* x, const double* params, const double* inputs,
+                   double* jac) noexcept;
+  double (*hamiltonian)(const double* x, const double* params, const double* inputs) noexcept;
+  void (*velocities)(const double* phi, const double* p, const double* params,
+                     double* dphi) noexcept;
+  void (*momenta)(const double* phi, const double* dphi, const double* params, double* p) noexcept;
+  double (*lagrangian)(const double* phi, const double* dphi, const double* params,
+                       const double* inputs) noexcept;
+  double (*kinetic_energy)(const double* phi, const double* dphi, const double* params) noexcept;
+  double (*potential_energy)(const double* phi, const double* params,
+                             const double* inputs) noexcept;
+  void (*mass_matrix)(const double* phi, const double* params, double* A) noexcept;
+  double (*det_mass_matrix)(const double* phi, const double* params) noexcept;
+  void (*potential_gradient)(const double* phi, const double* params, const double* inputs,
+                             double* grad) noexcept;
+  void (*potential_hessian)(const double* phi, const double* params, const double* inputs,
+                            double* hess) noexcept;
+  void (*positions)(const double* phi, const double* params, double* xy) noexcept;
+  /// ∂f/∂w, row-major 2n × (n + 2).
+  void (*input_matrix)(const double* phi, const double* params, double* dfdw) noexcept;
   const char* (*equations_latex)() noexcept = nullptr;
 };
 

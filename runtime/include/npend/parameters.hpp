@@ -1,6 +1,11 @@
-// Run-time parameters of an n-link chain: masses, lengths and g.
+// Run-time parameters of an n-link chain: masses, lengths and g — and, for the physical
+// chain, the links' centres of mass and inertias, joint springs and damping, and the pivot's
+// motion.
 #pragma once
 
+#include <array>
+#include <functional>
+#include <string>
 #include <vector>
 
 namespace npend {
@@ -8,26 +13,84 @@ namespace npend {
 /// Standard gravity, the default g (m/s²).
 inline constexpr double standard_gravity = 9.81;
 
-/// Masses m_1..m_n (kg), rod lengths l_1..l_n (m) and gravity g (m/s²) of an n-link chain.
-/// The generated kernels take them packed as [m_1..m_n, l_1..l_n, g] (dim 2n + 1).
+/// The pivot's prescribed motion r₀(t) (m; x right, y down). Built in: harmonic motion
+/// a cos(Ωt) of the pivot's height (`vertical`: r₀ = (0, −a cos Ωt), up is −y) or along x
+/// (`horizontal`: r₀ = (a cos Ωt, 0)). A `custom` path gives r₀ and its first two
+/// derivatives; the equations need the acceleration, ∂f/∂t its rate, taken from the
+/// acceleration by a central difference for a custom path.
+struct pivot_motion {
+  enum class kind { fixed, vertical, horizontal, custom };
+  using vec2 = std::array<double, 2>;
+
+  kind type = kind::fixed;
+  double amplitude = 0;                                          ///< a (m), built-in drives
+  double frequency = 0;                                          ///< Ω (rad/s), built-in drives
+  std::function<vec2(double)> position, velocity, acceleration;  ///< custom paths
+
+  static pivot_motion vertical(double amplitude, double frequency);
+  static pivot_motion horizontal(double amplitude, double frequency);
+
+  bool moves() const { return type != kind::fixed; }
+  /// 2π/Ω of a built-in drive; 0 for a fixed pivot or a custom path.
+  double period() const;
+  vec2 position_at(double t) const;
+  vec2 velocity_at(double t) const;
+  vec2 acceleration_at(double t) const;
+  /// d/dt of the acceleration.
+  vec2 jerk_at(double t) const;
+  /// "fixed", "vertical:A:OMEGA", "horizontal:A:OMEGA" or "custom".
+  std::string describe() const;
+};
+
+/// Masses m_1..m_n (kg), rod lengths l_1..l_n (m) and gravity g (m/s²) of an n-link chain —
+/// the paper's model — and optionally what makes it a physical chain. The optional lists
+/// are either empty (their default) or have one entry per link.
+///
+/// The point-mass kernels take [m_1..m_n, l_1..l_n, g] (dim 2n + 1); a chain with any of the
+/// physical features runs on the physical kernels, params as chain_layout::physical_param_size.
 struct chain_parameters {
   std::vector<double> masses;
   std::vector<double> lengths;
   double g = standard_gravity;
 
+  /// Link k's centre of mass, a distance c_k (m) down the link from its upper joint
+  /// (default c = l: the mass at the link's end), and its moment of inertia J_k (kg m²)
+  /// about that centre (default 0).
+  std::vector<double> com, inertia;
+  /// Joint j (joining link j−1 to link j; joint 1 is the pivot): a torsion spring k_j
+  /// (N m/rad) with rest angle θ_j⁰ (rad) on θ_j = φ_j − φ_{j−1}, and viscous damping b_j
+  /// (N m s/rad). Defaults 0.
+  std::vector<double> stiffness, rest_angles, damping;
+  pivot_motion pivot;
+
   /// n equal links: the paper's setting.
   static chain_parameters uniform(int links, double mass = 1.0, double length = 1.0,
                                   double g = standard_gravity);
 
+  /// Uniform rods: c = l/2 and J = m l²/12 for every link (needs masses and lengths).
+  void make_uniform_rods();
+
   /// The link count n (= masses.size()).
   int links() const { return static_cast<int>(masses.size()); }
 
+  /// Whether the chain needs the physical kernels: any centre of mass or inertia given,
+  /// any spring, rest angle or damping that is not zero, or a moving pivot.
+  bool is_physical() const;
+  /// Whether H is conserved along the flow: no damping and a fixed pivot.
+  bool is_conservative() const;
+  bool is_damped() const;
+
   /// Throws std::invalid_argument naming the problem: no links, masses and lengths of
-  /// different counts, a non-finite or non-positive mass, length or g.
+  /// different counts, a non-finite or non-positive mass, length or g, an optional list of
+  /// the wrong length, a negative inertia, stiffness or damping, a last link without mass
+  /// away from its joint and without inertia (a singular mass matrix), a drive whose
+  /// amplitude or frequency is not a finite number ≥ 0 resp. > 0.
   void validate() const;
 
   /// [m_1..m_n, l_1..l_n, g] (dim 2n + 1).
   std::vector<double> packed() const;
+  /// [m, l, g, c, J, k, θ⁰, b] (dim 7n + 1) with the defaults filled in.
+  std::vector<double> physical_packed() const;
 };
 
 }  // namespace npend

@@ -75,10 +75,10 @@ class variational_system {
   variational_system(const chain& c, Eigen::Index k)
       : m_chain(&c), m_d(c.state_size()), m_k(k), m_jac(std::make_shared<row_major>(m_d, m_d)) {}
 
-  void operator()(const std::vector<double>& y, std::vector<double>& dydt, double /*t*/) const {
+  void operator()(const std::vector<double>& y, std::vector<double>& dydt, double t) const {
     const auto d = static_cast<std::size_t>(m_d);
-    m_chain->rhs(std::span(y).first(d), std::span(dydt).first(d));
-    m_chain->jacobian(std::span(y).first(d), std::span(m_jac->data(), d * d));
+    m_chain->rhs(std::span(y).first(d), std::span(dydt).first(d), t);
+    m_chain->jacobian(std::span(y).first(d), std::span(m_jac->data(), d * d), t);
     Eigen::Map<Eigen::MatrixXd>(dydt.data() + m_d, m_d, m_k).noalias() =
         *m_jac * Eigen::Map<const Eigen::MatrixXd>(y.data() + m_d, m_d, m_k);
   }

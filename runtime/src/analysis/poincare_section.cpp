@@ -43,7 +43,7 @@ class henon_system {
 
   void operator()(const std::vector<double>& y, std::vector<double>& dyds, double /*g*/) const {
     const std::size_t d = m_f->size();
-    m_chain->rhs(std::span<const double>(y.data(), d), *m_f);
+    m_chain->rhs(std::span<const double>(y.data(), d), *m_f, y[d]);
     const double rate = dot(*m_normal, *m_f);
     for (std::size_t i = 0; i < d; ++i) dyds[i] = (*m_f)[i] / rate;
     dyds[d] = 1 / rate;
@@ -195,12 +195,12 @@ bool crossing_locator::polish(const integration_step& step, double g_begin, doub
   // The sign of dg/dt at the crossing: g grows along the step at an up crossing, and the step
   // runs backwards in time when the integration does.
   const double sign = (g_begin < 0 ? 1.0 : -1.0) * (step.t_end() > step.t_begin() ? 1.0 : -1.0);
-  const auto rate = [&](std::span<const double> x) {
-    m_chain->rhs(x, m_f);
+  const auto rate = [&](std::span<const double> x, double t) {
+    m_chain->rhs(x, m_f, t);
     return dot(m_section.normal, m_f);
   };
   // Hénon's system needs w·f of the crossing's sign from the start end to the crossing.
-  if (!(sign * rate(crossing.state) > 0)) return false;
+  if (!(sign * rate(crossing.state, crossing.t) > 0)) return false;
   struct end {
     std::span<const double> x;
     double t, g;
@@ -211,7 +211,7 @@ bool crossing_locator::polish(const integration_step& step, double g_begin, doub
   const double h = std::fabs(step.t_end() - step.t_begin());
   const std::size_t d = m_buffer.size();
   for (const end& e : ends) {
-    if (!(sign * rate(e.x) > 0)) continue;
+    if (!(sign * rate(e.x, e.t) > 0)) continue;
     std::vector<double> y(e.x.begin(), e.x.end());
     y.push_back(e.t);
     try {
