@@ -170,8 +170,11 @@ void chain_parameters::validate() const {
   };
   check(masses, "mass");
   check(lengths, "length");
-  if (!std::isfinite(g) || g <= 0)
-    throw std::invalid_argument(fmt::format("g is {}: it must be a positive finite number", g));
+  // g = 0 is a chain on a horizontal table: only its springs can hold it, so only physical
+  // chains may have it.
+  if (!std::isfinite(g) || g < 0 || (g == 0 && !is_physical()))
+    throw std::invalid_argument(fmt::format(
+        "g is {}: it must be a positive finite number (0 only for a physical chain)", g));
   const int n = links();
   check_optional(com, n, "centre of mass", false);
   check_optional(inertia, n, "inertia", true);

@@ -81,7 +81,8 @@ struct chain_parameters {
   bool is_damped() const;
 
   /// Throws std::invalid_argument naming the problem: no links, masses and lengths of
-  /// different counts, a non-finite or non-positive mass, length or g, an optional list of
+  /// different counts, a non-finite or non-positive mass or length, g not finite or < 0 (or
+  /// 0 for a point-mass chain), an optional list of
   /// the wrong length, a negative inertia, stiffness or damping, a last link without mass
   /// away from its joint and without inertia (a singular mass matrix), a drive whose
   /// amplitude or frequency is not a finite number ≥ 0 resp. > 0.

@@ -6,6 +6,14 @@
 // pointer-based rhs and jacobian work in a preallocated workspace (no allocation per call)
 // and take the n² angle differences from the 2n sines and cosines by the addition theorems
 // (the first version, with n² libm calls and allocating per call, had a 2–7× slower rhs).
+//
+// The physical chain (rigid links, joint springs and damping, torques, a pivot accelerating
+// with a) has the same structure, hand-derived from rigid-body kinematics: link k's mass m_k
+// sits at c_k down the link, so for i < j, A_ij = l_i (m_j c_j + μ_{j+1} l_j) cos(φ_i − φ_j)
+// and A_ii = J_i + m_i c_i² + μ_{i+1} l_i²; gravity and the inertial force act on the
+// moments G_i = m_i c_i + μ_{i+1} l_i: ∂V/∂φ_i = G_i ((g − a_y) sin φ_i + a_x cos φ_i) plus
+// the springs' k_i(θ_i − θ̄_i) − k_{i+1}(θ_{i+1} − θ̄_{i+1}); the joint torques
+// τ_j = u_j − b_j θ̇_j enter ṗ_i as τ_i − τ_{i+1}. (physical(); set_inputs() for a and u.)
 #pragma once
 
 #include <Eigen/Dense>
@@ -58,6 +66,40 @@ class dense_chain {
     }
   }
 
+  /// The physical chain: centres of mass c, inertias J, joint stiffnesses k, rest angles
+  /// θ̄ and damping b (each dim n), inputs a = 0, u = 0 until set_inputs.
+  static dense_chain physical(std::vector<double> masses, std::vector<double> lengths, double g,
+                              const std::vector<double>& com, const std::vector<double>& inertia,
+                              std::vector<double> stiffness, std::vector<double> rest,
+                              std::vector<double> damping) {
+    dense_chain d(std::move(masses), std::move(lengths), g);
+    d.m_physical = true;
+    const int n = d.m_n;
+    d.m_G.resize(n);
+    for (int i = 0; i < n; ++i) {
+      const double below = i + 1 < n ? d.mu(i + 1) : 0.0;
+      d.m_G(i) = d.m_m[index(i)] * com[index(i)] + below * d.l(i);
+      for (int j = i + 1; j < n; ++j) {
+        const double below_j = j + 1 < n ? d.mu(j + 1) : 0.0;
+        d.m_K(i, j) = d.m_K(j, i) = d.l(i) * (d.m_m[index(j)] * com[index(j)] + below_j * d.l(j));
+      }
+      d.m_K(i, i) = inertia[index(i)] + d.m_m[index(i)] * com[index(i)] * com[index(i)] +
+                    below * d.l(i) * d.l(i);
+    }
+    d.m_k = std::move(stiffness);
+    d.m_rest = std::move(rest);
+    d.m_b = std::move(damping);
+    d.m_u.assign(index(n), 0.0);
+    return d;
+  }
+
+  /// The pivot's acceleration (a_x, a_y) and the joint torques u (dim n) of a physical chain.
+  void set_inputs(double ax, double ay, std::vector<double> torques) {
+    m_ax = ax;
+    m_ay = ay;
+    m_u = std::move(torques);
+  }
+
   int links() const { return m_n; }
   double mu(int j) const { return m_mu[index(j)]; }
   double l(int j) const { return m_l[index(j)]; }
@@ -73,8 +115,33 @@ class dense_chain {
     ws.dphi = ws.ldlt.solve(p);
     ws.w.noalias() = ws.KS * ws.dphi;  // the diagonal of KS is zero: the sum skips j = i
     Eigen::Map<Eigen::VectorXd>(dxdt, m_n) = ws.dphi;
+    if (m_physical) {
+      Eigen::Map<Eigen::VectorXd>(dxdt + m_n, m_n) =
+          -ws.dphi.cwiseProduct(ws.w) - potential_gradient(x) + joint_forces(ws.dphi);
+      return;
+    }
     Eigen::Map<Eigen::VectorXd>(dxdt + m_n, m_n) =
         -ws.dphi.cwiseProduct(ws.w) - m_gravity.cwiseProduct(ws.s);
+  }
+
+  /// ∂V/∂φ of the physical chain (gravity, the pivot's inertial force, springs).
+  Eigen::VectorXd potential_gradient(const double* phi) const {
+    Eigen::VectorXd grad(m_n);
+    for (int i = 0; i < m_n; ++i)
+      grad(i) = m_G(i) * ((m_g - m_ay) * std::sin(phi[i]) + m_ax * std::cos(phi[i])) +
+                m_k[index(i)] * (joint_angle(phi, i) - m_rest[index(i)]);
+    for (int i = 0; i + 1 < m_n; ++i)
+      grad(i) -= m_k[index(i + 1)] * (joint_angle(phi, i + 1) - m_rest[index(i + 1)]);
+    return grad;
+  }
+
+  /// Q_i = τ_i − τ_{i+1} with the joint torques τ_j = u_j − b_j θ̇_j.
+  Eigen::VectorXd joint_forces(const Eigen::VectorXd& dphi) const {
+    Eigen::VectorXd tau(m_n), q(m_n);
+    for (int j = 0; j < m_n; ++j)
+      tau(j) = m_u[index(j)] - m_b[index(j)] * (dphi(j) - (j > 0 ? dphi(j - 1) : 0.0));
+    for (int i = 0; i < m_n; ++i) q(i) = tau(i) - (i + 1 < m_n ? tau(i + 1) : 0.0);
+    return q;
   }
 
   /// The analytic Jacobian, allocation-free, row-major 2n × 2n:
@@ -99,9 +166,15 @@ class dense_chain {
     // ∂F_i/∂φ_k = φ̇_i A_ik φ̇_k (i ≠ k), ∂F_i/∂φ_i = −φ̇_i Σ_{j≠i} A_ij φ̇_j − g μ_i l_i cos φ_i;
     // ∂F_i/∂φ̇_k = −φ̇_i KS_ik (i ≠ k), ∂F_i/∂φ̇_i = −w_i.
     ws.Fphi = ws.dphi.asDiagonal() * ws.A * ws.dphi.asDiagonal();
-    ws.Fphi.diagonal() -= ws.dphi.cwiseProduct(ws.Ad) + m_gravity.cwiseProduct(ws.c);
+    if (m_physical) {
+      ws.Fphi.diagonal() -= ws.dphi.cwiseProduct(ws.Ad);
+      ws.Fphi -= potential_hessian(ws);
+    } else {
+      ws.Fphi.diagonal() -= ws.dphi.cwiseProduct(ws.Ad) + m_gravity.cwiseProduct(ws.c);
+    }
     ws.Fdphi = -(ws.dphi.asDiagonal() * ws.KS);
     ws.Fdphi.diagonal() -= ws.w;
+    if (m_physical) ws.Fdphi -= damping_matrix();
 
     Eigen::Map<row_major_matrix> J(jac, 2 * n, 2 * n);
     J.topLeftCorner(n, n) = ws.dphi_dphi;
@@ -143,6 +216,14 @@ class dense_chain {
 
   double potential_energy(const Eigen::VectorXd& phi) const {
     double v = 0;
+    if (m_physical) {
+      for (int j = 0; j < m_n; ++j) {
+        const double stretch = joint_angle(phi.data(), j) - m_rest[index(j)];
+        v += m_G(j) * ((m_g - m_ay) * (1 - std::cos(phi(j))) + m_ax * std::sin(phi(j))) +
+             m_k[index(j)] / 2 * stretch * stretch;
+      }
+      return v;
+    }
     for (int j = 0; j < m_n; ++j) v += m_g * mu(j) * l(j) * (1 - std::cos(phi(j)));
     return v;
   }
@@ -168,6 +249,33 @@ class dense_chain {
  private:
   static std::size_t index(int j) { return static_cast<std::size_t>(j); }
 
+  static double joint_angle(const double* phi, int j) {
+    return phi[j] - (j > 0 ? phi[j - 1] : 0.0);
+  }
+
+  // ∂²V/∂φ²: gravity and drive on the diagonal, the springs tridiagonal.
+  Eigen::MatrixXd potential_hessian(const workspace& ws) const {
+    Eigen::MatrixXd h = Eigen::MatrixXd::Zero(m_n, m_n);
+    for (int i = 0; i < m_n; ++i) {
+      h(i, i) = m_G(i) * ((m_g - m_ay) * ws.c(i) - m_ax * ws.s(i)) + m_k[index(i)];
+      if (i + 1 < m_n) {
+        h(i, i) += m_k[index(i + 1)];
+        h(i, i + 1) = h(i + 1, i) = -m_k[index(i + 1)];
+      }
+    }
+    return h;
+  }
+
+  // −∂Q/∂φ̇ = Dᵀ diag(b) D, D the difference matrix θ̇ = D φ̇.
+  Eigen::MatrixXd damping_matrix() const {
+    Eigen::MatrixXd d = Eigen::MatrixXd::Zero(m_n, m_n);
+    for (int i = 0; i < m_n; ++i) {
+      d(i, i) = m_b[index(i)] + (i + 1 < m_n ? m_b[index(i + 1)] : 0.0);
+      if (i + 1 < m_n) d(i, i + 1) = d(i + 1, i) = -m_b[index(i + 1)];
+    }
+    return d;
+  }
+
   /// sin φ_i, cos φ_i, then A_ij = K_ij cos(φ_i − φ_j) and KS_ij = K_ij sin(φ_i − φ_j) with
   /// K_ij = μ_max(i,j) l_i l_j, the differences by the addition theorems.
   void assemble(const double* phi, workspace& ws) const {
@@ -188,6 +296,11 @@ class dense_chain {
   int m_n;
   Eigen::MatrixXd m_K;        ///< μ_max(i,j) l_i l_j
   Eigen::VectorXd m_gravity;  ///< g μ_i l_i
+  // The physical chain (physical()).
+  bool m_physical = false;
+  Eigen::VectorXd m_G;  ///< m_i c_i + μ_{i+1} l_i
+  std::vector<double> m_k, m_rest, m_b, m_u;
+  double m_ax = 0, m_ay = 0;
 };
 
 }  // namespace npend::reference
