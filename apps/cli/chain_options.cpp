@@ -1,6 +1,9 @@
 #include "chain_options.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
 
 #include "input_parsing.hpp"
 
@@ -13,6 +16,26 @@ void chain_options::add_to(CLI::App& command, bool links_required) {
   command.add_option("--lengths", lengths,
                      "Rod lengths l_1,...,l_n in m, or one value for all links (default: all 1)");
   command.add_option("--g", g, "Gravitational acceleration in m/s^2 (default: 9.81)");
+  // The physical chain (docs/model.md): one value per link, or one for all links.
+  command.add_option("--com", com,
+                     "Physical chain: centre of mass of each link, c_i in m down the link from "
+                     "its upper joint (default: c = l, the mass at the link's end)");
+  command.add_option("--inertia", inertia,
+                     "Physical chain: moment of inertia J_i of each link about its centre of "
+                     "mass in kg m^2 (default: 0)");
+  command.add_flag("--rods", rods,
+                   "Physical chain: uniform rods, c = l/2 and J = m l^2/12 (instead of --com and "
+                   "--inertia)");
+  command.add_option("--stiffness", stiffness,
+                     "Physical chain: torsion spring k_j at joint j in N m/rad on the joint angle "
+                     "phi_j - phi_(j-1) (default: 0)");
+  command.add_option("--rest-angles", rest_angles,
+                     "Physical chain: rest angles of the joint springs in rad (default: 0)");
+  command.add_option("--damping", damping,
+                     "Physical chain: viscous damping b_j at joint j in N m s/rad (default: 0)");
+  command.add_option("--pivot", pivot,
+                     "Physical chain: the pivot moves, vertical:A:OMEGA (its height A cos(OMEGA "
+                     "t)) or horizontal:A:OMEGA; A in m, OMEGA in rad/s");
 }
 
 namespace {
@@ -32,12 +55,62 @@ std::vector<double> per_link(const std::string& text, std::string_view option, i
 
 }  // namespace
 
-chain chain_options::make_chain() const {
+pivot_motion parse_pivot(const std::string& text) {
+  const std::vector<std::string_view> parts = split_list(text, ':');
+  if (parts.size() != 3 || (parts[0] != "vertical" && parts[0] != "horizontal"))
+    throw input_error(
+        fmt::format("--pivot: expected vertical:A:OMEGA or horizontal:A:OMEGA, got '{}'", text));
+  const double a = parse_number(parts[1], "--pivot (amplitude)");
+  const double w = parse_number(parts[2], "--pivot (angular frequency)");
+  return parts[0] == "vertical" ? pivot_motion::vertical(a, w) : pivot_motion::horizontal(a, w);
+}
+
+namespace {
+
+// The physical options given, by name, for a message.
+std::vector<std::string> features_outside(const chain_parameters& p, model_support support) {
+  std::vector<std::string> out;
+  if (support == model_support::any) return out;
+  if (p.is_damped()) out.push_back("--damping");
+  if (p.pivot.moves()) out.push_back("--pivot");
+  if (support == model_support::rigid_links) {
+    if (!p.stiffness.empty() &&
+        std::any_of(p.stiffness.begin(), p.stiffness.end(), [](double k) { return k != 0; }))
+      out.push_back("--stiffness");
+    if (!p.rest_angles.empty() &&
+        std::any_of(p.rest_angles.begin(), p.rest_angles.end(), [](double a) { return a != 0; }))
+      out.push_back("--rest-angles");
+  }
+  return out;
+}
+
+}  // namespace
+
+chain chain_options::make_chain(model_support support, std::string_view name) const {
   if (links < 1) throw input_error(fmt::format("--links: must be at least 1, got {}", links));
   chain_parameters params = chain_parameters::uniform(links);
   if (!masses.empty()) params.masses = per_link(masses, "--masses", links, "m");
   if (!lengths.empty()) params.lengths = per_link(lengths, "--lengths", links, "l");
   if (!g.empty()) params.g = parse_number(g, "--g");
+  if (rods && (!com.empty() || !inertia.empty()))
+    throw input_error(
+        "--rods sets the centres of mass and inertias: leave out --com and --inertia");
+  if (rods) params.make_uniform_rods();
+  if (!com.empty()) params.com = per_link(com, "--com", links, "c");
+  if (!inertia.empty()) params.inertia = per_link(inertia, "--inertia", links, "J");
+  if (!stiffness.empty()) params.stiffness = per_link(stiffness, "--stiffness", links, "k");
+  if (!rest_angles.empty())
+    params.rest_angles = per_link(rest_angles, "--rest-angles", links, "theta");
+  if (!damping.empty()) params.damping = per_link(damping, "--damping", links, "b");
+  if (!pivot.empty()) params.pivot = parse_pivot(pivot);
+  const std::vector<std::string> refused = features_outside(params, support);
+  if (!refused.empty())
+    throw input_error(fmt::format(
+        "{} does not take {}: {}", name, fmt::join(refused, ", "),
+        support == model_support::conservative
+            ? "it relies on a conserved energy (no damping, a fixed pivot)"
+            : "its equilibria are those of gravity at 0 and pi, without joint springs, damping "
+              "or a moving pivot (npend simulate and eval take every chain)"));
   try {
     return chain(params);
   } catch (const std::invalid_argument& e) {

@@ -1,27 +1,43 @@
-// The options every command shares: which chain (--links, --masses, --lengths, --g).
+// The options every command shares: which chain (--links, --masses, --lengths, --g) and the
+// physical chain's options (--com, --inertia, --rods, --stiffness, --rest-angles, --damping,
+// --pivot).
 #pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
 
 #include "npend/chain.hpp"
 
-#include <CLI/CLI.hpp>
-
-#include <string>
-
 namespace npend::cli {
+
+/// Which chains a command can take: its premise, checked once where the chain is made.
+enum class model_support {
+  any,           ///< every chain (simulate, eval)
+  conservative,  ///< H must be conserved: no damping, a fixed pivot
+  rigid_links,   ///< the paper's analyses at 0/π equilibria: rigid links at most
+};
 
 /// Raw text of the chain options, parsed strictly after CLI11 has collected them.
 struct chain_options {
   int links = 0;
   std::string masses, lengths, g;
+  std::string com, inertia, stiffness, rest_angles, damping, pivot;
+  bool rods = false;
 
   /// Adds --links (required unless `links_required` is false: for commands that can also
-  /// read data instead), --masses, --lengths and --g to `command`.
+  /// read data instead), --masses, --lengths, --g and the physical chain's options to
+  /// `command`.
   void add_to(CLI::App& command, bool links_required = true);
 
-  /// The chain they describe: defaults are masses 1 kg, lengths 1 m, g = 9.81 m/s².
-  /// Throws input_error naming the bad value, including a link count that is not built.
-  chain make_chain() const;
+  /// The chain they describe: defaults are masses 1 kg, lengths 1 m, g = 9.81 m/s², point
+  /// masses on a fixed pivot. Throws input_error naming the bad value, including a link
+  /// count that is not built, or a physical feature the command (`name`) cannot take.
+  chain make_chain(model_support support = model_support::rigid_links,
+                   std::string_view name = "this command") const;
 };
+
+/// "vertical:A:OMEGA" or "horizontal:A:OMEGA" (amplitude in m, angular frequency in rad/s).
+pivot_motion parse_pivot(const std::string& text);
 
 /// The state given as "--state phi_1..phi_n,p_1..p_n" (dim 2n).
 std::vector<double> parse_state(const std::string& text, int links);

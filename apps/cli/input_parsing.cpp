@@ -42,11 +42,11 @@ double parse_number(std::string_view text, std::string_view option) {
   return parse_item(text, option, text, 0);
 }
 
-std::vector<std::string_view> split_list(std::string_view text) {
+std::vector<std::string_view> split_list(std::string_view text, char separator) {
   std::vector<std::string_view> pieces;
   std::size_t start = 0;
   while (true) {
-    const std::size_t comma = text.find(',', start);
+    const std::size_t comma = text.find(separator, start);
     pieces.push_back(text.substr(
         start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
     if (comma == std::string_view::npos) return pieces;

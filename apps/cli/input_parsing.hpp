@@ -25,8 +25,9 @@ double parse_number(std::string_view text, std::string_view option);
 /// empty items, trailing commas, NaN and infinities are not.
 std::vector<double> parse_number_list(std::string_view text, std::string_view option);
 
-/// The comma-separated pieces of `text`, empty ones included ("a,,b" has three).
-std::vector<std::string_view> split_list(std::string_view text);
+/// The comma-separated (or `separator`-separated) pieces of `text`, empty ones included
+/// ("a,,b" has three).
+std::vector<std::string_view> split_list(std::string_view text, char separator = ',');
 
 /// As parse_number_list, and exactly `expected` values; `what` describes them in the
 /// message ("masses m_1..m_3").

@@ -217,7 +217,9 @@ std::optional<simulated_start> series_options::simulation(std::size_t min_sample
           "or --energy E (see --help)");
     return std::nullopt;
   }
-  const npend::chain c = chain.make_chain();
+  const npend::chain c = chain.make_chain(
+      cli::model_support::conservative,
+      m_command != nullptr ? fmt::format("npend {}", m_command->get_name()) : "this command");
   std::vector<double> x0 = start.make_state(c);
 
   std::size_t count = 0;

@@ -17,6 +17,7 @@ namespace {
 struct eval_options {
   cli::chain_options chain;
   std::string state;
+  double time = 0;
   bool json = false;
 };
 
@@ -37,7 +38,7 @@ void print_matrix(const char* name, const std::vector<double>& m, int n) {
 }
 
 int run_eval(const eval_options& o) {
-  const chain c = o.chain.make_chain();
+  const chain c = o.chain.make_chain(cli::model_support::any);
   const int n = c.links();
   const auto nn = static_cast<std::size_t>(n);
   const std::vector<double> x = cli::parse_state(o.state, n);
@@ -46,9 +47,17 @@ int run_eval(const eval_options& o) {
   std::vector<double> dphi(nn), A(nn * nn);
   c.velocities(phi, p, dphi);
   c.mass_matrix(phi, A);
-  const std::vector<double> f = c.rhs(x), J = c.jacobian(x);
-  const double H = c.hamiltonian(x), T = c.kinetic_energy(phi, dphi), V = c.potential_energy(phi);
+  const int dim = c.state_size(), inputs = chain_layout::input_size(n);
+  std::vector<double> f(static_cast<std::size_t>(dim)), J(static_cast<std::size_t>(dim * dim)),
+      dfdt(f.size()), dfdw(static_cast<std::size_t>(dim * inputs));
+  c.rhs(x, f, o.time);
+  c.jacobian(x, J, o.time);
+  c.time_derivative(x, dfdt, o.time);
+  c.input_matrix(phi, dfdw);
+  const double H = c.hamiltonian(x, o.time), T = c.kinetic_energy(phi, dphi),
+               V = c.potential_energy(phi, o.time);
   const double detA = c.det_mass_matrix(phi);
+  const bool closed_form = n <= 3 && !c.is_physical();
 
   if (o.json) {
     nlohmann::json j = describe_chain(c);
@@ -61,7 +70,14 @@ int run_eval(const eval_options& o) {
     j["jacobian"] = rows(J, 2 * n);
     j["mass_matrix"] = rows(A, n);
     j["det_mass_matrix"] = detA;
-    if (n <= 3) j["hamiltonian_closed_form"] = c.hamiltonian_closed_form(x);
+    j["time"] = o.time;
+    j["time_derivative"] = dfdt;
+    nlohmann::json input_rows = nlohmann::json::array();
+    for (int i = 0; i < dim; ++i)
+      input_rows.push_back(
+          std::vector<double>(dfdw.begin() + i * inputs, dfdw.begin() + (i + 1) * inputs));
+    j["input_matrix"] = input_rows;
+    if (closed_form) j["hamiltonian_closed_form"] = c.hamiltonian_closed_form(x);
     std::cout << j.dump(2) << "\n";
     return 0;
   }
@@ -70,12 +86,21 @@ int run_eval(const eval_options& o) {
   fmt::print("phi = {} rad\np   = {} kg m^2/s\n", std::vector<double>(phi.begin(), phi.end()),
              std::vector<double>(p.begin(), p.end()));
   fmt::print("H = {:.17g} J   (T = {:.17g}, V = {:.17g})\n", H, T, V);
-  if (n <= 3) fmt::print("H (closed form) = {:.17g} J\n", c.hamiltonian_closed_form(x));
+  if (c.is_physical())
+    fmt::print("physical chain: {}; t = {} s\n", describe_chain(c).dump(), o.time);
+  if (closed_form) fmt::print("H (closed form) = {:.17g} J\n", c.hamiltonian_closed_form(x));
   fmt::print("dphi/dt = {}\n", dphi);
   fmt::print("dp/dt   = {}\n", std::vector<double>(f.begin() + n, f.end()));
   fmt::print("det A = {:.17g}\n", detA);
   print_matrix("A (mass matrix)", A, n);
   print_matrix("J (Jacobian df/dx, x = [phi, p])", J, 2 * n);
+  fmt::print("df/dw (w = [a_x, a_y, u_1..u_{}]) =\n", n);
+  for (int i = 0; i < dim; ++i) {
+    fmt::print("  ");
+    for (int k = 0; k < inputs; ++k)
+      fmt::print("{:>13.6g}", dfdw[static_cast<std::size_t>(i * inputs + k)]);
+    fmt::print("\n");
+  }
   return 0;
 }
 
@@ -88,17 +113,29 @@ void add_eval_command(CLI::App& app, command_list& commands) {
   opts->chain.add_to(*cmd);
   cmd->add_option("--state", opts->state, "The state phi_1,...,phi_n,p_1,...,p_n (rad, kg m^2/s)")
       ->required();
+  cmd->add_option("--time", opts->time,
+                  "The time t in s (a moving pivot's phase; default 0): rhs, jacobian, H and "
+                  "df/dt at t");
   cmd->add_flag("--json", opts->json, "Print one JSON object");
   commands.push_back({cmd, [opts] { return run_eval(*opts); }});
 }
 
 void add_equations_command(CLI::App& app, command_list& commands) {
-  auto opts = std::make_shared<cli::chain_options>();
+  struct equations_options {
+    cli::chain_options chain;
+    bool physical = false;
+  };
+  auto opts = std::make_shared<equations_options>();
   CLI::App* cmd = app.add_subcommand(
       "equations", "Print the derived equations of the n-link chain as LaTeX (from npend-gen)");
-  cmd->add_option("--links,-n", opts->links, "Number of links n")->required();
+  cmd->add_option("--links,-n", opts->chain.links, "Number of links n")->required();
+  cmd->add_flag("--physical", opts->physical,
+                "The physical chain's equations (rigid links, joint springs, damping and torques, "
+                "a moving pivot) instead of the paper's");
   commands.push_back({cmd, [opts] {
-                        std::cout << opts->make_chain().equations_latex();
+                        const chain c = opts->chain.make_chain(cli::model_support::any);
+                        std::cout << (opts->physical ? c.physical_table().equations_latex()
+                                                     : c.equations_latex());
                         return 0;
                       }});
 }

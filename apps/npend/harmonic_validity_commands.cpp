@@ -179,7 +179,7 @@ void write_backbone_files(series_output& files, const chain& c,
 }
 
 int run_backbone(const backbone_command_options& o) {
-  const chain c = o.chain.make_chain();
+  const chain c = o.chain.make_chain(cli::model_support::rigid_links, "npend backbone");
   const int n = c.links();
   std::vector<int> modes;
   if (o.mode.empty()) {
@@ -364,7 +364,7 @@ void write_corrections_files(series_output& files, const correction_study& s) {
 }
 
 int run_corrections(const corrections_command_options& o) {
-  const chain c = o.chain.make_chain();
+  const chain c = o.chain.make_chain(cli::model_support::rigid_links, "npend corrections");
   const int n = c.links();
   if (n < 2)
     throw cli::input_error(

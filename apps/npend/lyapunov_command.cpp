@@ -152,7 +152,7 @@ int run_equations(const lyapunov_command_options& o) {
           fmt::format("{}: only for a measured series (--input F.csv), not with --links", name));
   if (o.integrator.t_end.empty())
     throw cli::input_error("--t-end is required with --links (see npend lyapunov --help)");
-  const chain c = o.chain.make_chain();
+  const chain c = o.chain.make_chain(cli::model_support::conservative, "npend lyapunov");
   const std::vector<double> x0 = o.start.make_state(c);
   lyapunov_options options = make_options(o);
   std::optional<lyapunov_ensemble_options> ensemble;

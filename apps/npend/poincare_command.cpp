@@ -52,7 +52,7 @@ std::pair<std::size_t, std::size_t> default_projection(const section_plane& s, i
 }
 
 int run_poincare(const poincare_options& o) {
-  const chain c = o.chain.make_chain();
+  const chain c = o.chain.make_chain(cli::model_support::conservative, "npend poincare");
   const int n = c.links();
   const cli::angle_mode angles = o.unwrapped ? cli::angle_mode::unwrapped : cli::angle_mode::circle;
   const section_plane section = cli::section_from_spec(

@@ -10,10 +10,25 @@
 namespace npend::app {
 
 nlohmann::json describe_chain(const chain& c) {
-  return {{"links", c.links()},
-          {"masses", c.parameters().masses},
-          {"lengths", c.parameters().lengths},
-          {"g", c.parameters().g}};
+  const chain_parameters& p = c.parameters();
+  nlohmann::json j = {
+      {"links", c.links()}, {"masses", p.masses}, {"lengths", p.lengths}, {"g", p.g}};
+  if (!c.is_physical()) return j;
+  // The physical chain's parameters with their defaults filled in (as the kernels get them).
+  const std::vector<double> packed = c.packed_parameters();
+  const int n = c.links();
+  const auto column = [&](int (*index)(int, int)) {
+    std::vector<double> out;
+    for (int i = 0; i < n; ++i) out.push_back(packed[static_cast<std::size_t>(index(n, i))]);
+    return out;
+  };
+  j["com"] = column(chain_layout::com_index);
+  j["inertia"] = column(chain_layout::inertia_index);
+  j["stiffness"] = column(chain_layout::stiffness_index);
+  j["rest_angles"] = column(chain_layout::rest_angle_index);
+  j["damping"] = column(chain_layout::damping_index);
+  j["pivot"] = p.pivot.describe();
+  return j;
 }
 
 nlohmann::json describe_series(const time_series& s) {

@@ -1,20 +1,19 @@
 // npend equilibria, npend modes, npend toda-brumer: the linear stability analysis of the paper
 // (§6.4, §6.5) for any link count.
-#include "chain_options.hpp"
-#include "command.hpp"
-#include "input_parsing.hpp"
-#include "stability_tables.hpp"
-
-#include "npend/analysis/equilibria.hpp"
-#include "npend/analysis/normal_modes.hpp"
-#include "npend/analysis/toda_brumer.hpp"
-
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <numbers>
+
+#include "chain_options.hpp"
+#include "command.hpp"
+#include "input_parsing.hpp"
+#include "npend/analysis/equilibria.hpp"
+#include "npend/analysis/normal_modes.hpp"
+#include "npend/analysis/toda_brumer.hpp"
+#include "stability_tables.hpp"
 
 namespace npend::app {
 
@@ -81,7 +80,7 @@ struct equilibria_options {
 };
 
 int run_equilibria(const equilibria_options& o) {
-  const chain c = o.chain.make_chain();
+  const chain c = o.chain.make_chain(cli::model_support::rigid_links, "npend equilibria");
   if (c.links() > max_equilibria_links)
     throw cli::input_error(
         fmt::format("--links: {} links have 2^{} equilibria; at most {} are supported", c.links(),
@@ -114,7 +113,7 @@ struct modes_options {
 };
 
 int run_modes(const modes_options& o) {
-  const chain c = o.chain.make_chain();
+  const chain c = o.chain.make_chain(cli::model_support::rigid_links, "npend modes");
   const int n = c.links();
   std::vector<double> at(static_cast<std::size_t>(n), 0.0);
   if (!o.at.empty())
@@ -172,7 +171,7 @@ std::vector<int> parse_fixed(const std::string& text, int links) {
 }
 
 int run_toda(const toda_options& o) {
-  const chain c = o.chain.make_chain();
+  const chain c = o.chain.make_chain(cli::model_support::rigid_links, "npend toda-brumer");
   const int n = c.links();
   const auto links = toda_brumer_links(c);
   const std::vector<int> fixed = parse_fixed(o.fixed, n);

@@ -19,8 +19,10 @@ class energy_drift {
   /// Measures against the energy h0 (J) of the chain `c` (which must outlive this object).
   energy_drift(const chain& c, double h0) : m_chain(&c), m_initial(h0), m_last(h0) {}
 
-  /// Takes the state x (dim 2n) into account; returns H(x) (J).
-  double add(std::span<const double> x);
+  /// Takes the state x (dim 2n) at time t into account; returns H(x, t) (J). (On a damped
+  /// or driven chain H is not conserved and the drift is the physics, not an error: see
+  /// chain_parameters::is_conservative.)
+  double add(std::span<const double> x, double t = 0);
 
   double initial() const { return m_initial; }  ///< h0 (J)
   double last() const { return m_last; }        ///< H of the last state added (h0 if none)

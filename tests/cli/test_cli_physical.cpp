@@ -1,0 +1,63 @@
+// The physical chain's options on the command line: what eval prints for a rod pendulum
+// against its closed form, simulate's energy report on a damped chain, and which commands
+// refuse what.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "support/test_support.hpp"
+
+using npend::test::run_npend;
+
+TEST_CASE("npend eval: a damped uniform rod on a shaken pivot, against its closed form") {
+  // m = 1, l = 1: I = J + m c^2 = 1/12 + 1/4 = 1/3. phi' = p / I, and
+  // p' = -m c (g - a_y(t)) sin phi - b phi', a_y = A W^2 cos(W t) for the vertical drive.
+  const double phi = 1.0, p = 0.5, b = 0.2, A = 0.1, W = 10, t = 0.3;
+  const auto r = run_npend(
+      "eval --links 1 --rods --damping 0.2 --pivot vertical:0.1:10 --time 0.3 --state 1,0.5 "
+      "--json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  const double rate = p / (1.0 / 3);
+  const double a_y = A * W * W * std::cos(W * t);
+  CHECK(j["rhs"][0].get<double>() == doctest::Approx(rate).epsilon(1e-14));
+  CHECK(j["rhs"][1].get<double>() ==
+        doctest::Approx(-0.5 * (9.81 - a_y) * std::sin(phi) - b * rate).epsilon(1e-13));
+  // d(p')/dp = -b / I, and df/dt = (d p'/d a_y) * d a_y/dt.
+  CHECK(j["jacobian"][1][1].get<double>() == doctest::Approx(-b * 3).epsilon(1e-14));
+  const double jerk = -A * W * W * W * std::sin(W * t);
+  CHECK(j["time_derivative"][1].get<double>() ==
+        doctest::Approx(0.5 * std::sin(phi) * jerk).epsilon(1e-13));
+  CHECK(j["com"][0].get<double>() == 0.5);
+  CHECK(j["inertia"][0].get<double>() == doctest::Approx(1.0 / 12));
+  CHECK(j["pivot"] == "vertical:0.1:10");
+  CHECK_FALSE(j.contains("hamiltonian_closed_form"));
+}
+
+TEST_CASE("npend simulate: a damped chain's energy is reported as changing, not as an error") {
+  const auto r = run_npend(
+      "simulate --links 2 --rods --damping 0.3 --phi 1,1 --t-end 5 --stepper gauss6 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["energy_conserved"] == false);
+  CHECK(j["max_rel_energy_error"].is_null());
+  CHECK(j["energy_final"].get<double>() < j["energy_initial"].get<double>());
+  CHECK(r.err.find("not symplectic") != std::string::npos);
+}
+
+TEST_CASE("npend: commands refuse the physical features their premise excludes") {
+  CHECK(npend::test::is_input_error(
+      run_npend("lyapunov --links 2 --damping 0.1 --phi 1,1 --t-end 10"),
+      "does not take --damping"));
+  CHECK(npend::test::is_input_error(
+      run_npend("spectrum --links 2 --pivot horizontal:0.1:5 --phi 1,1"), "does not take --pivot"));
+  CHECK(npend::test::is_input_error(run_npend("modes --links 2 --stiffness 3"),
+                                    "does not take --stiffness"));
+  // Rigid links keep the equilibria at 0 and pi: the uniform rod's frequency is
+  // sqrt(m g c / I) = sqrt(3 g / 2).
+  const auto r = run_npend("modes --links 1 --rods --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["frequencies"][0].get<double>() == doctest::Approx(std::sqrt(1.5 * 9.81)).epsilon(1e-12));
+}
