@@ -61,3 +61,31 @@ TEST_CASE("npend: commands refuse the physical features their premise excludes")
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j["frequencies"][0].get<double>() == doctest::Approx(std::sqrt(1.5 * 9.81)).epsilon(1e-12));
 }
+
+TEST_CASE("npend floquet: --json keys, Kapitza's verdict and the scan's stable window") {
+  // One link, a = 0.05 m: Kapitza's leading order puts the threshold at sqrt(2 g l)/a = 88.6.
+  const auto below = run_npend("floquet --links 1 --pivot vertical:0.05:60 --at pi --json");
+  const auto above = run_npend("floquet --links 1 --pivot vertical:0.05:130 --at pi --json");
+  REQUIRE(below.exit_code == 0);
+  REQUIRE(above.exit_code == 0);
+  const auto jb = nlohmann::json::parse(below.out), ja = nlohmann::json::parse(above.out);
+  CHECK(jb["stable"] == false);
+  CHECK(ja["stable"] == true);
+  CHECK(ja["period"].get<double>() == doctest::Approx(2 * 3.141592653589793 / 130));
+  REQUIRE(ja["multipliers"].size() == 2);
+  CHECK(ja["multipliers"][0].size() == 2);  // [re, im]
+  const double re = ja["multipliers"][0][0], im = ja["multipliers"][0][1];
+  CHECK(std::hypot(re, im) == doctest::Approx(1.0).epsilon(1e-9));  // on the unit circle
+
+  const auto scan = run_npend("floquet --links 1 --pivot vertical:0.05:1 --scan 60:130:15 --json");
+  REQUIRE(scan.exit_code == 0);
+  const auto js = nlohmann::json::parse(scan.out);
+  REQUIRE(js["stable_windows"].size() == 1);
+  CHECK(js["stable_windows"][0][0].get<double>() == 90.0);  // the first grid point above 88.6
+  CHECK(js["stable_windows"][0][1].get<double>() == 130.0);
+
+  CHECK(npend::test::is_input_error(run_npend("floquet --links 1 --at pi"),
+                                    "needs a periodic drive"));
+  CHECK(npend::test::is_input_error(
+      run_npend("floquet --links 2 --pivot vertical:0.1:50 --at 1,2,3"), "--at: expected 2"));
+}

@@ -1,0 +1,274 @@
+// npend floquet: Floquet multipliers of a driven chain's periodic orbit (Kapitza's inverted
+// pendulum, Acheson's stabilised double and triple pendulums), and stability charts over the
+// drive frequency.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "chain_options.hpp"
+#include "command.hpp"
+#include "input_parsing.hpp"
+#include "npend/analysis/floquet.hpp"
+#include "series_output.hpp"
+#include "terminal_run.hpp"
+
+namespace npend::app {
+
+namespace {
+
+struct floquet_command_options {
+  cli::chain_options chain;
+  std::string at = "pi", p, scan, out;
+  int steps = 400;
+  bool json = false;
+};
+
+// Angles with "pi" allowed ("pi", "-pi", "0"); one value stands for every link.
+std::vector<double> parse_angles(const std::string& text, int links) {
+  std::vector<double> out;
+  for (const std::string_view item : cli::split_list(text)) {
+    if (item == "pi")
+      out.push_back(std::numbers::pi);
+    else if (item == "-pi")
+      out.push_back(-std::numbers::pi);
+    else
+      out.push_back(cli::parse_number(item, "--at"));
+  }
+  if (out.size() == 1) out.assign(static_cast<std::size_t>(links), out[0]);
+  if (out.size() != static_cast<std::size_t>(links))
+    throw cli::input_error(fmt::format(
+        "--at: expected {} angles (phi_1..phi_{}, numbers or pi) or one for all links, got {}",
+        links, links, out.size()));
+  return out;
+}
+
+struct frequency_scan {
+  double from = 0, to = 0;
+  int count = 0;
+};
+
+frequency_scan parse_scan(const std::string& text) {
+  const auto parts = cli::split_list(text, ':');
+  if (parts.size() != 3)
+    throw cli::input_error(
+        fmt::format("--scan: expected OMEGA_FROM:OMEGA_TO:COUNT, got '{}'", text));
+  frequency_scan s{cli::parse_number(parts[0], "--scan (from)"),
+                   cli::parse_number(parts[1], "--scan (to)"), 0};
+  const double count = cli::parse_number(parts[2], "--scan (count)");
+  if (count != std::floor(count) || count < 2 || count > 100000)
+    throw cli::input_error(
+        fmt::format("--scan: the count must be a whole number 2..100000, got {}", parts[2]));
+  if (!(s.from > 0) || !(s.to > s.from))
+    throw cli::input_error(fmt::format(
+        "--scan: frequencies must satisfy 0 < from < to (rad/s), got {}:{}", s.from, s.to));
+  s.count = static_cast<int>(count);
+  return s;
+}
+
+nlohmann::json multiplier_list(const floquet_result& r) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& m : r.multipliers) list.push_back({m.real(), m.imag()});
+  return list;
+}
+
+std::vector<double> start_state(const chain& c, const floquet_command_options& o) {
+  const int n = c.links();
+  std::vector<double> x = parse_angles(o.at, n);
+  if (o.p.empty()) {
+    x.resize(static_cast<std::size_t>(2 * n), 0.0);
+  } else {
+    const auto p = cli::parse_number_list(o.p, "--p", static_cast<std::size_t>(n),
+                                          fmt::format("p_1..p_{}", n));
+    x.insert(x.end(), p.begin(), p.end());
+  }
+  return x;
+}
+
+int run_single(const chain& c, const floquet_command_options& o, const floquet_options& options) {
+  const std::vector<double> x0 = start_state(c, o);
+  cli::terminal_run control;
+  floquet_options opts = options;
+  opts.control = &control;
+  const floquet_result r = floquet_analysis(c, x0, opts);
+  control.finish();
+  if (r.stopped) {
+    fmt::print(stderr, "npend floquet: interrupted\n");
+    return control.exit_code();
+  }
+  const bool periodic = r.closure < 1e-6 * std::max(1.0, std::fabs(x0[0]));
+  if (o.json) {
+    nlohmann::json j = describe_chain(c);
+    j["at"] = x0;
+    j["period"] = r.period;
+    j["steps"] = o.steps;
+    j["multipliers"] = multiplier_list(r);
+    j["max_modulus"] = r.max_modulus;
+    j["stable"] = r.stable;
+    j["closure"] = r.closure;
+    j["periodic"] = periodic;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  fmt::print("{}-link chain, pivot {}, period T = {:.6g} s, {} Gauss-Legendre steps\n", c.links(),
+             c.parameters().pivot.describe(), r.period, o.steps);
+  fmt::print("start x0 = {}\n", x0);
+  fmt::print("{:>4} {:>22} {:>22} {:>14}\n", "k", "Re mu", "Im mu", "|mu|");
+  for (std::size_t k = 0; k < r.multipliers.size(); ++k)
+    fmt::print("{:>4} {:>22.15g} {:>22.15g} {:>14.10f}\n", k + 1, r.multipliers[k].real(),
+               r.multipliers[k].imag(), std::abs(r.multipliers[k]));
+  fmt::print("{}: max |mu| = {:.10f}\n", r.stable ? "stable (linearly)" : "unstable",
+             r.max_modulus);
+  if (!periodic)
+    fmt::print(stderr,
+               "npend floquet: warning: the start is not on a T-periodic orbit (|x(T) - x(0)| = "
+               "{:.3g}): the multipliers are those of the period map there, not of an orbit\n",
+               r.closure);
+  return 0;
+}
+
+// Contiguous runs of stable frequencies, as [first, last] pairs.
+std::vector<std::pair<double, double>> stable_windows(const std::vector<double>& omega,
+                                                      const std::vector<bool>& stable) {
+  std::vector<std::pair<double, double>> out;
+  for (std::size_t i = 0; i < omega.size(); ++i) {
+    if (!stable[i]) continue;
+    if (i > 0 && stable[i - 1])
+      out.back().second = omega[i];
+    else
+      out.emplace_back(omega[i], omega[i]);
+  }
+  return out;
+}
+
+int run_scan(const chain& base, const floquet_command_options& o, const floquet_options& options) {
+  const frequency_scan scan = parse_scan(o.scan);
+  const pivot_motion& drive = base.parameters().pivot;
+  const std::vector<double> x0 = start_state(base, o);
+  series_output files(o.out);
+  cli::terminal_run control;
+  std::vector<double> omega, a_omega, modulus, stable_flag;
+  std::vector<bool> stable;
+  for (int k = 0; k < scan.count; ++k) {
+    const double w = scan.from + (scan.to - scan.from) * k / (scan.count - 1);
+    chain_parameters params = base.parameters();
+    params.pivot.frequency = w;
+    const chain c(params);
+    run_control_part part(&control, static_cast<std::size_t>(k),
+                          static_cast<std::size_t>(scan.count));
+    floquet_options opts = options;
+    opts.control = &part;
+    const floquet_result r = floquet_analysis(c, x0, opts);
+    if (r.stopped) {
+      control.finish();
+      fmt::print(stderr, "npend floquet: interrupted at Omega = {} rad/s{}\n", w,
+                 o.out.empty() ? "" : fmt::format("; nothing written to {}", o.out));
+      return control.exit_code();
+    }
+    omega.push_back(w);
+    a_omega.push_back(drive.amplitude * w);
+    modulus.push_back(r.max_modulus);
+    stable.push_back(r.stable);
+    stable_flag.push_back(r.stable ? 1.0 : 0.0);
+  }
+  control.finish();
+  const auto windows = stable_windows(omega, stable);
+  if (files.enabled()) {
+    const std::string data =
+        files.write_csv("", std::vector<std::string>{"omega", "a_omega", "max_modulus", "stable"},
+                        std::vector{omega, a_omega, modulus, stable_flag});
+    cli::plot_panel panel{
+        .title =
+            fmt::format("Floquet stability of {} over the drive frequency ({} drive, a = {} m)",
+                        fmt::join(x0, ","),
+                        drive.type == pivot_motion::kind::vertical ? "vertical" : "horizontal",
+                        drive.amplitude),
+        .xlabel = "drive frequency Ω (rad/s)",
+        .ylabel = "largest multiplier |μ|_{max}",
+        .log_y = true,
+        .commands = {"set key top right", "set grid"}};
+    panel.curves.push_back({data, "1:3", "lines lw 2 lc rgb '#1f77b4'", "max |μ|"});
+    panel.curves.push_back(
+        {data, "($4 > 0.5 ? $1 : 1/0):3", "points pt 7 ps 0.6 lc rgb '#2ca02c'", "stable"});
+    files.write_plot({.description = {"npend floquet --scan: the largest Floquet multiplier over "
+                                      "the drive frequency; stable where it is 1",
+                                      fmt::format("data: {}", data)},
+                      .panels = {panel}});
+  }
+  if (o.json) {
+    nlohmann::json j = describe_chain(base);
+    j["at"] = x0;
+    nlohmann::json rows = nlohmann::json::array(), list = nlohmann::json::array();
+    for (std::size_t i = 0; i < omega.size(); ++i)
+      rows.push_back({{"omega", omega[i]},
+                      {"a_omega", a_omega[i]},
+                      {"max_modulus", modulus[i]},
+                      {"stable", static_cast<bool>(stable[i])}});
+    for (const auto& [lo, hi] : windows) list.push_back({lo, hi});
+    j["scan"] = rows;
+    j["stable_windows"] = list;
+    files.add_to(j);
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  fmt::print("{}-link chain at {}, drive amplitude {} m: {} frequencies {}..{} rad/s\n",
+             base.links(), x0, drive.amplitude, scan.count, scan.from, scan.to);
+  fmt::print("{:>12} {:>12} {:>16} {:>8}\n", "Omega", "a*Omega", "max |mu|", "stable");
+  for (std::size_t i = 0; i < omega.size(); ++i)
+    fmt::print("{:>12.6g} {:>12.6g} {:>16.10g} {:>8}\n", omega[i], a_omega[i], modulus[i],
+               stable[i] ? "yes" : "no");
+  if (windows.empty()) fmt::print("no stable frequency in the scan\n");
+  for (const auto& [lo, hi] : windows)
+    fmt::print("stable for Omega in [{:.6g}, {:.6g}] rad/s (a*Omega in [{:.6g}, {:.6g}] m/s)\n", lo,
+               hi, drive.amplitude * lo, drive.amplitude * hi);
+  files.print();
+  return 0;
+}
+
+int run_floquet(const floquet_command_options& o) {
+  const chain c = o.chain.make_chain(cli::model_support::any, "npend floquet");
+  const pivot_motion& drive = c.parameters().pivot;
+  if (drive.type != pivot_motion::kind::vertical && drive.type != pivot_motion::kind::horizontal)
+    throw cli::input_error(
+        "npend floquet needs a periodic drive: --pivot vertical:A:OMEGA or horizontal:A:OMEGA");
+  if (o.steps < 8 || o.steps > 1000000)
+    throw cli::input_error(fmt::format("--steps: must be 8..1000000, got {}", o.steps));
+  if (!o.out.empty() && o.scan.empty())
+    throw cli::input_error("--out: only with --scan (the chart's data and plot)");
+  floquet_options options;
+  options.steps = o.steps;
+  try {
+    return o.scan.empty() ? run_single(c, o, options) : run_scan(c, o, options);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(e.what());
+  }
+}
+
+}  // namespace
+
+void add_floquet_command(CLI::App& app, command_list& commands) {
+  auto o = std::make_shared<floquet_command_options>();
+  CLI::App* cmd = app.add_subcommand(
+      "floquet",
+      "Floquet multipliers of a periodically driven chain (the monodromy matrix over one drive "
+      "period, from the exact Jacobian); with --scan a stability chart over the drive frequency");
+  o->chain.add_to(*cmd);
+  cmd->add_option("--at", o->at,
+                  "Start angles phi_1,..,phi_n (numbers or pi; one value for all links; default "
+                  "pi: the inverted chain)");
+  cmd->add_option("--p", o->p, "Start momenta p_1,..,p_n (default: 0)");
+  cmd->add_option("--steps", o->steps,
+                  "Gauss-Legendre (order 6) steps per drive period (default: 400)");
+  cmd->add_option("--scan", o->scan,
+                  "OMEGA_FROM:OMEGA_TO:COUNT: scan the drive frequency (rad/s) at the --pivot "
+                  "amplitude and list where the start is stable");
+  cmd->add_option("--out", o->out,
+                  "With --scan: write the chart as FILE.csv with a plot FILE.gp/FILE.png");
+  cmd->add_flag("--json", o->json, "Print JSON");
+  commands.push_back({cmd, [o] { return run_floquet(*o); }});
+}
+
+}  // namespace npend::app
