@@ -10,11 +10,7 @@
 // (e.g. a chain with its variational equations) call these directly.
 #pragma once
 
-#include "npend/detail/rosenbrock4_dense_output.hpp"
-#include "npend/gauss_legendre.hpp"
-#include "npend/integrate.hpp"
-#include "npend/integration_error.hpp"
-
+#include <algorithm>
 #include <boost/numeric/odeint/stepper/bulirsch_stoer_dense_out.hpp>
 #include <boost/numeric/odeint/stepper/generation.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
@@ -22,18 +18,21 @@
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 #include <boost/numeric/odeint/stepper/stepper_categories.hpp>
 #include <boost/numeric/odeint/util/odeint_error.hpp>
-
-#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <memory>
-#include <sstream>
 #include <span>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
+
+#include "npend/detail/rosenbrock4_dense_output.hpp"
+#include "npend/gauss_legendre.hpp"
+#include "npend/integrate.hpp"
+#include "npend/integration_error.hpp"
 
 namespace npend {
 
@@ -338,10 +337,11 @@ rosenbrock4_dense_output make_rosenbrock4(const std::pair<Rhs, Jacobian>& system
     f(w->x, w->dxdt, t);
     std::copy(w->dxdt.begin(), w->dxdt.end(), dxdt);
   };
-  auto jacobian = [w, jac = system.second](const double* x, double* J, double t) {
+  auto jacobian = [w, jac = system.second](const double* x, double* J, double t, double* dfdt) {
     std::copy(x, x + w->x.size(), w->x.begin());
     jac(w->x, w->J, t, w->dfdt);
     std::copy(w->J.data(), w->J.data() + w->J.size(), J);
+    std::copy(w->dfdt.begin(), w->dfdt.end(), dfdt);
   };
   return rosenbrock4_dense_output(dim, abs_tol, rel_tol, rhs, jacobian);
 }
@@ -350,7 +350,10 @@ rosenbrock4_dense_output make_rosenbrock4(const std::pair<Rhs, Jacobian>& system
 /// the system itself.
 template <class System>
 const auto& rhs_of(const System& system) {
-  if constexpr (requires { system.first; system.second; })
+  if constexpr (requires {
+                  system.first;
+                  system.second;
+                })
     return system.first;
   else
     return system;
@@ -487,9 +490,9 @@ integration_result integrate_visited(Stepper& stepper, const std::pair<Rhs, Jaco
 /// rhs(x, dxdt, t) and jacobian(x, J, t, dfdt) — from x0 (dim d) over the grid of `options`
 /// with the stepper options.stepper names, as npend::integrate does for a chain (see there
 /// for the observers and the errors). x and dxdt are std::vector<double> (dim d); J is a
-/// row-major Eigen matrix (d × d), dfdt a std::vector<double> that is not used
-/// (time-dependent systems are fine for every stepper but rosenbrock4, which takes
-/// ∂f/∂t = 0). Only rosenbrock4, gauss4 and gauss6 call the jacobian.
+/// row-major Eigen matrix (d × d), dfdt a std::vector<double> (∂f/∂t, which rosenbrock4
+/// uses; the Gauss–Legendre steppers evaluate f at the stage times instead). Only
+/// rosenbrock4, gauss4 and gauss6 call the jacobian.
 template <class Rhs, class Jacobian>
 integration_result integrate_system(const std::pair<Rhs, Jacobian>& system,
                                     std::span<const double> x0, const integration_options& options,

@@ -8,7 +8,6 @@
 #pragma once
 
 #include <boost/numeric/odeint/stepper/stepper_categories.hpp>
-
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -21,9 +20,9 @@ class rosenbrock4_dense_output {
   using stepper_category = boost::numeric::odeint::dense_output_stepper_tag;
   /// dxdt = f(x, t); x and dxdt point to `dim` doubles.
   using rhs_function = std::function<void(const double* x, double* dxdt, double t)>;
-  /// J = ∂f/∂x at (x, t), row-major dim × dim. (The system is taken as autonomous:
-  /// rosenbrock4's ∂f/∂t is set to 0.)
-  using jacobian_function = std::function<void(const double* x, double* J, double t)>;
+  /// J = ∂f/∂x at (x, t), row-major dim × dim, and dfdt = ∂f/∂t (dim doubles; rosenbrock4
+  /// needs it for a time-dependent system such as a driven chain).
+  using jacobian_function = std::function<void(const double* x, double* J, double t, double* dfdt)>;
 
   rosenbrock4_dense_output(std::size_t dim, double abs_tol, double rel_tol, rhs_function rhs,
                            jacobian_function jacobian);
