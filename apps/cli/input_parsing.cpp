@@ -4,6 +4,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <numbers>
 
 namespace npend::cli {
 
@@ -52,6 +53,24 @@ std::vector<std::string_view> split_list(std::string_view text, char separator) 
     if (comma == std::string_view::npos) return pieces;
     start = comma + 1;
   }
+}
+
+std::vector<double> parse_angle_list(std::string_view text, std::string_view option, int links) {
+  std::vector<double> out;
+  for (const std::string_view item : split_list(text)) {
+    if (item == "pi")
+      out.push_back(std::numbers::pi);
+    else if (item == "-pi")
+      out.push_back(-std::numbers::pi);
+    else
+      out.push_back(parse_number(item, option));
+  }
+  if (out.size() == 1) out.assign(static_cast<std::size_t>(links), out[0]);
+  if (out.size() != static_cast<std::size_t>(links))
+    throw input_error(fmt::format(
+        "{}: expected {} angles (phi_1..phi_{}, numbers or pi) or one for all links, got {}",
+        option, links, links, out.size()));
+  return out;
 }
 
 std::vector<double> parse_number_list(std::string_view text, std::string_view option) {

@@ -25,6 +25,10 @@ double parse_number(std::string_view text, std::string_view option);
 /// empty items, trailing commas, NaN and infinities are not.
 std::vector<double> parse_number_list(std::string_view text, std::string_view option);
 
+/// Angles for `links` links ("pi,0,-pi,1.2": numbers, or pi and -pi by name); one value
+/// stands for every link. `option` names the source in messages.
+std::vector<double> parse_angle_list(std::string_view text, std::string_view option, int links);
+
 /// The comma-separated (or `separator`-separated) pieces of `text`, empty ones included
 /// ("a,,b" has three).
 std::vector<std::string_view> split_list(std::string_view text, char separator = ',');

@@ -27,25 +27,6 @@ struct floquet_command_options {
   bool json = false;
 };
 
-// Angles with "pi" allowed ("pi", "-pi", "0"); one value stands for every link.
-std::vector<double> parse_angles(const std::string& text, int links) {
-  std::vector<double> out;
-  for (const std::string_view item : cli::split_list(text)) {
-    if (item == "pi")
-      out.push_back(std::numbers::pi);
-    else if (item == "-pi")
-      out.push_back(-std::numbers::pi);
-    else
-      out.push_back(cli::parse_number(item, "--at"));
-  }
-  if (out.size() == 1) out.assign(static_cast<std::size_t>(links), out[0]);
-  if (out.size() != static_cast<std::size_t>(links))
-    throw cli::input_error(fmt::format(
-        "--at: expected {} angles (phi_1..phi_{}, numbers or pi) or one for all links, got {}",
-        links, links, out.size()));
-  return out;
-}
-
 struct frequency_scan {
   double from = 0, to = 0;
   int count = 0;
@@ -77,7 +58,7 @@ nlohmann::json multiplier_list(const floquet_result& r) {
 
 std::vector<double> start_state(const chain& c, const floquet_command_options& o) {
   const int n = c.links();
-  std::vector<double> x = parse_angles(o.at, n);
+  std::vector<double> x = cli::parse_angle_list(o.at, "--at", n);
   if (o.p.empty()) {
     x.resize(static_cast<std::size_t>(2 * n), 0.0);
   } else {

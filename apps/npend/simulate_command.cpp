@@ -9,10 +9,12 @@
 
 #include "chain_options.hpp"
 #include "command.hpp"
+#include "control_options.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
 #include "npend/analysis/energy_drift.hpp"
 #include "npend/integrate.hpp"
+#include "npend/integrate_system.hpp"
 #include "output_file.hpp"
 #include "series_output.hpp"
 #include "start_options.hpp"
@@ -26,7 +28,8 @@ struct simulate_options {
   cli::chain_options chain;
   cli::start_options start;
   cli::integrator_options integrator;
-  std::string out, every;
+  cli::control_options control;
+  std::string out, every, controller;
   bool json = false;
 };
 
@@ -83,6 +86,18 @@ int run_simulate(const simulate_options& o) {
   const std::vector<double> x0 = o.start.make_state(c);
   integration_options options = o.integrator.make();
   const std::size_t every = parse_every(o.every);
+  // --controller lqr: the chain under u = −K(x − x*) of the design at --at.
+  std::optional<lqr_design> design;
+  if (!o.controller.empty()) {
+    if (o.controller != "lqr")
+      throw cli::input_error(
+          fmt::format("--controller: the one controller is lqr, got '{}'", o.controller));
+    if (!o.control.given())
+      throw cli::input_error("--controller lqr needs the equilibrium to hold: --at phi_1,..");
+    design = o.control.design(c);
+  } else if (o.control.given() || !o.control.actuated.empty() || !o.control.weights.empty()) {
+    throw cli::input_error("--at, --actuated and --weights go with --controller lqr");
+  }
 
   // From here on Ctrl-C only stops the run at its next output step, so the temporary file
   // created below is always removed again.
@@ -104,24 +119,31 @@ int run_simulate(const simulate_options& o) {
     csv.emplace(c, stdout);
   if (csv) csv->header();
 
-  if (!c.parameters().is_conservative() &&
+  // Damping, a moving pivot and a controller's torques all change H.
+  const bool conserved = c.parameters().is_conservative() && !design;
+  if (!conserved &&
       (options.stepper == stepper_kind::gauss4 || options.stepper == stepper_kind::gauss6))
     fmt::print(stderr,
                "npend simulate: note: the chain is {}, so {} is not symplectic here (it stays "
                "an implicit method of order {}) and H is not conserved\n",
-               c.parameters().is_damped() ? "damped" : "driven", stepper_name(options.stepper),
-               options.stepper == stepper_kind::gauss4 ? 4 : 6);
+               design                       ? "controlled"
+               : c.parameters().is_damped() ? "damped"
+                                            : "driven",
+               stepper_name(options.stepper), options.stepper == stepper_kind::gauss4 ? 4 : 6);
   energy_drift energy(c, c.hamiltonian(x0, 0.0));
   std::size_t index = 0, rows = 0;
+  const auto observe = [&](double t, std::span<const double> x) {
+    energy.add(x, t);
+    if (csv && index % every == 0) {
+      csv->row(t, x, energy.last());
+      ++rows;
+    }
+    ++index;
+    return observer_action::proceed;
+  };
   const integration_result result =
-      integrate(c, x0, options, [&](double t, std::span<const double> x) {
-        energy.add(x, t);
-        if (csv && index % every == 0) {
-          csv->row(t, x, energy.last());
-          ++rows;
-        }
-        ++index;
-      });
+      design ? integrate_system(make_feedback_system(c, *design), x0, options, observe)
+             : integrate(c, x0, options, observe);
   control.finish();
 
   if (result.stopped) {
@@ -144,11 +166,18 @@ int run_simulate(const simulate_options& o) {
     j["energy_initial"] = energy.initial();
     j["energy_final"] = energy.last();
     // On a damped or driven chain H changes by physics: its drift measures nothing.
-    const bool conserved = c.parameters().is_conservative();
     j["energy_conserved"] = conserved;
     j["max_rel_energy_error"] =
         conserved ? nlohmann::json(energy.max_relative_error()) : nlohmann::json(nullptr);
     j["initial_state"] = x0;
+    if (design) {
+      double deviation = 0;
+      for (std::size_t i = 0; i < result.state.size(); ++i)
+        deviation = std::max(deviation, std::fabs(result.state[i] - design->equilibrium[i]));
+      j["controller"] = "lqr";
+      j["equilibrium"] = design->equilibrium;
+      j["final_deviation"] = deviation;
+    }
     j["final_state"] = result.state;
     j["out"] = o.out.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.out);
     std::cout << j.dump(2) << "\n";
@@ -171,6 +200,10 @@ void add_simulate_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--every", opts->every, "Write every K-th output step only (default: 1)");
   cmd->add_flag("--json", opts->json,
                 "Print a JSON summary (steps, energies, max_rel_energy_error, ...) to stdout");
+  cmd->add_option("--controller", opts->controller,
+                  "lqr: run the chain under the LQR feedback u = -K (x - x*) that holds it at "
+                  "--at (with --actuated, --weights as for npend control)");
+  opts->control.add_to(*cmd, false);
   commands.push_back({cmd, [opts] { return run_simulate(*opts); }});
 }
 

@@ -53,7 +53,8 @@ chain::chain(chain_parameters params) : m_params(std::move(params)) {
     throw mismatch(m_physical_kernels->state_size, m_physical_kernels->param_size,
                    chain_layout::physical_param_size(m_links));
   m_physical = m_params.is_physical();
-  m_packed = m_physical ? m_params.physical_packed() : m_params.packed();
+  m_physical_packed = m_params.physical_packed();
+  m_packed = m_physical ? m_physical_packed : m_params.packed();
 }
 
 const chain_kernels& chain::kernels() const {
@@ -126,8 +127,33 @@ void chain::input_matrix(std::span<const double> phi, std::span<double> dfdw) co
   check_size(phi, m_links, "phi");
   check_size(dfdw, state_size() * chain_layout::input_size(m_links), "input matrix");
   // A point-mass chain is the physical chain with c = l and nothing else: same B.
-  const std::vector<double> params = m_physical ? m_packed : m_params.physical_packed();
-  m_physical_kernels->input_matrix(phi.data(), params.data(), dfdw.data());
+  m_physical_kernels->input_matrix(phi.data(), m_physical_packed.data(), dfdw.data());
+}
+
+void chain::rhs(std::span<const double> x, std::span<double> dxdt, double t,
+                std::span<const double> torques) const {
+  check_size(x, state_size(), "state x");
+  check_size(dxdt, state_size(), "dxdt");
+  check_size(torques, m_links, "torques");
+  input_buffer w;
+  fill_inputs(t, w.data());
+  for (int i = 0; i < m_links; ++i)
+    w[static_cast<std::size_t>(chain_layout::torque_index(m_links, i))] =
+        torques[static_cast<std::size_t>(i)];
+  m_physical_kernels->rhs(x.data(), m_physical_packed.data(), w.data(), dxdt.data());
+}
+
+void chain::jacobian(std::span<const double> x, std::span<double> jac, double t,
+                     std::span<const double> torques) const {
+  check_size(x, state_size(), "state x");
+  check_size(jac, state_size() * state_size(), "jacobian");
+  check_size(torques, m_links, "torques");
+  input_buffer w;
+  fill_inputs(t, w.data());
+  for (int i = 0; i < m_links; ++i)
+    w[static_cast<std::size_t>(chain_layout::torque_index(m_links, i))] =
+        torques[static_cast<std::size_t>(i)];
+  m_physical_kernels->jacobian(x.data(), m_physical_packed.data(), w.data(), jac.data());
 }
 
 void chain::time_derivative(std::span<const double> x, std::span<double> dfdt, double t) const {

@@ -50,6 +50,13 @@ class chain {
   void rhs(std::span<const double> x, std::span<double> dxdt, double t = 0) const;
   /// Exact Jacobian ∂f/∂x, row-major (dim 2n × 2n).
   void jacobian(std::span<const double> x, std::span<double> jac, double t = 0) const;
+  /// f and ∂f/∂x with motor torques u_j at the joints (dim n, N m; u_j acts on link j and
+  /// its reaction on link j−1) — on any chain: a point-mass chain runs them on the physical
+  /// kernels with c = l.
+  void rhs(std::span<const double> x, std::span<double> dxdt, double t,
+           std::span<const double> torques) const;
+  void jacobian(std::span<const double> x, std::span<double> jac, double t,
+                std::span<const double> torques) const;
   /// ∂f/∂t (dim 2n): zero unless the pivot moves.
   void time_derivative(std::span<const double> x, std::span<double> dfdt, double t = 0) const;
   /// ∂f/∂w for the inputs w = [a_x, a_y, u_1..u_n] (pivot acceleration, joint torques),
@@ -104,6 +111,7 @@ class chain {
 
   chain_parameters m_params;
   std::vector<double> m_packed;
+  std::vector<double> m_physical_packed;  ///< the physical layout, also for point-mass chains
   const chain_kernels* m_kernels = nullptr;
   const physical_kernels* m_physical_kernels = nullptr;
   int m_links = 0;

@@ -1,0 +1,51 @@
+#include "control_options.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "input_parsing.hpp"
+
+namespace npend::cli {
+
+void control_options::add_to(CLI::App& command, bool at_required) {
+  command
+      .add_option("--at", at,
+                  "The equilibrium to hold, phi_1,..,phi_n (numbers or pi; one value for all "
+                  "links), e.g. pi,pi,pi for the standing chain")
+      ->required(at_required);
+  command.add_option("--actuated", actuated,
+                     "The joints with a motor, 1-based (default: all), e.g. 1 for a single motor "
+                     "at the pivot");
+  command.add_option("--weights", weights,
+                     "LQR weights QPHI:QP:R: Q = diag(QPHI on the angles, QP on the momenta), "
+                     "R = R on the torques (default 10:1:1)");
+}
+
+lqr_design control_options::design(const chain& c) const {
+  const int n = c.links();
+  const std::vector<double> angles = parse_angle_list(at, "--at", n);
+  std::vector<int> joints;
+  if (!actuated.empty())
+    for (const double v : parse_number_list(actuated, "--actuated")) {
+      if (v != std::floor(v) || v < 1 || v > n)
+        throw input_error(fmt::format("--actuated: {} is not a joint 1..{}", v, n));
+      joints.push_back(static_cast<int>(v) - 1);
+    }
+  lqr_weights w;
+  if (!weights.empty()) {
+    const auto parts = split_list(weights, ':');
+    if (parts.size() != 3)
+      throw input_error(fmt::format("--weights: expected QPHI:QP:R, got '{}'", weights));
+    w.angle = parse_number(parts[0], "--weights");
+    w.momentum = parse_number(parts[1], "--weights");
+    w.torque = parse_number(parts[2], "--weights");
+  }
+  try {
+    return lqr(c, angles, joints, w);
+  } catch (const std::invalid_argument& e) {
+    throw input_error(e.what());
+  }
+}
+
+}  // namespace npend::cli
