@@ -4,6 +4,8 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "input_parsing.hpp"
 
@@ -33,6 +35,10 @@ void chain_options::add_to(CLI::App& command, bool links_required) {
                      "Physical chain: rest angles of the joint springs in rad (default: 0)");
   command.add_option("--damping", damping,
                      "Physical chain: viscous damping b_j at joint j in N m s/rad (default: 0)");
+  command.add_option("--chain", chain_file,
+                     "A JSON file with the chain's parameters (keys links, masses, lengths, g, "
+                     "com, inertia, rods, stiffness, rest_angles, damping, pivot; docs/model.md); "
+                     "options given on the command line override it");
   command.add_option("--pivot", pivot,
                      "Physical chain: the pivot moves, vertical:A:OMEGA (its height A cos(OMEGA "
                      "t)) or horizontal:A:OMEGA; A in m, OMEGA in rad/s");
@@ -86,7 +92,84 @@ std::vector<std::string> features_outside(const chain_parameters& p, model_suppo
 
 }  // namespace
 
+namespace {
+
+// A JSON number or list of numbers as the text the command-line option would carry.
+std::string option_text(const nlohmann::json& value, const std::string& key) {
+  const auto number = [&](const nlohmann::json& v) {
+    if (!v.is_number())
+      throw input_error(fmt::format("--chain: \"{}\" must be a number or a list of numbers", key));
+    return fmt::format("{}", v.get<double>());
+  };
+  if (!value.is_array()) return number(value);
+  std::string out;
+  for (const auto& v : value) out += (out.empty() ? "" : ",") + number(v);
+  if (out.empty()) throw input_error(fmt::format("--chain: \"{}\" is an empty list", key));
+  return out;
+}
+
+}  // namespace
+
+chain_options chain_options::with_file() const {
+  if (chain_file.empty()) return *this;
+  std::ifstream in(chain_file);
+  if (!in) throw input_error(fmt::format("--chain: cannot read '{}'", chain_file));
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw input_error(fmt::format("--chain: '{}' is not valid JSON ({})", chain_file, e.what()));
+  }
+  if (!j.is_object())
+    throw input_error(fmt::format("--chain: '{}' must hold one JSON object", chain_file));
+  chain_options merged = *this;
+  // Each key fills its option unless the command line gave that option.
+  const std::pair<const char*, std::string chain_options::*> lists[] = {
+      {"masses", &chain_options::masses},
+      {"lengths", &chain_options::lengths},
+      {"g", &chain_options::g},
+      {"com", &chain_options::com},
+      {"inertia", &chain_options::inertia},
+      {"stiffness", &chain_options::stiffness},
+      {"rest_angles", &chain_options::rest_angles},
+      {"damping", &chain_options::damping}};
+  for (const auto& [key, value] : j.items()) {
+    bool known = false;
+    for (const auto& [name, member] : lists)
+      if (key == name) {
+        known = true;
+        if ((merged.*member).empty()) merged.*member = option_text(value, key);
+      }
+    if (key == "links") {
+      known = true;
+      if (!value.is_number_integer())
+        throw input_error("--chain: \"links\" must be a whole number");
+      if (value.get<int>() != links)
+        throw input_error(
+            fmt::format("--chain: the file describes {} links, the command line asks for {}",
+                        value.get<int>(), links));
+    } else if (key == "rods") {
+      known = true;
+      if (!value.is_boolean()) throw input_error("--chain: \"rods\" must be true or false");
+      merged.rods = merged.rods || value.get<bool>();
+    } else if (key == "pivot") {
+      known = true;
+      if (!value.is_string())
+        throw input_error("--chain: \"pivot\" must be a string such as \"vertical:0.01:100\"");
+      if (merged.pivot.empty()) merged.pivot = value.get<std::string>();
+    }
+    if (!known)
+      throw input_error(fmt::format(
+          "--chain: unknown key \"{}\" (known: links, masses, lengths, g, com, inertia, rods, "
+          "stiffness, rest_angles, damping, pivot)",
+          key));
+  }
+  merged.chain_file.clear();
+  return merged;
+}
+
 chain chain_options::make_chain(model_support support, std::string_view name) const {
+  if (!chain_file.empty()) return with_file().make_chain(support, name);
   if (links < 1) throw input_error(fmt::format("--links: must be at least 1, got {}", links));
   chain_parameters params = chain_parameters::uniform(links);
   if (!masses.empty()) params.masses = per_link(masses, "--masses", links, "m");

@@ -23,6 +23,7 @@ struct chain_options {
   std::string masses, lengths, g;
   std::string com, inertia, stiffness, rest_angles, damping, pivot;
   bool rods = false;
+  std::string chain_file;  ///< --chain FILE.json: the same parameters, under the JSON keys
 
   /// Adds --links (required unless `links_required` is false: for commands that can also
   /// read data instead), --masses, --lengths, --g and the physical chain's options to
@@ -34,6 +35,11 @@ struct chain_options {
   /// count that is not built, or a physical feature the command (`name`) cannot take.
   chain make_chain(model_support support = model_support::rigid_links,
                    std::string_view name = "this command") const;
+
+  /// These options with those of --chain FILE.json filled in where the command line left
+  /// them empty (itself without a file). Throws input_error for an unreadable file, bad
+  /// JSON, an unknown key, a value of the wrong type, or a link count other than --links.
+  chain_options with_file() const;
 };
 
 /// "vertical:A:OMEGA" or "horizontal:A:OMEGA" (amplitude in m, angular frequency in rad/s).

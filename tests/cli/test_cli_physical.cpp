@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "support/test_support.hpp"
@@ -123,4 +124,36 @@ TEST_CASE("npend control: the standing triple pendulum's LQR design, and simulat
                                     "go with --controller lqr"));
   CHECK(npend::test::is_input_error(run_npend("control --links 2 --at pi --actuated 3"),
                                     "--actuated: 3 is not a joint 1..2"));
+}
+
+TEST_CASE("npend --chain FILE.json: the file's chain, with command-line options over it") {
+  const std::string dir = npend::test::temporary_directory("chain-file");
+  const std::string file = dir + "/lab.json";
+  {
+    std::ofstream out(file);
+    out << R"({"links": 2, "masses": [1, 2], "lengths": 0.5, "rods": true, "damping": 0.3,
+              "pivot": "horizontal:0.01:20"})";
+  }
+  const auto r = run_npend("eval --links 2 --chain " + file + " --state 0.1,0.2,0,0 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["masses"][1].get<double>() == 2.0);
+  CHECK(j["lengths"][0].get<double>() == 0.5);
+  CHECK(j["com"][0].get<double>() == 0.25);
+  CHECK(j["inertia"][1].get<double>() == doctest::Approx(2 * 0.25 / 12));
+  CHECK(j["damping"][1].get<double>() == 0.3);
+  CHECK(j["pivot"] == "horizontal:0.01:20");
+  // The same chain from flags gives the same numbers; a flag overrides the file.
+  const auto flags = run_npend(
+      "eval --links 2 --masses 1,2 --lengths 0.5 --rods --damping 0.3 --pivot horizontal:0.01:20 "
+      "--state 0.1,0.2,0,0 --json");
+  CHECK(nlohmann::json::parse(flags.out)["rhs"] == j["rhs"]);
+  const auto over =
+      run_npend("eval --links 2 --chain " + file + " --damping 0 --state 0.1,0.2,0,0 --json");
+  CHECK(nlohmann::json::parse(over.out)["damping"][0].get<double>() == 0.0);
+  CHECK(npend::test::is_input_error(
+      run_npend("eval --links 3 --chain " + file + " --state 0,0,0,0,0,0"),
+      "the file describes 2 links"));
+  CHECK(npend::test::is_input_error(
+      run_npend("eval --links 2 --chain " + dir + "/missing.json --state 0,0,0,0"), "cannot read"));
 }
