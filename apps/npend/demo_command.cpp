@@ -47,6 +47,7 @@ int run_demo(const std::string& out) {
   demo_motion(demo);
   demo_stability(demo);
   demo_forms_of_motion(demo);
+  demo_physical(demo);
   return 0;
 }
 

@@ -21,5 +21,8 @@ void demo_motion(const demo_context& demo);
 void demo_stability(const demo_context& demo);
 /// 5: the forms of motion (paper §6.6): figures 6.8–6.13 and an index in demo.out.
 void demo_forms_of_motion(const demo_context& demo);
+/// 6: the physical pendulum: uniform rods against point masses, a damped run, Kapitza's and
+/// Acheson's inverted pendulums, the standing pendulum held by LQR; in demo.out/physical/.
+void demo_physical(const demo_context& demo);
 
 }  // namespace npend::app

@@ -243,6 +243,16 @@ TEST_CASE("npend demo: writes the paper's figures 6.8-6.13 and an index to --out
     }
   CHECK(r.out.find("## 5. Forms of motion") != std::string::npos);
   CHECK(r.out.find("open " + (dir / "index.md").string()) != std::string::npos);
+
+  // Section 6: the physical pendulum, in its own folder with its own index.
+  const fs::path physical = dir / "physical";
+  const std::string physical_index = read(physical / "index.md");
+  for (const char* f : {"rods_vs_points", "damped", "kapitza_acheson", "standing_lqr"}) {
+    CAPTURE(f);
+    CHECK(fs::file_size(physical / (std::string(f) + ".png")) > 10000);
+    CHECK(physical_index.find("](" + std::string(f) + ".png)") != std::string::npos);
+  }
+  CHECK(r.out.find("## 6. The physical pendulum") != std::string::npos);
 }
 
 TEST_CASE("npend poincare, analyze and demo: --help names every option") {
