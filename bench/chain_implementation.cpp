@@ -30,6 +30,26 @@ class kernel_implementation final : public chain_implementation {
   std::vector<double> m_params;  ///< [m_1..m_n, l_1..l_n, g]
 };
 
+// The physical kernels with their time-dependent inputs (pivot acceleration, torques) zero.
+class physical_implementation final : public chain_implementation {
+ public:
+  physical_implementation(const physical_kernels& k, const chain_parameters& p)
+      : m_kernels(k),
+        m_params(p.physical_packed()),
+        m_inputs(static_cast<std::size_t>(chain_layout::input_size(p.links())), 0.0) {}
+  void rhs(const double* x, double* dxdt) override {
+    m_kernels.rhs(x, m_params.data(), m_inputs.data(), dxdt);
+  }
+  bool has_jacobian() const override { return true; }
+  void jacobian(const double* x, double* jac) override {
+    m_kernels.jacobian(x, m_params.data(), m_inputs.data(), jac);
+  }
+
+ private:
+  const physical_kernels& m_kernels;
+  std::vector<double> m_params, m_inputs;
+};
+
 class recursion_implementation final : public chain_implementation {
  public:
   explicit recursion_implementation(const chain_parameters& p)
@@ -66,8 +86,12 @@ std::unique_ptr<chain_implementation> make_implementation(std::string_view name,
   if (name == "generated") {
     const npend::chain_kernels* kernels = generated::find_chain(n);
     if (kernels == nullptr) return nullptr;
-    return std::make_unique<kernel_implementation<npend::chain_kernels>>(*kernels,
-                                                                             params.packed());
+    return std::make_unique<kernel_implementation<npend::chain_kernels>>(*kernels, params.packed());
+  }
+  if (name == "physical") {
+    const npend::physical_kernels* kernels = generated::find_physical(n);
+    if (kernels == nullptr) return nullptr;
+    return std::make_unique<physical_implementation>(*kernels, params);
   }
   if (name == "recursion") return std::make_unique<recursion_implementation>(params);
   if (name == "eigen") return std::make_unique<eigen_implementation>(params);
@@ -77,7 +101,7 @@ std::unique_ptr<chain_implementation> make_implementation(std::string_view name,
     return std::make_unique<kernel_implementation<sympy_kernels>>(*kernels, params.packed());
   }
   throw std::invalid_argument("make_implementation: unknown implementation '" + std::string(name) +
-                              "' (expected generated, recursion, eigen or sympy)");
+                              "' (expected generated, recursion, eigen, sympy or physical)");
 }
 
 }  // namespace npend::bench

@@ -12,10 +12,13 @@
 namespace npend::bench {
 
 /// Table order: npend's generated kernels, the hand-written O(n) recursion
-/// (tests/reference/include/reference/chain_recursion.hpp), the hand-written dense Eigen implementation
-/// (tests/reference/include/reference/dense_chain.hpp) and SymPy's generated C (bench/sympy_peer.py).
-inline constexpr std::array<std::string_view, 4> implementation_names{"generated", "recursion",
-                                                                      "eigen", "sympy"};
+/// (tests/reference/include/reference/chain_recursion.hpp), the hand-written dense Eigen
+/// implementation (tests/reference/include/reference/dense_chain.hpp), SymPy's generated C
+/// (bench/sympy_peer.py) and npend's physical kernels (generated/physical_<n>: the general chain,
+/// run here on the same point masses with c = l, no springs, damping or drive, so that it computes
+/// the same f).
+inline constexpr std::array<std::string_view, 5> implementation_names{"generated", "recursion",
+                                                                      "eigen", "sympy", "physical"};
 
 /// One implementation for one chain (its parameters fixed). Not thread-safe: the
 /// hand-written ones keep a workspace.

@@ -82,6 +82,12 @@ TEST_CASE("make_implementation: SymPy's generated C agrees with the generated ke
   check_rhs_and_jacobian("sympy", links);
 }
 
+TEST_CASE(
+    "make_implementation: the physical kernels on point masses agree with the generated "
+    "ones") {
+  check_rhs_and_jacobian("physical", {1, 2, 3, 4, 5, 6});
+}
+
 TEST_CASE("make_implementation: knows its implementations and the link counts they cover") {
   const auto params = npend::chain_parameters::uniform(3);
   for (const auto name : npend::bench::implementation_names)
@@ -89,5 +95,6 @@ TEST_CASE("make_implementation: knows its implementations and the link counts th
   CHECK_FALSE(make_implementation("recursion", params)->has_jacobian());
   CHECK(make_implementation("generated", npend::chain_parameters::uniform(63)) == nullptr);
   CHECK(make_implementation("sympy", npend::chain_parameters::uniform(63)) == nullptr);
+  CHECK(make_implementation("physical", npend::chain_parameters::uniform(63)) == nullptr);
   CHECK_THROWS_AS(make_implementation("pinocchio", params), std::invalid_argument);
 }
