@@ -33,14 +33,22 @@ inline void check_system_size(std::size_t got, int expected, const char* what) {
 /// parameters), so the chain must outlive it; copying it is cheap, as odeint expects.
 class chain_system {
  public:
-  explicit chain_system(const chain& c) : m_chain(&c), m_size(c.state_size()) {}
+  explicit chain_system(const chain& c)
+      : m_chain(&c),
+        m_point(c.is_physical() ? nullptr : &c.kernels()),
+        m_params(c.packed_parameters().data()),
+        m_size(c.state_size()) {}
 
   /// Throws std::invalid_argument if x or dxdt does not have dimension 2n.
   template <class State, class Deriv>
   void operator()(const State& x, Deriv& dxdt, double t) const {
     detail::check_system_size(x.size(), m_size, "state x");
     detail::check_system_size(dxdt.size(), m_size, "dxdt");
-    m_chain->evaluate_rhs(&x[0], t, &dxdt[0]);
+    // The paper's chains call their kernel directly, as before the physical chain existed.
+    if (m_point != nullptr)
+      m_point->rhs(&x[0], m_params, &dxdt[0]);
+    else
+      m_chain->evaluate_rhs(&x[0], t, &dxdt[0]);
   }
 
   /// The state dimension 2n.
@@ -48,6 +56,8 @@ class chain_system {
 
  private:
   const chain* m_chain;
+  const chain_kernels* m_point;  ///< the point-mass kernels, nullptr for a physical chain
+  const double* m_params;
   int m_size;
 };
 
