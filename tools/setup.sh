@@ -15,8 +15,8 @@ packages=(
   libeigen3-dev libboost-dev libfmt-dev libcli11-dev nlohmann-json3-dev
   # time-series analysis: FFTs, k-d trees for neighbour searches, and the plots
   libfftw3-dev libnanoflann-dev gnuplot-nox
-  # control: SLICOT's Riccati solver for the LQR design (pulls in LAPACK and BLAS)
-  libslicot-dev
+  # control: SLICOT's Riccati solver for the LQR design, and the LAPACK it is built on
+  libslicot-dev liblapack-dev
   # tests
   doctest-dev
   # benchmarks (bench/run) and their checks in the tests: Google Benchmark, the SymPy peer

@@ -29,20 +29,6 @@ struct control_command_options {
   bool json = false;
 };
 
-nlohmann::json complex_list(const std::vector<std::complex<double>>& values) {
-  nlohmann::json list = nlohmann::json::array();
-  for (const auto& v : values) list.push_back({v.real(), v.imag()});
-  return list;
-}
-
-nlohmann::json rows(const std::vector<double>& m, std::size_t cols) {
-  nlohmann::json out = nlohmann::json::array();
-  for (std::size_t i = 0; i + cols <= m.size(); i += cols)
-    out.push_back(std::vector<double>(m.begin() + static_cast<std::ptrdiff_t>(i),
-                                      m.begin() + static_cast<std::ptrdiff_t>(i + cols)));
-  return out;
-}
-
 // Whether the feedback brings the chain started at x* + δ (every angle) back to within 1e-6
 // of x* by t_end (gauss6, dt = 1e-3); a run that fails to integrate is not caught.
 bool catches(const chain& c, const lqr_design& d, double delta, double t_end,
@@ -133,14 +119,14 @@ int run_control_design(const control_command_options& o) {
     j["equilibrium"] = d.equilibrium;
     j["actuated"] = joints;
     j["controllable"] = d.controllable;
-    j["uncontrollable_eigenvalues"] = complex_list(d.uncontrollable);
-    j["A"] = rows(d.A, static_cast<std::size_t>(dim));
-    j["B"] = rows(d.B, static_cast<std::size_t>(m));
-    j["gain"] = rows(d.gain, static_cast<std::size_t>(dim));
-    j["riccati"] = rows(d.riccati, static_cast<std::size_t>(dim));
+    j["uncontrollable_eigenvalues"] = json_complex_list(d.uncontrollable);
+    j["A"] = json_rows(d.A, static_cast<std::size_t>(dim));
+    j["B"] = json_rows(d.B, static_cast<std::size_t>(m));
+    j["gain"] = json_rows(d.gain, static_cast<std::size_t>(dim));
+    j["riccati"] = json_rows(d.riccati, static_cast<std::size_t>(dim));
     j["riccati_residual"] = d.riccati_residual;
-    j["open_loop_eigenvalues"] = complex_list(d.open_loop);
-    j["closed_loop_eigenvalues"] = complex_list(d.closed_loop);
+    j["open_loop_eigenvalues"] = json_complex_list(d.open_loop);
+    j["closed_loop_eigenvalues"] = json_complex_list(d.closed_loop);
     if (caught) {
       j["largest_catch"] = caught->caught;
       j["first_lost"] = caught->any_lost ? nlohmann::json(caught->lost) : nlohmann::json(nullptr);

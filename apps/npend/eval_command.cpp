@@ -21,13 +21,6 @@ struct eval_options {
   bool json = false;
 };
 
-nlohmann::json rows(const std::vector<double>& m, int n) {
-  nlohmann::json out = nlohmann::json::array();
-  for (int i = 0; i < n; ++i)
-    out.push_back(std::vector<double>(m.begin() + i * n, m.begin() + (i + 1) * n));
-  return out;
-}
-
 void print_matrix(const char* name, const std::vector<double>& m, int n) {
   fmt::print("{} =\n", name);
   for (int i = 0; i < n; ++i) {
@@ -67,16 +60,12 @@ int run_eval(const eval_options& o) {
     j["potential_energy"] = V;
     j["velocities"] = dphi;
     j["rhs"] = f;
-    j["jacobian"] = rows(J, 2 * n);
-    j["mass_matrix"] = rows(A, n);
+    j["jacobian"] = json_rows(J, static_cast<std::size_t>(2 * n));
+    j["mass_matrix"] = json_rows(A, nn);
     j["det_mass_matrix"] = detA;
     j["time"] = o.time;
     j["time_derivative"] = dfdt;
-    nlohmann::json input_rows = nlohmann::json::array();
-    for (int i = 0; i < dim; ++i)
-      input_rows.push_back(
-          std::vector<double>(dfdw.begin() + i * inputs, dfdw.begin() + (i + 1) * inputs));
-    j["input_matrix"] = input_rows;
+    j["input_matrix"] = json_rows(dfdw, static_cast<std::size_t>(inputs));
     if (closed_form) j["hamiltonian_closed_form"] = c.hamiltonian_closed_form(x);
     std::cout << j.dump(2) << "\n";
     return 0;

@@ -50,12 +50,6 @@ frequency_scan parse_scan(const std::string& text) {
   return s;
 }
 
-nlohmann::json multiplier_list(const floquet_result& r) {
-  nlohmann::json list = nlohmann::json::array();
-  for (const auto& m : r.multipliers) list.push_back({m.real(), m.imag()});
-  return list;
-}
-
 std::vector<double> start_state(const chain& c, const floquet_command_options& o) {
   const int n = c.links();
   std::vector<double> x = cli::parse_angle_list(o.at, "--at", n);
@@ -86,7 +80,7 @@ int run_single(const chain& c, const floquet_command_options& o, const floquet_o
     j["at"] = x0;
     j["period"] = r.period;
     j["steps"] = o.steps;
-    j["multipliers"] = multiplier_list(r);
+    j["multipliers"] = json_complex_list(r.multipliers);
     j["max_modulus"] = r.max_modulus;
     j["stable"] = r.stable;
     j["closure"] = r.closure;

@@ -31,6 +31,20 @@ nlohmann::json describe_chain(const chain& c) {
   return j;
 }
 
+nlohmann::json json_rows(const std::vector<double>& m, std::size_t cols) {
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t i = 0; i + cols <= m.size(); i += cols)
+    out.push_back(std::vector<double>(m.begin() + static_cast<std::ptrdiff_t>(i),
+                                      m.begin() + static_cast<std::ptrdiff_t>(i + cols)));
+  return out;
+}
+
+nlohmann::json json_complex_list(const std::vector<std::complex<double>>& values) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& v : values) list.push_back({v.real(), v.imag()});
+  return list;
+}
+
 nlohmann::json describe_series(const time_series& s) {
   return {{"source", s.source},
           {"signal", s.name},

@@ -2,6 +2,7 @@
 // (CSV tables plus a plot, next to each other).
 #pragma once
 
+#include <complex>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <span>
@@ -15,6 +16,12 @@ namespace npend::app {
 
 /// {"links", "masses", "lengths", "g"} of the chain, the start of every chain command's JSON.
 nlohmann::json describe_chain(const chain& c);
+
+/// A row-major matrix with `cols` columns as a JSON list of rows.
+nlohmann::json json_rows(const std::vector<double>& m, std::size_t cols);
+
+/// Complex numbers (eigenvalues, multipliers) as a JSON list of [re, im].
+nlohmann::json json_complex_list(const std::vector<std::complex<double>>& values);
 
 /// {"source", "signal", "samples", "t0", "dt"} of the analysed series.
 nlohmann::json describe_series(const time_series& s);

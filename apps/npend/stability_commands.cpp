@@ -13,6 +13,7 @@
 #include "npend/analysis/equilibria.hpp"
 #include "npend/analysis/normal_modes.hpp"
 #include "npend/analysis/toda_brumer.hpp"
+#include "series_output.hpp"
 #include "stability_tables.hpp"
 
 namespace npend::app {
@@ -89,11 +90,9 @@ int run_equilibria(const equilibria_options& o) {
   if (o.json) {
     nlohmann::json list = nlohmann::json::array();
     for (const auto& e : eqs) {
-      nlohmann::json values = nlohmann::json::array();
-      for (const auto& z : e.eigenvalues) values.push_back({z.real(), z.imag()});
       list.push_back({{"angles", e.angles},
                       {"energy", e.energy},
-                      {"eigenvalues", values},
+                      {"eigenvalues", json_complex_list(e.eigenvalues)},
                       {"stable", e.stable},
                       {"unstable_directions", e.unstable_directions}});
     }

@@ -67,11 +67,12 @@ const char* chain::equations_latex() const {
   return m_physical ? m_physical_kernels->equations_latex() : m_kernels->equations_latex();
 }
 
-void chain::fill_inputs(double t, double* w) const noexcept {
+void chain::fill_inputs(double t, double* w, const double* torques) const noexcept {
   const auto a = m_params.pivot.acceleration_at(t);
   w[chain_layout::pivot_acceleration_index(0)] = a[0];
   w[chain_layout::pivot_acceleration_index(1)] = a[1];
-  for (int i = 0; i < m_links; ++i) w[chain_layout::torque_index(m_links, i)] = 0.0;
+  for (int i = 0; i < m_links; ++i)
+    w[chain_layout::torque_index(m_links, i)] = torques != nullptr ? torques[i] : 0.0;
 }
 
 std::vector<double> chain::inputs_at(double t) const {
@@ -136,10 +137,7 @@ void chain::rhs(std::span<const double> x, std::span<double> dxdt, double t,
   check_size(dxdt, state_size(), "dxdt");
   check_size(torques, m_links, "torques");
   input_buffer w;
-  fill_inputs(t, w.data());
-  for (int i = 0; i < m_links; ++i)
-    w[static_cast<std::size_t>(chain_layout::torque_index(m_links, i))] =
-        torques[static_cast<std::size_t>(i)];
+  fill_inputs(t, w.data(), torques.data());
   m_physical_kernels->rhs(x.data(), m_physical_packed.data(), w.data(), dxdt.data());
 }
 
@@ -149,10 +147,7 @@ void chain::jacobian(std::span<const double> x, std::span<double> jac, double t,
   check_size(jac, state_size() * state_size(), "jacobian");
   check_size(torques, m_links, "torques");
   input_buffer w;
-  fill_inputs(t, w.data());
-  for (int i = 0; i < m_links; ++i)
-    w[static_cast<std::size_t>(chain_layout::torque_index(m_links, i))] =
-        torques[static_cast<std::size_t>(i)];
+  fill_inputs(t, w.data(), torques.data());
   m_physical_kernels->jacobian(x.data(), m_physical_packed.data(), w.data(), jac.data());
 }
 

@@ -106,8 +106,9 @@ class chain {
  private:
   void check_size(std::span<const double> v, int expected, const char* what) const;
   void check_size(std::span<double> v, int expected, const char* what) const;
-  // The inputs at t into w (dim n + 2).
-  void fill_inputs(double t, double* w) const noexcept;
+  // The inputs at t into w (dim n + 2): the pivot's acceleration and the joint torques
+  // (dim n; none: zero).
+  void fill_inputs(double t, double* w, const double* torques = nullptr) const noexcept;
 
   chain_parameters m_params;
   std::vector<double> m_packed;
