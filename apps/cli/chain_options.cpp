@@ -80,19 +80,13 @@ std::vector<std::string> features_outside(const chain_parameters& p, model_suppo
   if (p.is_damped()) out.push_back("--damping");
   if (p.pivot.moves()) out.push_back("--pivot");
   if (support == model_support::rigid_links) {
-    if (!p.stiffness.empty() &&
-        std::any_of(p.stiffness.begin(), p.stiffness.end(), [](double k) { return k != 0; }))
+    if (std::any_of(p.stiffness.begin(), p.stiffness.end(), [](double k) { return k != 0; }))
       out.push_back("--stiffness");
-    if (!p.rest_angles.empty() &&
-        std::any_of(p.rest_angles.begin(), p.rest_angles.end(), [](double a) { return a != 0; }))
+    if (std::any_of(p.rest_angles.begin(), p.rest_angles.end(), [](double a) { return a != 0; }))
       out.push_back("--rest-angles");
   }
   return out;
 }
-
-}  // namespace
-
-namespace {
 
 // A JSON number or list of numbers as the text the command-line option would carry.
 std::string option_text(const nlohmann::json& value, const std::string& key) {

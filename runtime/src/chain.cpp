@@ -172,7 +172,8 @@ void chain::time_derivative(std::span<const double> x, std::span<double> dfdt, d
 double chain::hamiltonian(std::span<const double> x, double t) const {
   check_size(x, state_size(), "state x");
   if (!m_physical) return m_kernels->hamiltonian(x.data(), m_packed.data());
-  const std::vector<double> w = inputs_at(t);
+  input_buffer w;
+  fill_inputs(t, w.data());
   return m_physical_kernels->hamiltonian(x.data(), m_packed.data(), w.data());
 }
 
@@ -210,7 +211,8 @@ double chain::lagrangian(std::span<const double> phi, std::span<const double> dp
   check_size(phi, m_links, "phi");
   check_size(dphi, m_links, "dphi");
   if (!m_physical) return m_kernels->lagrangian(phi.data(), dphi.data(), m_packed.data());
-  const std::vector<double> w = inputs_at(t);
+  input_buffer w;
+  fill_inputs(t, w.data());
   return m_physical_kernels->lagrangian(phi.data(), dphi.data(), m_packed.data(), w.data());
 }
 
@@ -224,7 +226,8 @@ double chain::kinetic_energy(std::span<const double> phi, std::span<const double
 double chain::potential_energy(std::span<const double> phi, double t) const {
   check_size(phi, m_links, "phi");
   if (!m_physical) return m_kernels->potential_energy(phi.data(), m_packed.data());
-  const std::vector<double> w = inputs_at(t);
+  input_buffer w;
+  fill_inputs(t, w.data());
   return m_physical_kernels->potential_energy(phi.data(), m_packed.data(), w.data());
 }
 
@@ -246,7 +249,8 @@ void chain::potential_gradient(std::span<const double> phi, std::span<double> gr
   check_size(phi, m_links, "phi");
   check_size(grad, m_links, "gradient");
   if (!m_physical) return m_kernels->potential_gradient(phi.data(), m_packed.data(), grad.data());
-  const std::vector<double> w = inputs_at(t);
+  input_buffer w;
+  fill_inputs(t, w.data());
   m_physical_kernels->potential_gradient(phi.data(), m_packed.data(), w.data(), grad.data());
 }
 
@@ -254,7 +258,8 @@ void chain::potential_hessian(std::span<const double> phi, std::span<double> hes
   check_size(phi, m_links, "phi");
   check_size(hess, m_links * m_links, "hessian");
   if (!m_physical) return m_kernels->potential_hessian(phi.data(), m_packed.data(), hess.data());
-  const std::vector<double> w = inputs_at(t);
+  input_buffer w;
+  fill_inputs(t, w.data());
   m_physical_kernels->potential_hessian(phi.data(), m_packed.data(), w.data(), hess.data());
 }
 
