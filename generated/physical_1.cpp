@@ -6,11 +6,11 @@
 namespace npend::generated::physical_1 {
 
 void rhs(const double* x, const double* params, const double* inputs, double* dxdt) noexcept {
-  const double t0 = x[1] / (params[4] + params[0] * (params[3] * params[3]));
+  const double t0 = 1.0 / (params[4] + params[0] * (params[3] * params[3])) * x[1];
   const double t1 = std::sin(x[0]);
   const double t2 = std::cos(x[0]);
   const double t3 = params[0] * (params[3] * (t1 * (params[2] - inputs[1]) + t2 * inputs[0]));
-  const double t4 = t3 + (params[5] * (x[0] - params[6]) + (params[7] * t0 - inputs[2]));
+  const double t4 = t3 + (params[5] * (x[0] - params[6]) + (t0 * params[7] - inputs[2]));
   dxdt[0] = t0;
   dxdt[1] = -t4;
 }
@@ -23,20 +23,22 @@ void jacobian(const double* x, const double* params, const double* inputs, doubl
   jac[0] = 0.0;
   jac[1] = t0;
   jac[2] = -(params[5] + t3);
-  jac[3] = -(params[7] * t0);
+  jac[3] = -(t0 * params[7]);
 }
 
 double hamiltonian(const double* x, const double* params, const double* inputs) noexcept {
-  const double t0 = x[1] * (x[1] / (params[4] + params[0] * (params[3] * params[3])));
-  const double t1 = params[5] * (x[0] * (params[6] * 2.0 - x[0]) - params[6] * params[6]);
-  const double t2 = std::cos(x[0]);
-  const double t3 = std::sin(x[0]);
-  const double t4 = params[2] * (1.0 - t2) + (inputs[1] * (t2 - 1.0) + t3 * inputs[0]);
-  return t0 * 0.5 - (t1 - params[0] * (params[3] * t4 * 2.0)) * 0.5;
+  const double t0 = 1.0 / (params[4] + params[0] * (params[3] * params[3])) * x[1];
+  const double t1 = params[3] * t0;
+  const double t2 = params[5] * (x[0] * (params[6] * 2.0 - x[0]) - params[6] * params[6]);
+  const double t3 = std::cos(x[0]);
+  const double t4 = std::sin(x[0]);
+  const double t5 = params[2] * (1.0 - t3) + (inputs[1] * (t3 - 1.0) + t4 * inputs[0]);
+  const double t6 = 0.5 * (params[4] * (t0 * t0) + params[0] * (t1 * t1)) - 0.5 * (t2 - params[0] * (params[3] * t5 * 2.0));
+  return t6;
 }
 
 void velocities(const double* phi, const double* p, const double* params, double* dphi) noexcept {
-  dphi[0] = p[0] / (params[4] + params[0] * (params[3] * params[3]));
+  dphi[0] = 1.0 / (params[4] + params[0] * (params[3] * params[3])) * p[0];
 }
 
 void momenta(const double* phi, const double* dphi, const double* params, double* p) noexcept {

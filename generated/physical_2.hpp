@@ -20,14 +20,14 @@ inline constexpr int param_size = 15;
 inline constexpr int input_size = 4;
 
 /// Hamilton's equations f(x): dxdt = [dphi/dt (dim n), dp/dt (dim n)].
-/// phi' = A^-1 p with A = L D L^T factored here (general path), p' = dL/dphi at phi'. + Q, Q the joint torques, springs aside, and damping forces.
+/// phi' = A^-1 p by an O(n) articulated-body elimination for rigid links, p' = dL/dphi + Q, Q the joint torques and damping forces.
 void rhs(const double* x, const double* params, const double* inputs, double* dxdt) noexcept;
 
-/// Exact Jacobian J = df/dx of rhs, row-major (2n x 2n): J[i*2n + j] = df_i/dx_j.
-/// With damping the flow is not Hamiltonian: no symmetry of J is assumed.
+/// Exact Jacobian J = df/dx of rhs, row-major (2n x 2n): J[i*2n + j] = df_i/dx_j,
+/// the forward-mode derivative of rhs's recursion. With damping the flow is not Hamiltonian.
 void jacobian(const double* x, const double* params, const double* inputs, double* jac) noexcept;
 
-/// H(phi, p) = 1/2 p^T A^-1 p + V: the energy in the pivot's frame, V with the springs and the inertial potential of the pivot's acceleration.
+/// H(phi, p) = T + V: the energy in the pivot's frame, V with the springs and the inertial potential of the pivot's acceleration.
 double hamiltonian(const double* x, const double* params, const double* inputs) noexcept;
 
 /// Inverse Legendre transform: dphi = A^-1 p (dim n).
@@ -48,7 +48,7 @@ double potential_energy(const double* phi, const double* params, const double* i
 /// Mass matrix A = d^2T/d(dphi)^2, row-major (n x n).
 void mass_matrix(const double* phi, const double* params, double* A) noexcept;
 
-/// det A(phi) = prod D_i, the pivots of A = L D L^T.
+/// det A(phi) = prod D_k, the pivots of the articulated-body elimination.
 double det_mass_matrix(const double* phi, const double* params) noexcept;
 
 /// Gradient dV/dphi (dim n).

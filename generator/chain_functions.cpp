@@ -1,11 +1,14 @@
 #include "chain_functions.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
 #include "articulated_form.hpp"
+#include "forward_diff.hpp"
 #include "general_form.hpp"
 #include "polynomial.hpp"
+#include "rigid_articulated_form.hpp"
 
 namespace npend::gen {
 
@@ -189,6 +192,83 @@ emitted_function input_matrix_function(const chain_symbols& sym, const polynomia
       entries_rowmajor, "dfdw");
 }
 
+// The kinetic functions of a rigid-link chain by the O(n) articulated-body elimination
+// (rigid_articulated_form.hpp): rhs, jacobian (its forward-mode derivative), hamiltonian,
+// velocities and det_mass_matrix, each over its own graph. ṗ = ∂T/∂φ − ∂V/∂φ + Q with V and Q
+// from the derivation's polynomials at the computed φ̇.
+std::vector<emitted_function> rigid_articulated_functions(const polynomial_space& space,
+                                                          const chain_mechanics& mech) {
+  const int n = space.links();
+  const bool forced = std::any_of(mech.force.begin(), mech.force.end(),
+                                  [](const GiNaC::ex& q) { return !q.is_zero(); });
+  std::vector<emitted_function> out;
+  out.push_back(make("rhs", argument_layout::state,
+                     {"Hamilton's equations f(x): dxdt = [dphi/dt (dim n), dp/dt (dim n)].",
+                      "phi' = A^-1 p by an O(n) articulated-body elimination for rigid links, "
+                      "p' = dL/dphi"},
+                     "dxdt"));
+  out.push_back(make("jacobian", argument_layout::state,
+                     {"Exact Jacobian J = df/dx of rhs, row-major (2n x 2n): J[i*2n + j] = "
+                      "df_i/dx_j,",
+                      "the forward-mode derivative of rhs's recursion."},
+                     "jac"));
+  out.push_back(make("hamiltonian", argument_layout::state,
+                     {"Hamiltonian H(phi, p) = T + V (total energy)."}));
+  out.push_back(make("velocities", argument_layout::phi_p,
+                     {"Inverse Legendre transform: dphi = A^-1 p (dim n)."}, "dphi"));
+  out.push_back(make("det_mass_matrix", argument_layout::phi,
+                     {"det A(phi) = prod D_k, the pivots of the articulated-body elimination."}));
+  if (forced) {
+    out[0].doc[1] += " + Q, Q the joint torques and damping forces.";
+    out[1].doc[1] += " With damping the flow is not Hamiltonian.";
+    out[2].doc[0] =
+        "H(phi, p) = T + V: the energy in the pivot's frame, V with the springs and the "
+        "inertial potential of the pivot's acceleration.";
+  } else {
+    out[0].doc[1] += ".";
+  }
+  for (auto& f : out) {
+    expr_graph& g = *f.graph;
+    const rigid_articulated_form form(n, g);
+    if (f.name == "det_mass_matrix") {
+      f.outputs = {form.mass_matrix_determinant()};
+      continue;
+    }
+    const auto p = inputs(g, input_kind::p, n);
+    const auto motion = form.solve(p);
+    if (f.name == "velocities") {
+      f.outputs = motion.dphi;
+      continue;
+    }
+    // The derivation's polynomials read the computed φ̇ (Q's damping forces).
+    std::vector<sx> vars = variable_nodes(space, g);
+    for (int i = 0; i < n; ++i) vars[u(space.id(var_kind::dphi, i))] = motion.dphi[u(i)];
+    if (f.name == "hamiltonian") {
+      f.outputs = {motion.kinetic_energy + to_graph(space.canonical(mech.potential), vars, g)};
+      continue;
+    }
+    std::vector<sx> rhs = motion.dphi;
+    for (int i = 0; i < n; ++i)
+      rhs.push_back(
+          motion.kinetic_force[u(i)] +
+          to_graph(space.canonical((mech.force[u(i)] - mech.grad_potential[u(i)]).expand()), vars,
+                   g));
+    if (f.name == "rhs") {
+      f.outputs = std::move(rhs);
+      continue;
+    }
+    // The Jacobian column by column: along φ_k, then along p_k.
+    const int dim = 2 * n;
+    f.outputs.assign(u(dim * dim), sx{});
+    for (int col = 0; col < dim; ++col) {
+      const sx seed = col < n ? g.input(input_kind::phi, col) : p[u(col - n)];
+      const auto column = directional_derivative(g, rhs, seed);
+      for (int row = 0; row < dim; ++row) f.outputs[u(row * dim + col)] = column[u(row)];
+    }
+  }
+  return out;
+}
+
 // The kinetic functions by the general path: rhs, jacobian, hamiltonian, velocities and
 // det_mass_matrix, each from its own general_form over its own graph.
 std::vector<emitted_function> general_functions(const polynomial_space& space,
@@ -249,30 +329,26 @@ bool reads_inputs(const std::string& function_name) {
   return false;
 }
 
-kinetic_solver default_solver(const chain_symbols& sym) {
-  return sym.kind == link_kind::point_mass ? kinetic_solver::articulated : kinetic_solver::ldlt;
-}
+kinetic_solver default_solver(const chain_symbols&) { return kinetic_solver::articulated; }
 
 std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
                                                     const chain_mechanics& mech,
                                                     kinetic_solver solver) {
   const int n = sym.n;
-  if (solver == kinetic_solver::articulated && sym.kind != link_kind::point_mass)
-    throw std::invalid_argument(
-        "the articulated-body form fits point masses on massless rods only: use the general "
-        "solver (ldlt) for rigid links");
   const polynomial_space space(sym);
   std::vector<emitted_function> out;
-  std::vector<emitted_function> general;
+  std::vector<emitted_function> precomputed;  // the kinetic functions of the rigid or general path
   if (solver == kinetic_solver::ldlt)
-    general = general_functions(space, mech, derive_lagrangian_hessians(sym, mech));
+    precomputed = general_functions(space, mech, derive_lagrangian_hessians(sym, mech));
+  else if (has_rigid_links(sym.kind))
+    precomputed = rigid_articulated_functions(space, mech);
   // The kinetic functions in their place of the file's order, from either path.
-  const auto take = [&](const char* name, auto&& articulated) {
-    if (solver == kinetic_solver::articulated) {
-      out.push_back(articulated());
+  const auto take = [&](const char* name, auto&& point_mass) {
+    if (precomputed.empty()) {
+      out.push_back(point_mass());
       return;
     }
-    for (auto& f : general)
+    for (auto& f : precomputed)
       if (f.name == name) out.push_back(std::move(f));
   };
   take("rhs", [&] { return rhs_function(n, space, mech); });

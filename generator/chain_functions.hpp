@@ -36,15 +36,16 @@ struct emitted_function {
 
 /// How Hamilton's equations, their Jacobian, H, φ̇ and det A are formed.
 enum class kinetic_solver {
-  articulated,  ///< the O(n) articulated-body elimination (articulated_form.hpp)
+  articulated,  ///< the O(n) articulated-body elimination (articulated_form.hpp for point
+                ///< masses, rigid_articulated_form.hpp for rigid links)
   ldlt,         ///< the general path: A from the derivation, factored L D Lᵀ (general_form.hpp)
 };
 
 /// "articulated" or "ldlt".
 const char* solver_name(kinetic_solver solver);
 
-/// The solver for a chain: the articulated-body form where its structure fits — point masses
-/// on massless rods — the general path otherwise (rigid links).
+/// The solver for a chain: the articulated-body form, which fits every chain emitted; the
+/// general path stays for cross-checks (`npend-gen --verify N --solver ldlt`).
 kinetic_solver default_solver(const chain_symbols& sym);
 
 /// The functions of a physical chain that read its time-dependent inputs (the drive enters V,
@@ -53,8 +54,7 @@ kinetic_solver default_solver(const chain_symbols& sym);
 bool reads_inputs(const std::string& function_name);
 
 /// Every emitted function of the n-link chain, in the order they are written; the kinetic
-/// functions (rhs, jacobian, hamiltonian, velocities, det_mass_matrix) by `solver`. Throws
-/// std::invalid_argument for the articulated solver on a chain it does not fit. A physical
+/// functions (rhs, jacobian, hamiltonian, velocities, det_mass_matrix) by `solver`. A physical
 /// chain also gets input_matrix, ∂f/∂w for its inputs w.
 std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
                                                     const chain_mechanics& mech,
