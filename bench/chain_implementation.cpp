@@ -7,6 +7,7 @@
 
 #include "reference/chain_recursion.hpp"
 #include "reference/dense_chain.hpp"
+#include "reference/physical_recursion.hpp"
 #include "sympy_kernels.hpp"
 
 namespace npend::bench {
@@ -64,6 +65,35 @@ class recursion_implementation final : public chain_implementation {
   reference::chain_recursion m_recursion;
 };
 
+// The physical chain's hand-written recursion, with the parameters the physical kernels get
+// (c = l, J = 0 and no springs or damping unless the chain sets them).
+class physical_recursion_implementation final : public chain_implementation {
+ public:
+  explicit physical_recursion_implementation(const chain_parameters& p)
+      : m_recursion(make(p.physical_packed(), p.links())) {}
+  void rhs(const double* x, double* dxdt) override { m_recursion.rhs(x, dxdt); }
+  bool has_jacobian() const override { return false; }
+  void jacobian(const double*, double*) override {
+    throw std::logic_error("the physical recursion peer has no Jacobian");
+  }
+
+ private:
+  static reference::physical_recursion make(const std::vector<double>& packed, int n) {
+    const auto block = [&](int first) {
+      return std::vector<double>(packed.begin() + first, packed.begin() + first + n);
+    };
+    return {block(0),
+            block(n),
+            packed[static_cast<std::size_t>(2 * n)],
+            block(chain_layout::com_index(n, 0)),
+            block(chain_layout::inertia_index(n, 0)),
+            block(chain_layout::stiffness_index(n, 0)),
+            block(chain_layout::rest_angle_index(n, 0)),
+            block(chain_layout::damping_index(n, 0))};
+  }
+  reference::physical_recursion m_recursion;
+};
+
 class eigen_implementation final : public chain_implementation {
  public:
   explicit eigen_implementation(const chain_parameters& p)
@@ -95,13 +125,16 @@ std::unique_ptr<chain_implementation> make_implementation(std::string_view name,
   }
   if (name == "recursion") return std::make_unique<recursion_implementation>(params);
   if (name == "eigen") return std::make_unique<eigen_implementation>(params);
+  if (name == "physical-recursion")
+    return std::make_unique<physical_recursion_implementation>(params);
   if (name == "sympy") {
     const sympy_kernels* kernels = find_sympy_chain(n);
     if (kernels == nullptr) return nullptr;
     return std::make_unique<kernel_implementation<sympy_kernels>>(*kernels, params.packed());
   }
-  throw std::invalid_argument("make_implementation: unknown implementation '" + std::string(name) +
-                              "' (expected generated, recursion, eigen, sympy or physical)");
+  throw std::invalid_argument(
+      "make_implementation: unknown implementation '" + std::string(name) +
+      "' (expected generated, recursion, eigen, sympy, physical or physical-recursion)");
 }
 
 }  // namespace npend::bench

@@ -16,9 +16,11 @@ namespace npend::bench {
 /// implementation (tests/reference/include/reference/dense_chain.hpp), SymPy's generated C
 /// (bench/sympy_peer.py) and npend's physical kernels (generated/physical_<n>: the general chain,
 /// run here on the same point masses with c = l, no springs, damping or drive, so that it computes
-/// the same f).
-inline constexpr std::array<std::string_view, 5> implementation_names{"generated", "recursion",
-                                                                      "eigen", "sympy", "physical"};
+/// the same f) and the hand-written O(n) recursion of the physical chain
+/// (tests/reference/include/reference/physical_recursion.hpp), on the same chain: the physical
+/// kernels' lower limit.
+inline constexpr std::array<std::string_view, 6> implementation_names{
+    "generated", "recursion", "eigen", "sympy", "physical", "physical-recursion"};
 
 /// One implementation for one chain (its parameters fixed). Not thread-safe: the
 /// hand-written ones keep a workspace.

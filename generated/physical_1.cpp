@@ -9,20 +9,20 @@ void rhs(const double* x, const double* params, const double* inputs, double* dx
   const double t0 = 1.0 / (params[4] + params[0] * (params[3] * params[3])) * x[1];
   const double t1 = std::sin(x[0]);
   const double t2 = std::cos(x[0]);
-  const double t3 = params[0] * (params[3] * (t1 * (params[2] - inputs[1]) + t2 * inputs[0]));
-  const double t4 = t3 + (params[5] * (x[0] - params[6]) + (t0 * params[7] - inputs[2]));
+  const double t3 = params[0] * params[3] * (t1 * (params[2] - inputs[1]) + t2 * inputs[0]);
+  const double t4 = -t3 - (x[0] - params[6]) * params[5] + (inputs[2] - t0 * params[7]);
   dxdt[0] = t0;
-  dxdt[1] = -t4;
+  dxdt[1] = t4;
 }
 
 void jacobian(const double* x, const double* params, const double* inputs, double* jac) noexcept {
   const double t0 = 1.0 / (params[4] + params[0] * (params[3] * params[3]));
   const double t1 = std::cos(x[0]);
   const double t2 = std::sin(x[0]);
-  const double t3 = params[0] * (params[3] * (t1 * (params[2] - inputs[1]) - t2 * inputs[0]));
+  const double t3 = params[0] * params[3] * (t1 * (params[2] - inputs[1]) - t2 * inputs[0]);
   jac[0] = 0.0;
   jac[1] = t0;
-  jac[2] = -(params[5] + t3);
+  jac[2] = -t3 - params[5];
   jac[3] = -(t0 * params[7]);
 }
 

@@ -1,6 +1,5 @@
 #include "chain_functions.hpp"
 
-#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -192,15 +191,69 @@ emitted_function input_matrix_function(const chain_symbols& sym, const polynomia
       entries_rowmajor, "dfdw");
 }
 
+// The exact Jacobian of a rigid-link chain's rhs, from forward-mode derivatives of the
+// elimination. ṗ = ṗ_H + Q splits into the Hamiltonian part ṗ_H = ∂T/∂φ − ∂V/∂φ = −∂H/∂φ
+// and the joint forces Q = Q_φ̇ φ̇ + Q_0, linear in φ̇ (damping) with the constant matrix
+// Q_φ̇ (tridiagonal) and Q_0 the torques. With B = ∂φ̇/∂φ, W = ∂φ̇/∂p = A⁻¹ and C = ∂ṗ_H/∂φ:
+//   J = [[B, W], [C + Q_φ̇ B, −Bᵀ + Q_φ̇ W]],
+// W and C symmetric (second derivatives of H). So only B, the half i ≤ k of W and the half
+// i ≥ k of C are differentiated — about half the work of the whole rhs along all 2n
+// directions — and the lower link's force along the upper link's angle is the member of each
+// pair of C taken, as in the point-mass form (articulated_form.hpp).
+std::vector<sx> rigid_jacobian(const rigid_articulated_form& form,
+                               const rigid_articulated_form::motion& motion,
+                               const std::vector<sx>& p, expr_graph& g) {
+  const int n = static_cast<int>(p.size()), dim = 2 * n;
+  const std::vector<sx> potential = form.potential_force();
+  std::vector<sx> hamiltonian_rate;
+  for (int i = 0; i < n; ++i)
+    hamiltonian_rate.push_back(motion.kinetic_force[u(i)] + potential[u(i)]);
+  // Q at the rate inputs, to differentiate along them.
+  const std::vector<sx> joint_force = form.joint_force(inputs(g, input_kind::dphi, n));
+  std::vector<std::vector<sx>> q_rate(u(n));  // q_rate[j][i] = ∂Q_i/∂φ̇_j: parameters only
+  for (int j = 0; j < n; ++j)
+    q_rate[u(j)] = directional_derivative(g, joint_force, g.input(input_kind::dphi, j));
+  std::vector<std::vector<sx>> b(u(n)), w(u(n), std::vector<sx>(u(n))), c = w;  // b[k][i] = B_ik
+  std::vector<sx> out(u(dim * dim));
+  const auto at = [&](int row, int col) -> sx& { return out[u(row * dim + col)]; };
+  for (int k = 0; k < n; ++k) {
+    // Along φ_k: B's column k and C_ik for i ≥ k.
+    std::vector<sx> outputs = motion.dphi;
+    outputs.insert(outputs.end(), hamiltonian_rate.begin() + k, hamiltonian_rate.end());
+    const auto d = directional_derivative(g, outputs, g.input(input_kind::phi, k));
+    b[u(k)].assign(d.begin(), d.begin() + n);
+    for (int i = k; i < n; ++i) c[u(i)][u(k)] = c[u(k)][u(i)] = d[u(n + i - k)];
+    // Along p_k: W_ik for i ≤ k; the rates of the links below k are not needed.
+    const std::vector<sx> upper(motion.dphi.begin(), motion.dphi.begin() + k + 1);
+    const auto dw = directional_derivative(g, upper, p[u(k)]);
+    for (int i = 0; i <= k; ++i) w[u(i)][u(k)] = w[u(k)][u(i)] = dw[u(i)];
+  }
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < n; ++k) {
+      at(i, k) = b[u(k)][u(i)];
+      at(i, n + k) = w[u(i)][u(k)];
+      sx force_phi = c[u(i)][u(k)], force_p = -b[u(i)][u(k)];
+      for (int j = 0; j < n; ++j) {
+        const sx qij = q_rate[u(j)][u(i)];
+        if (g.is_constant(qij, 0)) continue;
+        force_phi = force_phi + qij * b[u(k)][u(j)];
+        force_p = force_p + qij * w[u(j)][u(k)];
+      }
+      at(n + i, k) = force_phi;
+      at(n + i, n + k) = force_p;
+    }
+  return out;
+}
+
 // The kinetic functions of a rigid-link chain by the O(n) articulated-body elimination
 // (rigid_articulated_form.hpp): rhs, jacobian (its forward-mode derivative), hamiltonian,
 // velocities and det_mass_matrix, each over its own graph. ṗ = ∂T/∂φ − ∂V/∂φ + Q with V and Q
 // from the derivation's polynomials at the computed φ̇.
-std::vector<emitted_function> rigid_articulated_functions(const polynomial_space& space,
+std::vector<emitted_function> rigid_articulated_functions(const chain_symbols& sym,
+                                                          const polynomial_space& space,
                                                           const chain_mechanics& mech) {
-  const int n = space.links();
-  const bool forced = std::any_of(mech.force.begin(), mech.force.end(),
-                                  [](const GiNaC::ex& q) { return !q.is_zero(); });
+  const int n = sym.n;
+  const bool physical = sym.kind == link_kind::physical;
   std::vector<emitted_function> out;
   out.push_back(make("rhs", argument_layout::state,
                      {"Hamilton's equations f(x): dxdt = [dphi/dt (dim n), dp/dt (dim n)].",
@@ -218,7 +271,7 @@ std::vector<emitted_function> rigid_articulated_functions(const polynomial_space
                      {"Inverse Legendre transform: dphi = A^-1 p (dim n)."}, "dphi"));
   out.push_back(make("det_mass_matrix", argument_layout::phi,
                      {"det A(phi) = prod D_k, the pivots of the articulated-body elimination."}));
-  if (forced) {
+  if (physical) {
     out[0].doc[1] += " + Q, Q the joint torques and damping forces.";
     out[1].doc[1] += " With damping the flow is not Hamiltonian.";
     out[2].doc[0] =
@@ -229,7 +282,7 @@ std::vector<emitted_function> rigid_articulated_functions(const polynomial_space
   }
   for (auto& f : out) {
     expr_graph& g = *f.graph;
-    const rigid_articulated_form form(n, g);
+    const rigid_articulated_form form(n, physical, g);
     if (f.name == "det_mass_matrix") {
       f.outputs = {form.mass_matrix_determinant()};
       continue;
@@ -240,31 +293,21 @@ std::vector<emitted_function> rigid_articulated_functions(const polynomial_space
       f.outputs = motion.dphi;
       continue;
     }
-    // The derivation's polynomials read the computed φ̇ (Q's damping forces).
-    std::vector<sx> vars = variable_nodes(space, g);
-    for (int i = 0; i < n; ++i) vars[u(space.id(var_kind::dphi, i))] = motion.dphi[u(i)];
     if (f.name == "hamiltonian") {
-      f.outputs = {motion.kinetic_energy + to_graph(space.canonical(mech.potential), vars, g)};
+      // V from the derivation: a sum of terms, not needed differentiated.
+      f.outputs = {motion.kinetic_energy +
+                   to_graph(space.canonical(mech.potential), variable_nodes(space, g), g)};
       continue;
     }
-    std::vector<sx> rhs = motion.dphi;
-    for (int i = 0; i < n; ++i)
-      rhs.push_back(
-          motion.kinetic_force[u(i)] +
-          to_graph(space.canonical((mech.force[u(i)] - mech.grad_potential[u(i)]).expand()), vars,
-                   g));
     if (f.name == "rhs") {
-      f.outputs = std::move(rhs);
+      const std::vector<sx> potential = form.potential_force();
+      const std::vector<sx> joint = form.joint_force(motion.dphi);
+      f.outputs = motion.dphi;
+      for (int i = 0; i < n; ++i)
+        f.outputs.push_back(motion.kinetic_force[u(i)] + (potential[u(i)] + joint[u(i)]));
       continue;
     }
-    // The Jacobian column by column: along φ_k, then along p_k.
-    const int dim = 2 * n;
-    f.outputs.assign(u(dim * dim), sx{});
-    for (int col = 0; col < dim; ++col) {
-      const sx seed = col < n ? g.input(input_kind::phi, col) : p[u(col - n)];
-      const auto column = directional_derivative(g, rhs, seed);
-      for (int row = 0; row < dim; ++row) f.outputs[u(row * dim + col)] = column[u(row)];
-    }
+    f.outputs = rigid_jacobian(form, motion, p, g);
   }
   return out;
 }
@@ -341,7 +384,7 @@ std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
   if (solver == kinetic_solver::ldlt)
     precomputed = general_functions(space, mech, derive_lagrangian_hessians(sym, mech));
   else if (has_rigid_links(sym.kind))
-    precomputed = rigid_articulated_functions(space, mech);
+    precomputed = rigid_articulated_functions(sym, space, mech);
   // The kinetic functions in their place of the file's order, from either path.
   const auto take = [&](const char* name, auto&& point_mass) {
     if (precomputed.empty()) {

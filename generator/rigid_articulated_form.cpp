@@ -29,8 +29,8 @@ vec2 to_lower_frame(vec2 v, sx C, sx S) { return {C * v.n - S * v.u, S * v.n + C
 
 }  // namespace
 
-rigid_articulated_form::rigid_articulated_form(int links, expr_graph& graph)
-    : m_n(links), m_graph(&graph) {
+rigid_articulated_form::rigid_articulated_form(int links, bool joint_features, expr_graph& graph)
+    : m_n(links), m_joint_features(joint_features), m_graph(&graph) {
   const int n = m_n;
   std::vector<sx> s, c;
   for (int k = 0; k < n; ++k) {
@@ -42,6 +42,8 @@ rigid_articulated_form::rigid_articulated_form(int links, expr_graph& graph)
     m_com.push_back(graph.input(input_kind::com, k));
     m_inertia.push_back(graph.input(input_kind::inertia, k));
   }
+  m_sin = s;
+  m_cos = c;
   for (int k = 0; k + 1 < n; ++k) {
     m_cd.push_back(c[u(k)] * c[u(k + 1)] + s[u(k)] * s[u(k + 1)]);
     m_sd.push_back(s[u(k + 1)] * c[u(k)] - c[u(k + 1)] * s[u(k)]);
@@ -112,6 +114,48 @@ sx rigid_articulated_form::mass_matrix_determinant() const {
   sx det = m_graph->constant(1);
   for (const pivot_step& st : m_steps) det = det * st.D;
   return det;
+}
+
+std::vector<sx> rigid_articulated_form::potential_force() const {
+  const int n = m_n;
+  expr_graph& g = *m_graph;
+  const sx gravity = g.input(input_kind::gravity);
+  const sx field_y = m_joint_features ? gravity - g.input(input_kind::drive, 1) : gravity;
+  std::vector<sx> out(u(n));
+  sx below = g.constant(0);  // μ_{k+1}
+  for (int k = n - 1; k >= 0; --k) {
+    const auto i = u(k);
+    const sx moment = m_mass[i] * m_com[i] + m_length[i] * below;
+    sx field = field_y * m_sin[i];
+    if (m_joint_features) field = field + g.input(input_kind::drive, 0) * m_cos[i];
+    out[i] = -(moment * field);
+    below = below + m_mass[i];
+  }
+  if (!m_joint_features) return out;
+  // Spring k acts on link k and, reversed, on link k − 1.
+  for (int k = 0; k < n; ++k) {
+    sx theta = g.input(input_kind::phi, k);
+    if (k > 0) theta = theta - g.input(input_kind::phi, k - 1);
+    const sx torque =
+        g.input(input_kind::stiffness, k) * (theta - g.input(input_kind::rest_angle, k));
+    out[u(k)] = out[u(k)] - torque;
+    if (k > 0) out[u(k - 1)] = out[u(k - 1)] + torque;
+  }
+  return out;
+}
+
+std::vector<sx> rigid_articulated_form::joint_force(const std::vector<sx>& dphi) const {
+  const int n = m_n;
+  expr_graph& g = *m_graph;
+  std::vector<sx> out(u(n), g.constant(0));
+  if (!m_joint_features) return out;
+  for (int k = 0; k < n; ++k) {
+    const sx rate = k > 0 ? dphi[u(k)] - dphi[u(k - 1)] : dphi[u(k)];
+    const sx tau = g.input(input_kind::torque, k) - g.input(input_kind::damping, k) * rate;
+    out[u(k)] = out[u(k)] + tau;
+    if (k > 0) out[u(k - 1)] = out[u(k - 1)] - tau;
+  }
+  return out;
 }
 
 }  // namespace npend::gen

@@ -39,6 +39,16 @@
 //   ∂T/∂φ_k = −φ̇_k (c_k m_k y_k + l_k u_k·P_{k+1}),  u_k·P_{k+1} = R_nu (x_k + l_k φ̇_k) + R_uu y_k
 //   + b_u,
 // and det A = Π D_k: the elimination is a U D Uᵀ factorisation of A with the pivots D_k.
+//
+// The applied forces, O(1) per link as well (written out here rather than taken from the
+// derivation's polynomials, which spell the moments through differences of the μ_j): in the
+// pivot's frame gravity g − a_y and the horizontal field a_x act on the moments
+// G_k = m_k c_k + l_k μ_{k+1} (μ_j = m_j + … + m_n), and the springs on the joint angles
+// θ_k = φ_k − φ_{k−1}:
+//   ∂V/∂φ_k = G_k ((g − a_y) sin φ_k + a_x cos φ_k) + k_k (θ_k − θ̄_k) − k_{k+1} (θ_{k+1} −
+//   θ̄_{k+1});
+// the joint torques τ_j = u_j − b_j θ̇_j act on link j and, reversed, on link j − 1:
+// Q_k = τ_k − τ_{k+1}. A rigid chain without joints' features has gravity alone.
 // `npend-gen --verify` checks all of it in exact arithmetic against GiNaC's derivation.
 #pragma once
 
@@ -53,7 +63,8 @@ class rigid_articulated_form {
  public:
   /// Builds the momentum-independent nodes from the angle, mass, length, centre-of-mass and
   /// inertia inputs of `graph`.
-  rigid_articulated_form(int links, expr_graph& graph);
+  /// `joint_features`: the physical chain's springs, damping, torques and moving pivot.
+  rigid_articulated_form(int links, bool joint_features, expr_graph& graph);
 
   /// The motion for momenta p (dim n): the rates φ̇_k, the kinetic part ∂T/∂φ_k of ṗ_k and T.
   struct motion {
@@ -65,6 +76,11 @@ class rigid_articulated_form {
   /// det A = Π D_k.
   sx mass_matrix_determinant() const;
 
+  /// −∂V/∂φ_k (dim n).
+  std::vector<sx> potential_force() const;
+  /// The joint forces Q_k at the rates `dphi` (dim n; zero without joint features).
+  std::vector<sx> joint_force(const std::vector<sx>& dphi) const;
+
  private:
   // The momentum-independent part of the elimination of link k: D_k, 1/D_k, g, and the
   // articulated mass R of the sub-chain below, turned into link k's frame.
@@ -72,7 +88,9 @@ class rigid_articulated_form {
     sx D, inv_D, gn, gu, Rnu, Ruu;
   };
   int m_n;
+  bool m_joint_features;
   expr_graph* m_graph;
+  std::vector<sx> m_sin, m_cos;
   std::vector<sx> m_mass, m_length, m_com, m_inertia, m_cd, m_sd;
   std::vector<pivot_step> m_steps;
 };

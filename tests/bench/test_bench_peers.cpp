@@ -70,6 +70,16 @@ TEST_CASE("make_implementation: the recursion's rhs agrees with the generated ke
 }
 
 TEST_CASE(
+    "make_implementation: the physical chain's recursion on point masses agrees with the "
+    "generated kernels") {
+  for (const int n : npend::built_link_counts()) {
+    const agreement worst = compare_with_generated("physical-recursion", n);
+    INFO("physical-recursion at n = ", n, ": worst relative error ", worst.rhs);
+    CHECK(worst.rhs < tolerance);
+  }
+}
+
+TEST_CASE(
     "make_implementation: the dense Eigen rhs and Jacobian agree with the generated kernels") {
   check_rhs_and_jacobian("eigen", npend::built_link_counts());
 }
@@ -93,6 +103,7 @@ TEST_CASE("make_implementation: knows its implementations and the link counts th
   for (const auto name : npend::bench::implementation_names)
     CHECK_MESSAGE(make_implementation(name, params) != nullptr, name);
   CHECK_FALSE(make_implementation("recursion", params)->has_jacobian());
+  CHECK_FALSE(make_implementation("physical-recursion", params)->has_jacobian());
   CHECK(make_implementation("generated", npend::chain_parameters::uniform(63)) == nullptr);
   CHECK(make_implementation("sympy", npend::chain_parameters::uniform(63)) == nullptr);
   CHECK(make_implementation("physical", npend::chain_parameters::uniform(63)) == nullptr);
