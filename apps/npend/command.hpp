@@ -31,6 +31,7 @@ void add_analyze_command(CLI::App& app, command_list& commands);
 void add_lyapunov_command(CLI::App& app, command_list& commands);
 void add_floquet_command(CLI::App& app, command_list& commands);
 void add_control_command(CLI::App& app, command_list& commands);
+void add_rope_command(CLI::App& app, command_list& commands);
 /// npend backbone, npend corrections.
 void add_harmonic_validity_commands(CLI::App& app, command_list& commands);
 
