@@ -13,6 +13,7 @@
 #include "figure_index.hpp"
 #include "input_parsing.hpp"
 #include "npend/analysis/motion_analysis.hpp"
+#include "npend/analysis/rod_tensions.hpp"
 #include "npend/excitation.hpp"
 #include "output_file.hpp"
 #include "section_spec.hpp"
@@ -23,6 +24,34 @@
 namespace npend::app {
 
 namespace {
+
+// τ_k(t) of every rod at the samples of all coordinates (angles may be wrapped: the tensions
+// depend on them through cosines only).
+cli::plot_panel tension_panel(series_output& files, const chain& c,
+                              const sampled_signals& signals) {
+  const auto n = static_cast<std::size_t>(c.links());
+  std::vector<std::string> names{"t"};
+  std::vector<std::vector<double>> columns(n + 1);
+  for (std::size_t k = 1; k <= n; ++k) names.push_back(fmt::format("tau_{}", k));
+  std::vector<double> x(2 * n), tau(n);
+  for (std::size_t j = 0; j < signals.samples(); ++j) {
+    columns[0].push_back(signals.t0 + static_cast<double>(j) * signals.dt);
+    for (std::size_t i = 0; i < 2 * n; ++i) x[i] = signals.values[i][j];
+    rod_tensions(c, x, tau);
+    for (std::size_t k = 0; k < n; ++k) columns[k + 1].push_back(tau[k]);
+  }
+  const std::string data = files.write_csv("", names, columns);
+  cli::plot_panel panel{.title = "Rod tensions",
+                        .xlabel = "time t (s)",
+                        .ylabel = "tension τ_k (N)",
+                        .commands = {"set key top right", "set grid", "set xzeroaxis lt -1"}};
+  static const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e"};
+  for (std::size_t k = 0; k < n; ++k)
+    panel.curves.push_back({data, fmt::format("1:{}", k + 2),
+                            fmt::format("lines lw 1.2 lc rgb '{}'", colours[k % 5]),
+                            fmt::format("τ_{}", k + 1)});
+  return panel;
+}
 
 namespace fs = std::filesystem;
 
@@ -81,6 +110,13 @@ int run_analyze(const analyze_options& o) {
              [&](series_output& out) {
                return std::vector{time_series_panel(out, "", a.signals, options.coordinate)};
              });
+  if (!c.is_physical())
+    folder.add("tensions", "Rod tensions",
+               fmt::format("The tension τ_k(t) of every rod (N) over the samples: Lagrange's "
+                           "equations of the first kind (paper §6.3.1) at each state. At rest "
+                           "τ_k is the weight below rod k; a swing adds the centripetal part, "
+                           "and a rod whose tension drops below 0 pushes."),
+               [&](series_output& out) { return std::vector{tension_panel(out, c, a.signals)}; });
   folder.add("spectrum", "Spectral density",
              fmt::format("ρ(ω) = |x̂(ω)|² of {} (mean removed, Hann window), on a log scale, its "
                          "peaks marked. A few sharp lines mean periodic or quasi-periodic motion "

@@ -13,6 +13,7 @@
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
 #include "npend/analysis/energy_drift.hpp"
+#include "npend/analysis/rod_tensions.hpp"
 #include "npend/integrate.hpp"
 #include "npend/integrate_system.hpp"
 #include "output_file.hpp"
@@ -30,7 +31,7 @@ struct simulate_options {
   cli::integrator_options integrator;
   cli::control_options control;
   std::string out, every, controller;
-  bool json = false;
+  bool json = false, tensions = false;
 };
 
 std::size_t parse_every(const std::string& text) {
@@ -41,11 +42,15 @@ std::size_t parse_every(const std::string& text) {
   return static_cast<std::size_t>(k);
 }
 
-// The trajectory as CSV: t, φ_i, p_i, H, then the bob positions x_i, y_i.
+// The trajectory as CSV: t, φ_i, p_i, H, then the bob positions x_i, y_i, and with
+// `tensions` the rod tensions τ_i.
 class csv_writer {
  public:
-  csv_writer(const chain& c, std::FILE* stream)
-      : m_chain(c), m_stream(stream), m_xy(static_cast<std::size_t>(2 * c.links())) {}
+  csv_writer(const chain& c, std::FILE* stream, bool tensions)
+      : m_chain(c),
+        m_stream(stream),
+        m_xy(static_cast<std::size_t>(2 * c.links())),
+        m_tau(tensions ? static_cast<std::size_t>(c.links()) : 0) {}
 
   void header() {
     const int n = m_chain.links();
@@ -54,6 +59,8 @@ class csv_writer {
     for (int i = 1; i <= n; ++i) fmt::format_to(std::back_inserter(m_buffer), ",p_{}", i);
     m_buffer += ",H";
     for (int i = 1; i <= n; ++i) fmt::format_to(std::back_inserter(m_buffer), ",x_{0},y_{0}", i);
+    if (!m_tau.empty())
+      for (int i = 1; i <= n; ++i) fmt::format_to(std::back_inserter(m_buffer), ",tau_{}", i);
     m_buffer += '\n';
   }
 
@@ -65,6 +72,10 @@ class csv_writer {
     for (double v : x) fmt::format_to(out, ",{}", v);
     fmt::format_to(out, ",{}", energy);
     for (double v : m_xy) fmt::format_to(out, ",{}", v);
+    if (!m_tau.empty()) {
+      rod_tensions(m_chain, x, m_tau);
+      for (double v : m_tau) fmt::format_to(out, ",{}", v);
+    }
     m_buffer += '\n';
     if (m_buffer.size() > (1u << 16)) flush();
   }
@@ -77,12 +88,16 @@ class csv_writer {
  private:
   const chain& m_chain;
   std::FILE* m_stream;
-  std::vector<double> m_xy;
+  std::vector<double> m_xy, m_tau;
   std::string m_buffer;
 };
 
 int run_simulate(const simulate_options& o) {
   const chain c = o.chain.make_chain(cli::model_support::any);
+  if (o.tensions && c.is_physical())
+    throw cli::input_error(
+        "--tensions: rod tensions are those of point masses on massless rods; drop --com, "
+        "--inertia, --rods, --stiffness, --rest-angles, --damping and --pivot");
   const std::vector<double> x0 = o.start.make_state(c);
   integration_options options = o.integrator.make();
   const std::size_t every = parse_every(o.every);
@@ -98,6 +113,9 @@ int run_simulate(const simulate_options& o) {
   } else if (o.control.given() || !o.control.actuated.empty() || !o.control.weights.empty()) {
     throw cli::input_error("--at, --actuated and --weights go with --controller lqr");
   }
+  if (o.tensions && design)
+    throw cli::input_error(
+        "--tensions: a controlled chain's joint torques load the rods with more than a tension");
 
   // From here on Ctrl-C only stops the run at its next output step, so the temporary file
   // created below is always removed again.
@@ -114,9 +132,9 @@ int run_simulate(const simulate_options& o) {
   // CSV to the file, or to stdout unless only the --json summary was asked for.
   std::optional<csv_writer> csv;
   if (file)
-    csv.emplace(c, file->stream());
+    csv.emplace(c, file->stream(), o.tensions);
   else if (!o.json)
-    csv.emplace(c, stdout);
+    csv.emplace(c, stdout, o.tensions);
   if (csv) csv->header();
 
   // Damping, a moving pivot and a controller's torques all change H.
@@ -196,7 +214,10 @@ void add_simulate_command(CLI::App& app, command_list& commands) {
   opts->integrator.add_to(*cmd);
   cmd->add_option("--out", opts->out,
                   "Write the CSV here (default: stdout; with --json and no --out, no CSV). "
-                  "Columns: t, phi_i, p_i, H, x_i, y_i");
+                  "Columns: t, phi_i, p_i, H, x_i, y_i (and tau_i with --tensions)");
+  cmd->add_flag("--tensions", opts->tensions,
+                "Add the rod tensions tau_1..tau_N (N, positive when a rod pulls) as columns: "
+                "Lagrange's equations of the first kind; point-mass chains only");
   cmd->add_option("--every", opts->every, "Write every K-th output step only (default: 1)");
   cmd->add_flag("--json", opts->json,
                 "Print a JSON summary (steps, energies, max_rel_energy_error, ...) to stdout");

@@ -1,6 +1,7 @@
 // npend poincare, npend analyze and npend demo as a user runs them: the crossings' JSON
 // against the library, the files and the index they write, and their input errors.
 #include "csv_table.hpp"
+#include "npend/analysis/rod_tensions.hpp"
 #include "support/test_support.hpp"
 
 #include "npend/analysis/poincare_section.hpp"
@@ -141,7 +142,10 @@ TEST_CASE("npend analyze: writes the data, the plots and an index that shows the
                                           "spectrum.csv",
                                           "spectrum.gp",
                                           "spectrum.png",
-                                          "spectrum_peaks.csv"};
+                                          "spectrum_peaks.csv",
+                                          "tensions.csv",
+                                          "tensions.gp",
+                                          "tensions.png"};
   CHECK(listing(dir) == expected);
   CHECK(j["files"].size() == expected.size());
   CHECK(j["signal"] == "phi3");
@@ -166,6 +170,15 @@ TEST_CASE("npend analyze: writes the data, the plots and an index that shows the
   CHECK(series.names == std::vector<std::string>{"t", "phi1", "phi2", "phi3", "p1", "p2", "p3"});
   CHECK(series.columns[0].size() == 8192);
   CHECK(series.columns[3].front() == 0.72);
+  // The tensions on the same samples, the first row the library's at the start (their
+  // physics is tested in tests/runtime/test_rod_tensions.cpp).
+  const auto tensions = npend::cli::parse_csv(read(dir / "tensions.csv"), "tensions.csv");
+  CHECK(tensions.names == std::vector<std::string>{"t", "tau_1", "tau_2", "tau_3"});
+  CHECK(tensions.columns[0].size() == 8192);
+  const std::vector<double> x0{0.72, -0.72, 0.72, 0, 0, 0};
+  const auto tau0 = npend::rod_tensions(npend::chain(npend::chain_parameters::uniform(3)), x0);
+  for (std::size_t k = 0; k < 3; ++k)
+    CHECK(tensions.columns[k + 1].front() == doctest::Approx(tau0[k]).epsilon(1e-15));
 }
 
 TEST_CASE("npend analyze: an arm going over the top is a note on the unwrapped angles") {

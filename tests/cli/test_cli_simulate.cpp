@@ -1,15 +1,15 @@
 // `npend simulate` as a user runs it: the CSV, the JSON summary, the start options, each bad
 // input's message and exit status, and no partial file after a failure or an interrupt.
-#include "npend/excitation.hpp"
-#include "npend/integrate.hpp"
-#include "support/test_support.hpp"
-
 #include <doctest/doctest.h>
-#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
+
+#include "npend/excitation.hpp"
+#include "npend/integrate.hpp"
+#include "support/test_support.hpp"
 
 using npend::test::run_npend;
 
@@ -106,6 +106,26 @@ TEST_CASE("npend simulate: --out and --json; the summary agrees with the CSV and
   for (std::size_t k = 1; k < rows.size(); ++k)
     worst = std::max(worst, std::fabs(numbers(rows[k])[5] - c.hamiltonian(x0)) / c.hamiltonian(x0));
   CHECK(j["max_rel_energy_error"].get<double>() == worst);
+}
+
+TEST_CASE("npend simulate: --tensions adds tau_i, the weight below each rod at rest") {
+  const auto r = run_npend(
+      "simulate --links 3 --masses 1,2,0.5 --phi 0,0,0 --t-end 0.01 "
+      "--dt 0.01 --tensions");
+  REQUIRE(r.exit_code == 0);
+  std::istringstream lines(r.out);
+  std::string header, first;
+  std::getline(lines, header);
+  std::getline(lines, first);
+  CHECK(header.ends_with(",y_3,tau_1,tau_2,tau_3"));
+  std::vector<double> values;
+  std::istringstream cells(first);
+  for (std::string cell; std::getline(cells, cell, ',');) values.push_back(std::stod(cell));
+  REQUIRE(values.size() == 1 + 6 + 1 + 6 + 3);
+  const double g = 9.81;
+  CHECK(values[14] == doctest::Approx(3.5 * g).epsilon(1e-12));
+  CHECK(values[15] == doctest::Approx(2.5 * g).epsilon(1e-12));
+  CHECK(values[16] == doctest::Approx(0.5 * g).epsilon(1e-12));
 }
 
 TEST_CASE("npend simulate: --every thins the CSV; --json alone writes no CSV") {
