@@ -79,13 +79,27 @@ std::vector<std::string> features_outside(const chain_parameters& p, model_suppo
   if (support == model_support::any) return out;
   if (p.is_damped()) out.push_back("--damping");
   if (p.pivot.moves()) out.push_back("--pivot");
-  if (support == model_support::rigid_links) {
+  if (support == model_support::rigid_links || support == model_support::canonical) {
     if (std::any_of(p.stiffness.begin(), p.stiffness.end(), [](double k) { return k != 0; }))
       out.push_back("--stiffness");
     if (std::any_of(p.rest_angles.begin(), p.rest_angles.end(), [](double a) { return a != 0; }))
       out.push_back("--rest-angles");
   }
   return out;
+}
+
+// Why a command of this support refuses the features features_outside lists.
+const char* refusal_reason(model_support support) {
+  switch (support) {
+    case model_support::conservative:
+      return "it relies on a conserved energy (no damping, a fixed pivot)";
+    case model_support::canonical:
+      return "the canonical ensemble needs a conserved energy periodic in the angles (no joint "
+             "springs, damping or moving pivot)";
+    default:
+      return "its equilibria are those of gravity at 0 and pi, without joint springs, damping "
+             "or a moving pivot (npend simulate and eval take every chain)";
+  }
 }
 
 // A JSON number or list of numbers as the text the command-line option would carry.
@@ -183,11 +197,7 @@ chain chain_options::make_chain(model_support support, std::string_view name) co
   const std::vector<std::string> refused = features_outside(params, support);
   if (!refused.empty())
     throw input_error(fmt::format(
-        "{} does not take {}: {}", name, fmt::join(refused, ", "),
-        support == model_support::conservative
-            ? "it relies on a conserved energy (no damping, a fixed pivot)"
-            : "its equilibria are those of gravity at 0 and pi, without joint springs, damping "
-              "or a moving pivot (npend simulate and eval take every chain)"));
+        "{} does not take {}: {}", name, fmt::join(refused, ", "), refusal_reason(support)));
   try {
     return chain(params);
   } catch (const std::invalid_argument& e) {

@@ -15,6 +15,7 @@ enum class model_support {
   any,           ///< every chain (simulate, eval)
   conservative,  ///< H must be conserved: no damping, a fixed pivot
   rigid_links,   ///< the paper's analyses at 0/π equilibria: rigid links at most
+  canonical,     ///< the canonical ensemble: a conserved energy periodic in the angles
 };
 
 /// Raw text of the chain options, parsed strictly after CLI11 has collected them.

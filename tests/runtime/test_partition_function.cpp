@@ -1,0 +1,143 @@
+// The canonical ensemble (analysis/partition_function.hpp) against the single pendulum's
+// closed form in Bessel functions, the exponential convergence of the periodic trapezoid
+// rule, ⟨E⟩ = −∂ ln Z/∂β by differences, equipartition at low and high temperature, and the
+// quasi-Monte Carlo rule against the grid within its own error estimate.
+#include <doctest/doctest.h>
+
+#include <boost/math/special_functions/bessel.hpp>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "npend/analysis/partition_function.hpp"
+#include "npend/chain.hpp"
+
+namespace {
+
+npend::chain_parameters pendulum(double m, double l, double g) {
+  npend::chain_parameters p;
+  p.masses = {m};
+  p.lengths = {l};
+  p.g = g;
+  return p;
+}
+
+// ln Z, ⟨E⟩, C and ⟨cos φ⟩ of one point mass (k = 1): with a = m g l, x = a / T,
+// Q = √(m l²) 2π e^{−x} I₀(x), ⟨cos φ⟩ = I₁/I₀, ⟨cos² φ⟩ = (1 + I₂/I₀)/2.
+struct closed_form {
+  double log_z, energy, capacity, mean_cos;
+};
+closed_form single_pendulum(double m, double l, double g, double t) {
+  const double a = m * g * l, x = a / t;
+  using boost::math::cyl_bessel_i;
+  const double i0 = cyl_bessel_i(0, x), i1 = cyl_bessel_i(1, x), i2 = cyl_bessel_i(2, x);
+  const double cos1 = i1 / i0, cos2 = (1 + i2 / i0) / 2;
+  const double q = std::sqrt(m * l * l) * 2 * std::numbers::pi * std::exp(-x) * i0;
+  return {0.5 * std::log(2 * std::numbers::pi * t) + std::log(q), t / 2 + a * (1 - cos1),
+          0.5 + a * a * (cos2 - cos1 * cos1) / (t * t), cos1};
+}
+
+}  // namespace
+
+TEST_CASE("partition function: the single pendulum's closed form in Bessel functions") {
+  const double m = 1.3, l = 0.8, g = 9.81;
+  const npend::chain c(pendulum(m, l, g));
+  const std::vector<double> temperatures{0.5, 3.0, 10.0, 60.0};
+  const auto r = npend::canonical_ensemble(c, temperatures);
+  REQUIRE(r.rule == "trapezoid");
+  for (std::size_t i = 0; i < temperatures.size(); ++i) {
+    const auto& s = r.states[i];
+    const closed_form e = single_pendulum(m, l, g, temperatures[i]);
+    INFO("T = " << temperatures[i]);
+    CHECK(s.log_partition_function == doctest::Approx(e.log_z).epsilon(1e-13));
+    CHECK(s.mean_energy == doctest::Approx(e.energy).epsilon(1e-12));
+    CHECK(s.heat_capacity == doctest::Approx(e.capacity).epsilon(1e-11));
+    CHECK(s.mean_cos[0] == doctest::Approx(e.mean_cos).epsilon(1e-12));
+    CHECK(s.free_energy == doctest::Approx(-temperatures[i] * e.log_z).epsilon(1e-13));
+  }
+}
+
+TEST_CASE("partition function: the periodic trapezoid rule converges exponentially") {
+  const double m = 1.0, l = 1.0, g = 9.81, t = 2.0;
+  const npend::chain c(pendulum(m, l, g));
+  const closed_form e = single_pendulum(m, l, g, t);
+  std::vector<double> error;
+  for (const int grid : {8, 16, 24, 32}) {
+    npend::partition_options o;
+    o.grid = grid;
+    const double temperature[] = {t};
+    error.push_back(std::fabs(
+        npend::canonical_ensemble(c, temperature, o).states[0].log_partition_function - e.log_z));
+  }
+  // Each 8 more points cut the error by a constant factor (x = a / T ≈ 4.9 here): a
+  // straight line on a log scale, unlike the 1/M² of the rule on a non-periodic integrand.
+  CHECK(error[0] > 1e-4);
+  CHECK(error[1] < 1e-3 * error[0]);
+  CHECK(error[2] < 1e-2 * error[1]);
+  CHECK(error[3] < 1e-12);
+}
+
+TEST_CASE("partition function: <E> = -d ln Z / d beta, by differences of ln Z in T") {
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  const double t = 4.0, h = 1e-3;
+  const std::vector<double> temperatures{t - h, t, t + h};
+  const auto r = npend::canonical_ensemble(c, temperatures);
+  // ∂ ln Z/∂T = ⟨E⟩ / (k T²); C = ∂⟨E⟩/∂T.
+  const double dlogz =
+      (r.states[2].log_partition_function - r.states[0].log_partition_function) / (2 * h);
+  CHECK(dlogz * t * t == doctest::Approx(r.states[1].mean_energy).epsilon(1e-7));
+  const double de = (r.states[2].mean_energy - r.states[0].mean_energy) / (2 * h);
+  CHECK(de == doctest::Approx(r.states[1].heat_capacity).epsilon(1e-6));
+}
+
+TEST_CASE("partition function: equipartition, C -> n at low and n/2 at high temperature") {
+  const npend::chain c(npend::chain_parameters::uniform(2));  // m g l = 9.81
+  npend::partition_options o;
+  o.grid = 512;
+  const std::vector<double> temperatures{0.02, 1e4};
+  const auto r = npend::canonical_ensemble(c, temperatures, o);
+  // Harmonic: 2n quadratic terms, each k/2; the anharmonic part is O(T/(m g l)) ≈ 0.2 %.
+  CHECK(r.states[0].heat_capacity == doctest::Approx(2.0).epsilon(5e-3));
+  CHECK(r.states[0].mean_energy == doctest::Approx(2 * 0.02).epsilon(5e-3));
+  // Free rotation: V no longer matters, only the n momenta count.
+  CHECK(r.states[1].heat_capacity == doctest::Approx(1.0).epsilon(1e-5));
+  // det A depends on φ1 − φ2 only, so at infinite T each angle is uniform: <cos phi> -> 0.
+  CHECK(std::fabs(r.states[1].mean_cos[0]) < 1e-2);
+  CHECK(std::fabs(r.states[1].mean_cos[1]) < 1e-2);
+}
+
+TEST_CASE("partition function: quasi-Monte Carlo agrees with the grid within its error") {
+  npend::chain_parameters p;
+  p.masses = {1.0, 2.0};
+  p.lengths = {0.7, 1.2};
+  const npend::chain c(p);
+  const std::vector<double> temperatures{8.0, 40.0};
+  const auto grid = npend::canonical_ensemble(c, temperatures);
+  npend::partition_options o;
+  o.rule = npend::partition_rule::quasi_monte_carlo;
+  o.points = 16384;
+  const auto qmc = npend::canonical_ensemble(c, temperatures, o);
+  REQUIRE(qmc.rule == "quasi-monte-carlo");
+  for (std::size_t i = 0; i < temperatures.size(); ++i) {
+    const auto &a = grid.states[i], &b = qmc.states[i];
+    INFO("T = " << temperatures[i]);
+    CHECK(a.log_partition_error < 1e-10);
+    CHECK(b.log_partition_error > 0);
+    CHECK(std::fabs(a.log_partition_function - b.log_partition_function) <
+          5 * b.log_partition_error);
+    CHECK(std::fabs(a.mean_energy - b.mean_energy) < 5 * b.mean_energy_error);
+    CHECK(std::fabs(a.heat_capacity - b.heat_capacity) < 5 * b.heat_capacity_error);
+    CHECK(b.log_partition_error < 1e-3);
+  }
+}
+
+TEST_CASE("partition function: refuses damping, springs and non-positive temperatures") {
+  npend::chain_parameters p = npend::chain_parameters::uniform(2);
+  const std::vector<double> one{1.0}, zero{0.0};
+  CHECK_THROWS_AS(npend::canonical_ensemble(npend::chain(p), zero), std::invalid_argument);
+  p.damping = {0.1, 0.0};
+  CHECK_THROWS_AS(npend::canonical_ensemble(npend::chain(p), one), std::invalid_argument);
+  p.damping = {};
+  p.stiffness = {1.0, 1.0};
+  CHECK_THROWS_AS(npend::canonical_ensemble(npend::chain(p), one), std::invalid_argument);
+}
