@@ -9,6 +9,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "npend/analysis/langevin.hpp"
 #include "npend/analysis/partition_function.hpp"
 #include "npend/chain.hpp"
 
@@ -128,6 +129,29 @@ TEST_CASE("partition function: quasi-Monte Carlo agrees with the grid within its
     CHECK(std::fabs(a.mean_energy - b.mean_energy) < 5 * b.mean_energy_error);
     CHECK(std::fabs(a.heat_capacity - b.heat_capacity) < 5 * b.heat_capacity_error);
     CHECK(b.log_partition_error < 1e-3);
+  }
+}
+
+TEST_CASE("partition function: the time average of H under Langevin dynamics is <E>") {
+  // The dynamic check: a thermostatted trajectory samples e^{-H/kT}, so its mean energy is
+  // the ensemble's. Two temperatures, so a noise of the wrong strength cannot pass both.
+  npend::chain_parameters p = npend::chain_parameters::uniform(2);
+  p.damping = {1.0, 0.5};
+  const npend::chain c(p);
+  npend::chain_parameters conservative = p;
+  conservative.damping.clear();
+  for (const double t : {1.5, 6.0}) {
+    const double temperature[] = {t};
+    const double expected =
+        npend::canonical_ensemble(npend::chain(conservative), temperature).states[0].mean_energy;
+    npend::langevin_options o;
+    o.t_end = 2000;
+    o.dt = 0.01;
+    const auto r = npend::langevin_mean_energy(c, std::vector<double>(4, 0.0), t, o);
+    INFO("T = " << t << ": <H> = " << r.mean_energy << " +- " << r.standard_error
+                << ", <E> = " << expected);
+    CHECK(r.standard_error < 0.04 * expected);
+    CHECK(std::fabs(r.mean_energy - expected) < 4 * r.standard_error);
   }
 }
 
