@@ -100,35 +100,41 @@ TEST_CASE("partition function: equipartition, C -> n at low and n/2 at high temp
   // Harmonic: 2n quadratic terms, each k/2; the anharmonic part is O(T/(m g l)) ≈ 0.2 %.
   CHECK(r.states[0].heat_capacity == doctest::Approx(2.0).epsilon(5e-3));
   CHECK(r.states[0].mean_energy == doctest::Approx(2 * 0.02).epsilon(5e-3));
-  // Free rotation: V no longer matters, only the n momenta count.
+  // Free rotation: V no longer matters, only the n momenta count; ⟨E⟩ → n k T/2 + ⟨V⟩ with
+  // ⟨cos φ_k⟩ → 0 in V = Σ g μ_k l_k (1 − cos φ_k): ⟨V⟩ → g (μ_1 l_1 + μ_2 l_2) = 3 g.
   CHECK(r.states[1].heat_capacity == doctest::Approx(1.0).epsilon(1e-5));
+  CHECK(r.states[1].mean_energy - 1e4 == doctest::Approx(3 * 9.81).epsilon(1e-2));
   // det A depends on φ1 − φ2 only, so at infinite T each angle is uniform: <cos phi> -> 0.
   CHECK(std::fabs(r.states[1].mean_cos[0]) < 1e-2);
   CHECK(std::fabs(r.states[1].mean_cos[1]) < 1e-2);
 }
 
 TEST_CASE("partition function: quasi-Monte Carlo agrees with the grid within its error") {
-  npend::chain_parameters p;
-  p.masses = {1.0, 2.0};
-  p.lengths = {0.7, 1.2};
-  const npend::chain c(p);
+  npend::chain_parameters two, three;
+  two.masses = {1.0, 2.0};
+  two.lengths = {0.7, 1.2};
+  three.masses = {1.0, 0.5, 1.5};
+  three.lengths = {1.0, 0.8, 0.6};
   const std::vector<double> temperatures{8.0, 40.0};
-  const auto grid = npend::canonical_ensemble(c, temperatures);
-  npend::partition_options o;
-  o.rule = npend::partition_rule::quasi_monte_carlo;
-  o.points = 16384;
-  const auto qmc = npend::canonical_ensemble(c, temperatures, o);
-  REQUIRE(qmc.rule == "quasi-monte-carlo");
-  for (std::size_t i = 0; i < temperatures.size(); ++i) {
-    const auto &a = grid.states[i], &b = qmc.states[i];
-    INFO("T = " << temperatures[i]);
-    CHECK(a.log_partition_error < 1e-10);
-    CHECK(b.log_partition_error > 0);
-    CHECK(std::fabs(a.log_partition_function - b.log_partition_function) <
-          5 * b.log_partition_error);
-    CHECK(std::fabs(a.mean_energy - b.mean_energy) < 5 * b.mean_energy_error);
-    CHECK(std::fabs(a.heat_capacity - b.heat_capacity) < 5 * b.heat_capacity_error);
-    CHECK(b.log_partition_error < 1e-3);
+  for (const auto& p : {two, three}) {
+    const npend::chain c(p);
+    const auto grid = npend::canonical_ensemble(c, temperatures);
+    npend::partition_options o;
+    o.rule = npend::partition_rule::quasi_monte_carlo;
+    o.points = 16384;
+    const auto qmc = npend::canonical_ensemble(c, temperatures, o);
+    REQUIRE(qmc.rule == "quasi-monte-carlo");
+    for (std::size_t i = 0; i < temperatures.size(); ++i) {
+      const auto &a = grid.states[i], &b = qmc.states[i];
+      INFO("n = " << c.links() << ", T = " << temperatures[i]);
+      CHECK(a.log_partition_error < 1e-10);
+      CHECK(b.log_partition_error > 0);
+      CHECK(std::fabs(a.log_partition_function - b.log_partition_function) <
+            5 * b.log_partition_error);
+      CHECK(std::fabs(a.mean_energy - b.mean_energy) < 5 * b.mean_energy_error);
+      CHECK(std::fabs(a.heat_capacity - b.heat_capacity) < 5 * b.heat_capacity_error);
+      CHECK(b.log_partition_error < 1e-3);
+    }
   }
 }
 
