@@ -196,8 +196,8 @@ chain chain_options::make_chain(model_support support, std::string_view name) co
   if (!pivot.empty()) params.pivot = parse_pivot(pivot);
   const std::vector<std::string> refused = features_outside(params, support);
   if (!refused.empty())
-    throw input_error(fmt::format(
-        "{} does not take {}: {}", name, fmt::join(refused, ", "), refusal_reason(support)));
+    throw input_error(fmt::format("{} does not take {}: {}", name, fmt::join(refused, ", "),
+                                  refusal_reason(support)));
   try {
     return chain(params);
   } catch (const std::invalid_argument& e) {

@@ -108,8 +108,9 @@ std::string gnuplot_script(const figure& f, std::string_view png_name) {
     for (std::size_t k = 0; k < p.curves.size(); ++k) {
       const auto& c = p.curves[k];
       s += fmt::format(
-          "{}{} using {} with {} {}", k ? ", \\\n     " : "", gnuplot_string(c.data), c.columns,
-          c.style, c.title.empty() ? std::string("notitle") : "title " + gnuplot_string(c.title));
+          "{}{}{} using {} with {} {}", k ? ", \\\n     " : "", gnuplot_string(c.data),
+          c.source_options.empty() ? "" : " " + c.source_options, c.columns, c.style,
+          c.title.empty() ? std::string("notitle") : "title " + gnuplot_string(c.title));
     }
     s += "\n";
   }

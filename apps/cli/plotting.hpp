@@ -15,6 +15,9 @@ struct plot_curve {
   std::string columns;  ///< gnuplot `using` columns, e.g. "1:2"
   std::string style;    ///< gnuplot `with` style, e.g. "lines lw 2", "points pt 7", "boxes"
   std::string title;    ///< legend entry; empty for none
+  /// Read options between the file name and `using`, e.g. gnuplot's
+  /// "binary skip=128 array=(64,48) format='%float64'" for a raw array; empty for CSV.
+  std::string source_options = {};
 };
 
 struct plot_panel {

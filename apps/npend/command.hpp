@@ -33,6 +33,7 @@ void add_floquet_command(CLI::App& app, command_list& commands);
 void add_control_command(CLI::App& app, command_list& commands);
 void add_rope_command(CLI::App& app, command_list& commands);
 void add_partition_command(CLI::App& app, command_list& commands);
+void add_map_command(CLI::App& app, command_list& commands);
 /// npend backbone, npend corrections.
 void add_harmonic_validity_commands(CLI::App& app, command_list& commands);
 

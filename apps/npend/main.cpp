@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
   npend::app::add_control_command(app, commands);
   npend::app::add_rope_command(app, commands);
   npend::app::add_partition_command(app, commands);
+  npend::app::add_map_command(app, commands);
   npend::app::add_harmonic_validity_commands(app, commands);
   npend::app::add_simulate_command(app, commands);
   npend::app::add_spectrum_commands(app, commands);

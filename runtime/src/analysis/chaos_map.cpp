@@ -1,0 +1,89 @@
+#include "npend/analysis/chaos_map.hpp"
+
+#include <fmt/format.h>
+
+#include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+#include "npend/chain_system.hpp"
+#include "npend/integration_error.hpp"
+
+namespace npend {
+
+namespace {
+
+void require_conservative(const chain& c, const char* what) {
+  if (!c.parameters().is_conservative())
+    throw std::invalid_argument(
+        fmt::format("{}: the chain must conserve its energy (no damping, a fixed pivot)", what));
+}
+
+// G_k = m_k c_k + l_k μ_{k+1}.
+std::vector<double> gravity_moments(const chain_parameters& p) {
+  const std::size_t n = p.masses.size();
+  std::vector<double> g(n);
+  double below = 0;
+  for (std::size_t k = n; k-- > 0;) {
+    const double reach = p.com.empty() ? p.lengths[k] : p.com[k];
+    g[k] = p.masses[k] * reach + p.lengths[k] * below;
+    below += p.masses[k];
+  }
+  return g;
+}
+
+}  // namespace
+
+bool energy_forbids_flip(const chain& c, std::span<const double> x0, int link) {
+  require_conservative(c, "flip");
+  const int n = c.links();
+  if (link < 0 || link > n)
+    throw std::invalid_argument(
+        fmt::format("flip: the arm must be 1..{} (or 0: any), got {}", n, link));
+  for (const double k : c.parameters().stiffness)
+    if (k != 0) throw std::invalid_argument("flip: joint springs change the energy needed to flip");
+  const auto moments = gravity_moments(c.parameters());
+  double needed = std::numeric_limits<double>::infinity();
+  for (int k = 1; k <= n; ++k)
+    if (link == 0 || link == k)
+      needed = std::min(needed, 2 * c.parameters().g * moments[static_cast<std::size_t>(k - 1)]);
+  return c.hamiltonian(x0) < needed;
+}
+
+double flip_time(const chain& c, std::span<const double> x0, const flip_options& o) {
+  const auto n = static_cast<std::size_t>(c.links());
+  if (x0.size() != 2 * n)
+    throw std::invalid_argument(
+        fmt::format("flip: the {}-link chain needs a state of {}, got {}", n, 2 * n, x0.size()));
+  if (!(o.dt > 0) || !(o.t_end >= o.dt) || !std::isfinite(o.t_end))
+    throw std::invalid_argument(
+        fmt::format("flip: need 0 < dt <= t_end, got dt = {}, t_end = {}", o.dt, o.t_end));
+  const double inf = std::numeric_limits<double>::infinity();
+  if (energy_forbids_flip(c, x0, o.link)) return inf;
+  const auto flipped = [&](const std::vector<double>& x) {
+    for (std::size_t k = 0; k < n; ++k)
+      if ((o.link == 0 || static_cast<std::size_t>(o.link) == k + 1) &&
+          std::fabs(x[k]) >= std::numbers::pi)
+        return true;
+    return false;
+  };
+  std::vector<double> x(x0.begin(), x0.end());
+  if (flipped(x)) return 0;
+  boost::numeric::odeint::runge_kutta4<std::vector<double>> stepper;
+  const chain_system system(c);
+  const auto steps = static_cast<long long>(std::floor(o.t_end / o.dt + 1e-9));
+  for (long long k = 1; k <= steps; ++k) {
+    stepper.do_step(system, x, static_cast<double>(k - 1) * o.dt, o.dt);
+    if (flipped(x)) return static_cast<double>(k) * o.dt;
+    if (!std::isfinite(x[0]))
+      throw integration_error(
+          fmt::format("flip: the state became non-finite at t = {}; try a smaller dt",
+                      static_cast<double>(k) * o.dt),
+          static_cast<double>(k) * o.dt);
+  }
+  return inf;
+}
+
+}  // namespace npend

@@ -1,0 +1,100 @@
+// npend map as a user runs it: the .npy grid against the library cell by cell, the same
+// bytes for any thread count, and a run killed part way then finished with --resume giving
+// the same bytes as an uninterrupted one.
+#include <doctest/doctest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "npend/analysis/chaos_map.hpp"
+#include "support/test_support.hpp"
+
+namespace fs = std::filesystem;
+using npend::test::run_npend;
+
+namespace {
+
+struct npy {
+  std::string header;
+  std::vector<double> values;
+};
+
+npy read_npy(const fs::path& path) {
+  const std::string bytes = npend::test::read_text(path.string());
+  REQUIRE(bytes.size() > 10);
+  REQUIRE(bytes.substr(0, 6) == "\x93NUMPY");
+  const auto length = static_cast<std::size_t>(static_cast<unsigned char>(bytes[8])) +
+                      256 * static_cast<std::size_t>(static_cast<unsigned char>(bytes[9]));
+  REQUIRE((10 + length) % 64 == 0);
+  npy out{bytes.substr(10, length), {}};
+  out.values.resize((bytes.size() - 10 - length) / sizeof(double));
+  std::memcpy(out.values.data(), bytes.data() + 10 + length, out.values.size() * sizeof(double));
+  return out;
+}
+
+const std::string grid = "map --links 2 --x phi1:-3:3:12 --y phi2:-2.5:3:10 --t-end 10 --tile 4";
+
+}  // namespace
+
+TEST_CASE("npend map: the .npy grid holds the library's flip time of every cell") {
+  const fs::path dir = fs::path(npend::test::temporary_directory("cli-map")) / "m";
+  const auto r = run_npend(grid + " --json --out " + dir.string());
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["cells"] == 120);
+  const npy m = read_npy(dir / "map.npy");
+  CHECK(m.header.find("'shape': (10, 12)") != std::string::npos);
+  CHECK(m.header.find("'descr': '<f8'") != std::string::npos);
+  REQUIRE(m.values.size() == 120);
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  long never = 0;
+  for (int row = 0; row < 10; ++row)
+    for (int col = 0; col < 12; ++col) {
+      const std::vector<double> x{-3 + 6.0 * col / 11, -2.5 + 5.5 * row / 9, 0, 0};
+      const double expected = npend::flip_time(c, x, {10.0, 0.01, 0});
+      const double got = m.values[static_cast<std::size_t>(row * 12 + col)];
+      INFO("row " << row << ", column " << col);
+      CHECK((got == expected || (std::isinf(got) && std::isinf(expected))));
+      never += std::isinf(got) ? 1 : 0;
+    }
+  CHECK(j["no_flip"] == never);
+  CHECK(fs::exists(dir / "map.png"));
+  CHECK(fs::exists(dir / "map.json"));
+  CHECK_FALSE(fs::exists(dir / "tiles"));
+}
+
+TEST_CASE("npend map: one thread or two, the same bytes") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-threads"));
+  REQUIRE(run_npend(grid + " --threads 1 --out " + (dir / "one").string()).exit_code == 0);
+  REQUIRE(run_npend(grid + " --threads 2 --out " + (dir / "two").string()).exit_code == 0);
+  CHECK(npend::test::read_text((dir / "one" / "map.npy").string()) ==
+        npend::test::read_text((dir / "two" / "map.npy").string()));
+}
+
+TEST_CASE("npend map: killed part way and resumed, the same bytes as one run") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-resume"));
+  const std::string big =
+      " map --links 2 --x phi1:-3.1:3.1:32 --y phi2:-3.1:3.1:32 --quantity lyapunov --t-end 10 "
+      "--tile 4 --threads 1";
+  REQUIRE(run_npend(big + " --out " + (dir / "whole").string()).exit_code == 0);
+  // Start it in the background, wait for its first tiles, kill it.
+  const fs::path part = dir / "part";
+  const auto killed =
+      npend::test::run_shell(std::string(NPEND_CLI_PATH) + big + " --out " + part.string() +
+                             " >/dev/null 2>&1 & pid=$!; for i in $(seq 600); do "
+                             "[ \"$(ls " +
+                             (part / "tiles").string() +
+                             " 2>/dev/null | wc -l)\" -ge 4 ] && break; "
+                             "sleep 0.05; done; kill -TERM $pid; wait $pid; echo $?");
+  const auto tiles = std::distance(fs::directory_iterator(part / "tiles"), {});
+  INFO("tiles left by the killed run: " << tiles << ", its exit status " << killed.out);
+  CHECK(tiles >= 4);
+  CHECK(tiles < 1 + 64);  // run.json + some of the 64 tiles: it did not finish
+  CHECK_FALSE(fs::exists(part / "map.npy"));
+  const auto resumed = run_npend(big + " --resume --json --out " + part.string());
+  REQUIRE(resumed.exit_code == 0);
+  CHECK(nlohmann::json::parse(resumed.out)["resumed"] == true);
+  CHECK(npend::test::read_text((dir / "whole" / "map.npy").string()) ==
+        npend::test::read_text((part / "map.npy").string()));
+}
