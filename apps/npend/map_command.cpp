@@ -101,6 +101,22 @@ std::string bytes_of(const std::vector<double>& values) {
   return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(double));
 }
 
+constexpr long max_csv_cells = 65536;  // 256 × 256: beyond that only the .npy
+
+// The grid as CSV rows x, y, value (y outer, as in the .npy); +inf and NaN as inf and nan.
+void write_csv(const fs::path& path, const axis& ax, const axis& ay,
+               const std::vector<double>& grid) {
+  std::string text = fmt::format("{},{},value\n", ax.name, ay.name);
+  std::size_t k = 0;
+  for (int j = 0; j < ay.count; ++j)
+    for (int i = 0; i < ax.count; ++i, ++k) {
+      const double v = grid[k];
+      text += fmt::format("{},{},{}\n", ax.value(i), ay.value(j),
+                          std::isnan(v) ? std::string("nan") : fmt::format("{}", v));
+    }
+  cli::write_file_atomically(path, text);
+}
+
 struct tile_layout {
   int size, tiles_x, tiles_y;
   int count() const { return tiles_x * tiles_y; }
@@ -158,28 +174,38 @@ nlohmann::json run_identity(const map_command_options& o, const chain& c, const 
 }
 
 // The heat map. `low`..`high` is the range of the finite values (for flip times dt..t_end, on
-// a log scale). Cells without a finite value (no flip, failed) are drawn white: the colour
-// bar runs to a value `top` a hair above `high`, the palette turns white in that last 0.5 %,
-// and those cells are given `top`. (Leaving them undefined needs gnuplot's `image pixels`,
-// whose millions of sub-pixel rectangles wash the colours out.)
+// a log scale). The palette is viridis between two thin bands: white at the top for the cells
+// that never flipped (+inf), red at the bottom for failed cells (NaN). The colour bar runs
+// from `bottom` to `top`, a hair beyond low and high, and those cells are given these ends.
+// (Leaving them undefined needs gnuplot's `image pixels`, whose millions of sub-pixel
+// rectangles wash the colours out.)
 cli::plot_outcome write_png(const fs::path& dir, const map_command_options& o, const axis& ax,
                             const axis& ay, std::size_t header_bytes, double low, double high) {
   const bool flip = o.quantity == "flip";
   const double dx = ax.count > 1 ? (ax.to - ax.from) / (ax.count - 1) : 1;
   const double dy = ay.count > 1 ? (ay.to - ay.from) / (ay.count - 1) : 1;
-  constexpr double colour_share = 0.995;
-  const double top =
-      flip ? low * std::pow(high / low, 1 / colour_share) : low + (high - low) / colour_share;
+  // low and high sit at these fractions of the colour bar (the palette's indices -0.02..4.02
+  // put viridis's ends at 0.00495 and 0.99505).
+  constexpr double low_at = 0.005, high_at = 0.995;
+  const auto scale = [&](double v) { return flip ? std::log(v) : v; };
+  const auto unscale = [&](double v) { return flip ? std::exp(v) : v; };
+  const double range = (scale(high) - scale(low)) / (high_at - low_at);
+  const double bottom = unscale(scale(low) - low_at * range),
+               top = unscale(scale(low) + (1 - low_at) * range);
   cli::plot_panel panel{
-      .title = flip ? fmt::format("Time to the first flip (s); white: no flip by {:g} s", o.t_end)
-                    : fmt::format("Maximal Lyapunov exponent (1/s) over {:g} s", o.t_end),
+      .title =
+          flip ? fmt::format("Time to the first flip (s); white: no flip by {:g} s; red: "
+                             "failed",
+                             o.t_end)
+               : fmt::format("Maximal Lyapunov exponent (1/s) over {:g} s; red: failed", o.t_end),
       .xlabel = ax.name,
       .ylabel = ay.name,
       .commands = {"set size ratio -1",
                    // viridis, a perceptual colour map, then white for the cells without a value
-                   "set palette defined (0 '#440154', 1 '#3b528b', 2 '#21918c', 3 '#5ec962', "
-                   "4 '#fde725', 4.0001 'white', 4.02 'white')",
-                   fmt::format("set cbrange [{:.17g}:{:.17g}]", low, top),
+                   "set palette defined (-0.02 '#d62728', -0.0001 '#d62728', 0 '#440154', "
+                   "1 '#3b528b', 2 '#21918c', 3 '#5ec962', 4 '#fde725', 4.0001 'white', "
+                   "4.02 'white')",
+                   fmt::format("set cbrange [{:.17g}:{:.17g}]", bottom, top),
                    fmt::format("set cblabel '{}'", flip ? "t_{flip} (s)" : "λ_1 (1/s)"),
                    fmt::format("set xrange [{}:{}]", std::min(ax.from, ax.to) - dx / 2,
                                std::max(ax.from, ax.to) + dx / 2),
@@ -187,7 +213,9 @@ cli::plot_outcome write_png(const fs::path& dir, const map_command_options& o, c
                                std::max(ay.from, ay.to) + dy / 2)}};
   if (flip) panel.commands.push_back("set logscale cb");
   panel.curves.push_back(
-      {"map.npy", fmt::format("($1 == $1 && abs($1) < 1e300 ? $1 : {:.17g})", top), "image", "",
+      {"map.npy",
+       fmt::format("($1 == $1 ? (abs($1) < 1e300 ? $1 : {:.17g}) : {:.17g})", top, bottom), "image",
+       "",
        fmt::format("binary skip={} array=({},{}) format='%float64' dx={} dy={} origin=({},{})",
                    header_bytes, ax.count, ay.count, dx, dy, ax.from, ay.from)});
   return cli::write_plot(dir / "map", {.description = {"npend map: " + panel.title},
@@ -310,6 +338,8 @@ int run_map(const map_command_options& o) {
   }
   const std::string header = npy_header(ay.count, ax.count);
   cli::write_file_atomically(dir / "map.npy", header + bytes_of(grid));
+  const bool small = static_cast<long>(ax.count) * ay.count <= max_csv_cells;
+  if (small) write_csv(dir / "map.csv", ax, ay, grid);
   long never = 0, nan = 0, forbidden = 0;
   for (int j = 0; j < ay.count; ++j)
     for (int i = 0; i < ax.count; ++i) {
@@ -351,6 +381,7 @@ int run_map(const map_command_options& o) {
   summary["wall_seconds"] = seconds;
   summary["resumed"] = o.resume;
   summary["files"] = {"map.npy", "map.json", "map.gp", "map.png"};
+  if (small) summary["files"].push_back("map.csv");
   cli::write_file_atomically(dir / "map.json", summary.dump(2) + "\n");
   fs::remove_all(dir / "tiles", ec);
   if (o.json) {

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "npend/analysis/chaos_map.hpp"
 #include "support/test_support.hpp"
@@ -59,6 +60,16 @@ TEST_CASE("npend map: the .npy grid holds the library's flip time of every cell"
       never += std::isinf(got) ? 1 : 0;
     }
   CHECK(j["no_flip"] == never);
+  // A grid this small also gets map.csv: x, y, value in the .npy's order, values exact.
+  std::istringstream csv(npend::test::read_text((dir / "map.csv").string()));
+  std::string line;
+  std::getline(csv, line);
+  CHECK(line == "phi1,phi2,value");
+  for (std::size_t k = 0; k < m.values.size(); ++k) {
+    REQUIRE(std::getline(csv, line));
+    const std::string value = line.substr(line.rfind(',') + 1);
+    CHECK(std::stod(value) == m.values[k]);
+  }
   CHECK(fs::exists(dir / "map.png"));
   CHECK(fs::exists(dir / "map.json"));
   CHECK_FALSE(fs::exists(dir / "tiles"));
