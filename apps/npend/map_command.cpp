@@ -117,6 +117,15 @@ void write_csv(const fs::path& path, const axis& ax, const axis& ay,
   cli::write_file_atomically(path, text);
 }
 
+// The start state of cell (i, j): the base state with the two axes' coordinates set.
+std::vector<double> cell_state(const std::vector<double>& base, const axis& ax, const axis& ay,
+                               int i, int j) {
+  std::vector<double> state = base;
+  state[static_cast<std::size_t>(ax.coordinate)] = ax.value(i);
+  state[static_cast<std::size_t>(ay.coordinate)] = ay.value(j);
+  return state;
+}
+
 struct tile_layout {
   int size, tiles_x, tiles_y;
   int count() const { return tiles_x * tiles_y; }
@@ -134,12 +143,9 @@ std::vector<double> compute_tile(const chain& c, const map_command_options& o, c
   const int x0 = tx * layout.size, y0 = ty * layout.size;
   const int x1 = std::min(ax.count, x0 + layout.size), y1 = std::min(ay.count, y0 + layout.size);
   std::vector<double> values;
-  std::vector<double> state = base;
   for (int j = y0; j < y1; ++j)
     for (int i = x0; i < x1; ++i) {
-      state = base;
-      state[static_cast<std::size_t>(ax.coordinate)] = ax.value(i);
-      state[static_cast<std::size_t>(ay.coordinate)] = ay.value(j);
+      const std::vector<double> state = cell_state(base, ax, ay, i, j);
       try {
         if (o.quantity == "flip") {
           values.push_back(flip_time(c, state, {o.t_end, o.dt, o.flip_link}));
@@ -348,10 +354,7 @@ int run_map(const map_command_options& o) {
       if (std::isnan(v)) ++nan;
       if (std::isinf(v)) {
         ++never;
-        std::vector<double> state = base;
-        state[static_cast<std::size_t>(ax.coordinate)] = ax.value(i);
-        state[static_cast<std::size_t>(ay.coordinate)] = ay.value(j);
-        if (energy_forbids_flip(c, state, o.flip_link)) ++forbidden;
+        if (energy_forbids_flip(c, cell_state(base, ax, ay, i, j), o.flip_link)) ++forbidden;
       }
     }
   double low = std::numeric_limits<double>::infinity(), high = -low;

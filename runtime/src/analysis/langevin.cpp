@@ -7,6 +7,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "detail/sample_statistics.hpp"
 #include "npend/chain_system.hpp"
 #include "npend/gauss_legendre.hpp"
 
@@ -121,16 +122,10 @@ langevin_result langevin_mean_energy(const chain& c, std::span<const double> x0,
       return r;
     }
   }
-  double mean = 0;
-  for (double& s : block_sums) {
-    s /= static_cast<double>(per_block);
-    mean += s;
-  }
-  mean /= o.blocks;
-  double square = 0;
-  for (const double s : block_sums) square += (s - mean) * (s - mean);
-  r.mean_energy = mean;
-  r.standard_error = std::sqrt(square / (o.blocks - 1) / o.blocks);
+  for (double& s : block_sums) s /= static_cast<double>(per_block);
+  const auto blocks = detail::mean_and_standard_error(block_sums);
+  r.mean_energy = blocks.mean;
+  r.standard_error = blocks.standard_error;
   r.samples = static_cast<std::size_t>(per_block * o.blocks);
   r.final_state = x;
   return r;

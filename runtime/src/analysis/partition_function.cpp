@@ -8,6 +8,8 @@
 #include <random>
 #include <stdexcept>
 
+#include "detail/sample_statistics.hpp"
+
 namespace npend {
 
 namespace {
@@ -132,16 +134,6 @@ partition_result trapezoid(const chain& c, std::span<const double> temperatures,
   return r;
 }
 
-double standard_error(const std::vector<double>& values) {
-  double mean = 0;
-  for (const double v : values) mean += v;
-  mean /= static_cast<double>(values.size());
-  double square = 0;
-  for (const double v : values) square += (v - mean) * (v - mean);
-  const double r = static_cast<double>(values.size());
-  return std::sqrt(square / (r - 1) / r);
-}
-
 partition_result quasi_monte_carlo(const chain& c, std::span<const double> temperatures,
                                    const partition_options& o) {
   const int n = c.links();
@@ -202,10 +194,10 @@ partition_result quasi_monte_carlo(const chain& c, std::span<const double> tempe
       energy.push_back(rs.mean_energy);
       capacity.push_back(rs.heat_capacity);
     }
-    s.log_partition_error = standard_error(log_z);
+    s.log_partition_error = detail::mean_and_standard_error(log_z).standard_error;
     s.free_energy_error = o.boltzmann * temperatures[t] * s.log_partition_error;
-    s.mean_energy_error = standard_error(energy);
-    s.heat_capacity_error = standard_error(capacity);
+    s.mean_energy_error = detail::mean_and_standard_error(energy).standard_error;
+    s.heat_capacity_error = detail::mean_and_standard_error(capacity).standard_error;
     r.states.push_back(std::move(s));
   }
   return r;
