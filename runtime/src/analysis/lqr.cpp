@@ -75,7 +75,10 @@ Eigen::MatrixXd solve_riccati(const Eigen::MatrixXd& A, const Eigen::MatrixXd& G
 // "1,2" for the 0-based joints {0, 1}.
 std::string joint_list(const std::vector<int>& joints) {
   std::string out;
-  for (const int j : joints) out += (out.empty() ? "" : ",") + std::to_string(j + 1);
+  for (const int j : joints) {
+    if (!out.empty()) out += ',';
+    out += std::to_string(j + 1);
+  }
   return out;
 }
 
