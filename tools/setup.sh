@@ -11,8 +11,8 @@ packages=(
   g++ make cmake pkg-config ca-certificates
   # the generator: GiNaC on CLN
   libginac-dev libcln-dev
-  # runtime and command line
-  libeigen3-dev libboost-dev libfmt-dev libcli11-dev nlohmann-json3-dev
+  # runtime and command line; OpenMP (GCC's libgomp) runs npend map's tiles on every core
+  libeigen3-dev libboost-dev libfmt-dev libcli11-dev nlohmann-json3-dev libgomp1
   # time-series analysis: FFTs, k-d trees for neighbour searches, and the plots
   libfftw3-dev libnanoflann-dev gnuplot-nox
   # control: SLICOT's Riccati solver for the LQR design, and the LAPACK it is built on
