@@ -66,12 +66,12 @@ canonical_state state_from(const sums& s, double volume, double temperature, int
   return out;
 }
 
-point_values evaluate(const chain& c, std::span<const double> phi) {
-  point_values p;
+// Fills p at the angles phi, reusing its storage: called once per point of the rule.
+void evaluate(const chain& c, std::span<const double> phi, point_values& p) {
   p.root_det = std::sqrt(c.det_mass_matrix(phi));
   p.potential = c.potential_energy(phi);
-  for (const double a : phi) p.cos.push_back(std::cos(a));
-  return p;
+  p.cos.resize(phi.size());
+  for (std::size_t i = 0; i < phi.size(); ++i) p.cos[i] = std::cos(phi[i]);
 }
 
 std::vector<temperature_terms> terms_of(std::span<const double> temperatures, int n, double k) {
@@ -97,6 +97,7 @@ partition_result trapezoid(const chain& c, std::span<const double> temperatures,
   std::vector<sums> full(terms.size(), empty), half = full;
   std::vector<int> index(static_cast<std::size_t>(n), 0);
   std::vector<double> phi(static_cast<std::size_t>(n));
+  point_values p;
   partition_result r;
   r.rule = "trapezoid";
   r.grid = m;
@@ -107,7 +108,7 @@ partition_result trapezoid(const chain& c, std::span<const double> temperatures,
       phi[i] = -std::numbers::pi + two_pi * index[i] / m;
       on_half_grid = on_half_grid && index[i] % 2 == 0;
     }
-    const point_values p = evaluate(c, phi);
+    evaluate(c, phi, p);
     for (std::size_t t = 0; t < terms.size(); ++t) {
       accumulate(full[t], p, terms[t]);
       if (on_half_grid) accumulate(half[t], p, terms[t]);
@@ -154,6 +155,7 @@ partition_result quasi_monte_carlo(const chain& c, std::span<const double> tempe
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double volume = std::pow(two_pi, n) / o.points;
   std::vector<double> phi(static_cast<std::size_t>(n)), shift(phi.size());
+  point_values p;
   partition_result r;
   r.rule = "quasi-monte-carlo";
   r.points = o.points;
@@ -170,7 +172,7 @@ partition_result quasi_monte_carlo(const chain& c, std::span<const double> tempe
         u -= std::floor(u);
         phi[i] = -std::numbers::pi + two_pi * u;
       }
-      const point_values p = evaluate(c, phi);
+      evaluate(c, phi, p);
       for (std::size_t t = 0; t < terms.size(); ++t) {
         accumulate(own[t], p, terms[t]);
         accumulate(pooled[t], p, terms[t]);
