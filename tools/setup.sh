@@ -21,6 +21,13 @@ packages=(
   doctest-dev
   # benchmarks (bench/run) and their checks in the tests: Google Benchmark, the SymPy peer
   libbenchmark-dev python3-sympy
+  # the Python module (pybind11 on Debian's python3 and numpy), its pytest suite and the
+  # example's plots
+  python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
+  # npend animate encodes MP4 with ffmpeg (GIF with gnuplot)
+  ffmpeg
+  # npend map across processes and machines: OpenMPI, and mpirun for its tests
+  libopenmpi-dev openmpi-bin
 )
 if [ "${1:-}" = "--fuzz" ]; then
   packages+=(clang libclang-rt-14-dev)
