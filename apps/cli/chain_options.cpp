@@ -44,12 +44,8 @@ void chain_options::add_to(CLI::App& command, bool links_required) {
                      "t)) or horizontal:A:OMEGA; A in m, OMEGA in rad/s");
 }
 
-namespace {
-
-// n values, or one for every link (a long chain cannot be typed out link by link).
-std::vector<double> per_link(const std::string& text, std::string_view option, int links,
-                             std::string_view symbol) {
-  const std::vector<double> values = parse_number_list(text, option);
+std::vector<double> per_link_values(std::vector<double> values, std::string_view option, int links,
+                                    std::string_view symbol) {
   if (values.size() == 1) return std::vector<double>(static_cast<std::size_t>(links), values[0]);
   if (values.size() != static_cast<std::size_t>(links))
     throw input_error(
@@ -57,6 +53,13 @@ std::vector<double> per_link(const std::string& text, std::string_view option, i
                     "got {}",
                     option, links, symbol, symbol, links, values.size()));
   return values;
+}
+
+namespace {
+
+std::vector<double> per_link(const std::string& text, std::string_view option, int links,
+                             std::string_view symbol) {
+  return per_link_values(parse_number_list(text, option), option, links, symbol);
 }
 
 }  // namespace

@@ -43,6 +43,12 @@ struct chain_options {
   chain_options with_file() const;
 };
 
+/// A per-link parameter (symbol m, l, c, J, k, theta, b) given as n values, or as one value
+/// for every link (a long chain cannot be typed out link by link). Throws input_error
+/// naming `option` for any other count.
+std::vector<double> per_link_values(std::vector<double> values, std::string_view option, int links,
+                                    std::string_view symbol);
+
 /// "vertical:A:OMEGA" or "horizontal:A:OMEGA" (amplitude in m, angular frequency in rad/s).
 pivot_motion parse_pivot(const std::string& text);
 

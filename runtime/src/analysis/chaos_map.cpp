@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 #include <stdexcept>
+#include <vector>
 
 #include "npend/chain_system.hpp"
 #include "npend/integration_error.hpp"
@@ -84,6 +85,57 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
           static_cast<double>(k) * o.dt);
   }
   return inf;
+}
+
+std::string_view map_quantity_name(map_quantity quantity) {
+  return quantity == map_quantity::flip ? "flip" : "lyapunov";
+}
+
+map_quantity parse_map_quantity(std::string_view name) {
+  for (const auto q : {map_quantity::flip, map_quantity::lyapunov})
+    if (name == map_quantity_name(q)) return q;
+  throw std::invalid_argument(fmt::format("quantity: one of flip, lyapunov, got '{}'", name));
+}
+
+namespace {
+
+// What a Lyapunov map integrates: rk4 at dt, one tangent vector.
+lyapunov_options map_lyapunov_options(const map_cell_options& o) {
+  lyapunov_options lo;
+  lo.integration.stepper = stepper_kind::rk4;
+  lo.integration.t_end = o.t_end;
+  lo.integration.dt = o.dt;
+  return lo;
+}
+
+}  // namespace
+
+void map_cell_options::validate(const chain& c) const {
+  if (!(dt > 0) || !(t_end >= dt) || !std::isfinite(t_end))
+    throw std::invalid_argument(fmt::format("{}: need 0 < dt <= t_end, got dt = {}, t_end = {}",
+                                            map_quantity_name(quantity), dt, t_end));
+  if (quantity == map_quantity::flip) {
+    energy_forbids_flip(c, std::vector<double>(static_cast<std::size_t>(c.state_size()), 0.0),
+                        flip_link);
+  } else {
+    const auto lo = map_lyapunov_options(*this);
+    lo.validate();
+    lo.integration.validate();
+  }
+}
+
+double map_cell(const chain& c, std::span<const double> x0, const map_cell_options& options) {
+  try {
+    if (options.quantity == map_quantity::flip)
+      return flip_time(c, x0, {options.t_end, options.dt, options.flip_link});
+    return maximal_lyapunov_exponent(c, x0, map_lyapunov_options(options)).exponents.front();
+  } catch (const integration_error&) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+double grid_value(double from, double to, int count, int i) {
+  return count == 1 ? from : from + (to - from) * static_cast<double>(i) / (count - 1);
 }
 
 }  // namespace npend

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <span>
+#include <string_view>
 
 #include "npend/analysis/lyapunov.hpp"
 #include "npend/chain.hpp"
@@ -30,5 +31,38 @@ struct flip_options {
 /// without integrating). Throws std::invalid_argument for bad options or a non-conservative
 /// chain, npend::integration_error if the state becomes non-finite.
 double flip_time(const chain& c, std::span<const double> x0, const flip_options& options);
+
+/// What a map shows in each cell.
+enum class map_quantity {
+  flip,      ///< flip_time
+  lyapunov,  ///< the maximal Lyapunov exponent (rk4, one tangent vector)
+};
+/// "flip" or "lyapunov".
+std::string_view map_quantity_name(map_quantity quantity);
+/// The quantity called `name`; throws std::invalid_argument naming the valid names.
+map_quantity parse_map_quantity(std::string_view name);
+
+struct map_cell_options {
+  map_quantity quantity = map_quantity::flip;
+  double t_end = 100;  ///< s
+  double dt = 0.01;    ///< rk4's step (s)
+  int flip_link = 0;   ///< flip: 0 any arm, k ≥ 1 arm k
+
+  /// Throws std::invalid_argument naming the problem with these options for chain `c` (as
+  /// map_cell would on its first cell): dt or t_end, an arm that does not exist, a chain a
+  /// flip map cannot take (see energy_forbids_flip). For callers that run cells where an
+  /// exception cannot leave (threads).
+  void validate(const chain& c) const;
+};
+
+/// One cell of a map: the flip time (flip_options from `options`) or the maximal Lyapunov
+/// exponent (1/s) of maximal_lyapunov_exponent with rk4 at dt up to t_end; NaN when the
+/// integration fails (an integration_error). Throws std::invalid_argument as flip_time and
+/// maximal_lyapunov_exponent do.
+double map_cell(const chain& c, std::span<const double> x0, const map_cell_options& options);
+
+/// Value i (0 ≤ i < count) of `count` evenly spaced values from `from` to `to`, both
+/// included (`from` alone when count is 1): the axes of a map.
+double grid_value(double from, double to, int count, int i);
 
 }  // namespace npend

@@ -1,0 +1,262 @@
+// The analyses that are not integrations: time series (npend.spectrum, npend.autocorrelation,
+// npend.embed, npend.choose_delay), stability (npend.equilibria, npend.modes) and chaos maps
+// (npend.map, npend.map_cells).
+#include <fmt/format.h>
+#include <omp.h>
+#include <pybind11/complex.h>
+#include <pybind11/stl.h>
+
+#include <limits>
+
+#include "bindings.hpp"
+#include "npend/analysis/autocorrelation.hpp"
+#include "npend/analysis/chaos_map.hpp"
+#include "npend/analysis/delay_embedding.hpp"
+#include "npend/analysis/equilibria.hpp"
+#include "npend/analysis/normal_modes.hpp"
+#include "npend/analysis/power_spectrum.hpp"
+#include "section_spec.hpp"
+
+namespace npend::python {
+
+namespace {
+
+std::vector<double> series(const py::handle& x) {
+  const double_array a = as_array(x, "x");
+  if (a.ndim() != 1)
+    throw std::invalid_argument("x must be a 1-D array of samples (a time series)");
+  return {a.data(), a.data() + a.shape(0)};
+}
+
+py::dict spectrum(const py::handle& x, double dt, const std::string& window,
+                  std::size_t segment_length, double overlap) {
+  spectrum_options o;
+  const auto w = spectral_window_from_name(window);
+  if (!w)
+    throw std::invalid_argument(
+        fmt::format("window: one of none, hann, hamming, blackman, got '{}'", window));
+  o.window = *w;
+  o.segment_length = segment_length;
+  o.overlap = overlap;
+  const auto r = power_spectrum(series(x), dt, o);
+  py::dict d;
+  d["omega"] = py::array(py::cast(r.omega));
+  d["power"] = py::array(py::cast(r.power));
+  d["resolution"] = r.resolution;
+  d["segment_length"] = r.segment_length;
+  d["segments"] = r.segments;
+  return d;
+}
+
+py::dict autocorrelation_of(const py::handle& x, double dt, std::size_t max_lag,
+                            const std::string& estimator) {
+  const auto e = autocorrelation_estimator_from_name(estimator);
+  if (!e)
+    throw std::invalid_argument(
+        fmt::format("estimator: one of biased, unbiased, got '{}'", estimator));
+  const auto r = autocorrelation(series(x), dt, max_lag, *e);
+  py::dict d;
+  d["lag"] = py::array(py::cast(r.lag));
+  d["value"] = py::array(py::cast(r.value));
+  d["first_zero"] = r.first_zero ? py::cast(*r.first_zero) : py::none();
+  d["first_minimum"] = r.first_minimum ? py::cast(*r.first_minimum) : py::none();
+  return d;
+}
+
+py::array_t<double> embed(const py::handle& x, std::size_t delay, std::size_t dimension) {
+  auto v = delay_embedding(series(x), delay, dimension);
+  return to_numpy(std::move(v.points),
+                  {static_cast<py::ssize_t>(v.count), static_cast<py::ssize_t>(v.dimension)});
+}
+
+py::dict delay_of(const py::handle& x, double dt, const std::string& method) {
+  const auto m = delay_method_from_name(method);
+  if (!m)
+    throw std::invalid_argument(
+        fmt::format("method: one of auto, T/4, acf-zero, acf-min, ami, got '{}'", method));
+  const auto r = choose_delay(series(x), dt, *m);
+  py::dict d;
+  d["found"] = r.found;
+  d["method"] = std::string(delay_method_name(r.method));
+  d["samples"] = r.samples;
+  d["seconds"] = r.seconds;
+  return d;
+}
+
+py::list equilibria(const chain& c) {
+  py::list out;
+  for (const auto& e : find_equilibria(c)) {
+    py::dict d;
+    d["angles"] = py::array(py::cast(e.angles));
+    d["energy"] = e.energy;
+    d["eigenvalues"] = py::array(py::cast(e.eigenvalues));
+    d["stable"] = e.stable;
+    d["unstable_directions"] = e.unstable_directions;
+    out.append(d);
+  }
+  return out;
+}
+
+py::dict modes(const chain& c, const py::object& angles_in) {
+  const auto n = static_cast<std::size_t>(c.links());
+  const std::vector<double> angles =
+      angles_in.is_none() ? std::vector<double>(n, 0.0) : to_vector(angles_in, n, "angles");
+  const auto lin = normal_modes(c, angles);
+  std::vector<double> omega2, freq, growth, shapes;
+  for (const auto& m : lin.modes) {
+    omega2.push_back(m.omega_squared);
+    freq.push_back(m.frequency);
+    growth.push_back(m.growth_rate);
+    shapes.insert(shapes.end(), m.shape.begin(), m.shape.end());
+  }
+  const auto s = static_cast<py::ssize_t>(n);
+  py::dict d;
+  d["omega_squared"] = py::array(py::cast(omega2));
+  d["frequencies"] = py::array(py::cast(freq));
+  d["growth_rates"] = py::array(py::cast(growth));
+  d["shapes"] = to_numpy(std::move(shapes), {s, s});
+  d["mass_matrix"] = to_numpy(std::vector<double>(lin.mass_matrix), {s, s});
+  d["stiffness_matrix"] = to_numpy(std::vector<double>(lin.stiffness_matrix), {s, s});
+  return d;
+}
+
+// The cells' values over `threads` OpenMP threads (0: all cores), each cell on its own so
+// the result does not depend on the thread count. Threads other than the caller's only read
+// the interrupt flag; the caller's thread polls Python's signal handlers.
+std::vector<double> cells_in_parallel(const chain& c, const state_batch& starts,
+                                      const map_cell_options& o, int threads,
+                                      python_interrupt& interrupt) {
+  std::vector<double> out(starts.count, std::numeric_limits<double>::quiet_NaN());
+  const auto count = static_cast<long>(starts.count);
+  const int team = threads > 0 ? threads : omp_get_max_threads();
+  py::gil_scoped_release no_gil;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(team)
+  for (long k = 0; k < count; ++k) {
+    if (interrupt.stop_requested()) continue;
+    const auto i = static_cast<std::size_t>(k);
+    out[i] = map_cell(c, {starts.row(i), starts.width}, o);
+  }
+  return out;
+}
+
+map_cell_options cell_options(const std::string& quantity, double t_end, double dt, int flip_link) {
+  map_cell_options o;
+  o.quantity = parse_map_quantity(quantity);
+  o.t_end = t_end;
+  o.dt = dt;
+  o.flip_link = flip_link;
+  return o;
+}
+
+// Cells run on threads, where no exception may leave: every start must be finite.
+void check_finite(const state_batch& b) {
+  for (std::size_t i = 0; i < b.count * b.width; ++i)
+    if (!std::isfinite(b.array.data()[i]))
+      throw std::invalid_argument(
+          fmt::format("x: start state {} has a non-finite entry", i / b.width));
+}
+
+py::array_t<double> map_cells(const chain& c, const py::handle& x, const std::string& quantity,
+                              double t_end, double dt, int flip_link, int threads) {
+  const state_batch b = to_states(x, c.state_size(), "x");
+  const auto o = cell_options(quantity, t_end, dt, flip_link);
+  o.validate(c);
+  check_finite(b);
+  python_interrupt interrupt;
+  auto values = cells_in_parallel(c, b, o, threads, interrupt);
+  interrupt.raise_if_interrupted();
+  std::vector<py::ssize_t> shape;
+  if (!b.single) shape.push_back(static_cast<py::ssize_t>(b.count));
+  return to_numpy(std::move(values), shape);
+}
+
+struct map_axis {
+  std::size_t coordinate;
+  double from, to;
+  int count;
+};
+
+map_axis axis_from(const py::tuple& spec, int links, const char* what) {
+  if (spec.size() != 4)
+    throw std::invalid_argument(
+        fmt::format("{}: expected (name, from, to, count), e.g. ('phi1', -3.14, 3.14, 256)", what));
+  map_axis a{cli::parse_coordinate(spec[0].cast<std::string>(), links, what),
+             spec[1].cast<double>(), spec[2].cast<double>(), spec[3].cast<int>()};
+  if (a.count < 1) throw std::invalid_argument(fmt::format("{}: the count must be >= 1", what));
+  return a;
+}
+
+py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
+                        const std::string& quantity, double t_end, double dt, int flip_link,
+                        const py::object& x0, int threads) {
+  const auto d = static_cast<std::size_t>(c.state_size());
+  const map_axis ax = axis_from(x_axis, c.links(), "x");
+  const map_axis ay = axis_from(y_axis, c.links(), "y");
+  if (ax.coordinate == ay.coordinate)
+    throw std::invalid_argument("x and y must be different coordinates");
+  const std::vector<double> base =
+      x0.is_none() ? std::vector<double>(d, 0.0) : to_vector(x0, d, "x0");
+  const auto cols = static_cast<std::size_t>(ax.count), rows = static_cast<std::size_t>(ay.count);
+  std::vector<double> starts(rows * cols * d);
+  for (std::size_t j = 0; j < rows; ++j)
+    for (std::size_t i = 0; i < cols; ++i) {
+      double* s = starts.data() + (j * cols + i) * d;
+      std::copy(base.begin(), base.end(), s);
+      s[ax.coordinate] = grid_value(ax.from, ax.to, ax.count, static_cast<int>(i));
+      s[ay.coordinate] = grid_value(ay.from, ay.to, ay.count, static_cast<int>(j));
+    }
+  auto array = to_numpy(std::move(starts),
+                        {static_cast<py::ssize_t>(rows * cols), static_cast<py::ssize_t>(d)});
+  auto values = map_cells(c, array, quantity, t_end, dt, flip_link, threads);
+  return values.reshape({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
+}
+
+}  // namespace
+
+void bind_series(py::module_& m) {
+  m.def("spectrum", &spectrum, py::arg("x"), py::arg("dt"), py::kw_only(),
+        py::arg("window") = "hann", py::arg("segment_length") = 0, py::arg("overlap") = 0.5,
+        R"(The one-sided spectral density of x_j = x(j dt) (paper 6.6.2), as `npend spectrum`:
+window none, hann, hamming or blackman; Welch segments of segment_length samples (0: one).
+Returns a dict: omega (rad/s), power, resolution, segment_length, segments.)");
+  m.def("autocorrelation", &autocorrelation_of, py::arg("x"), py::arg("dt"), py::kw_only(),
+        py::arg("max_lag") = 0, py::arg("estimator") = "biased",
+        R"(The normalised autocorrelation C_xx(tau) of x_j = x(j dt), lags 0..max_lag
+(0: all). Returns a dict: lag (s), value, first_zero and first_minimum (s, or None).)");
+  m.def("embed", &embed, py::arg("x"), py::arg("delay"), py::arg("dimension"),
+        R"(Delay vectors (x_j, x_(j+delay), ..., x_(j+(dimension-1) delay)) of a series, delay
+in samples: an array of shape (N - (dimension-1) delay, dimension).)");
+  m.def("choose_delay", &delay_of, py::arg("x"), py::arg("dt"), py::kw_only(),
+        py::arg("method") = "auto",
+        R"(The embedding delay of a series, as `npend embed` chooses it: method auto, T/4,
+acf-zero, acf-min or ami. Returns a dict: found, method, samples, seconds.)");
+}
+
+void bind_stability(py::module_& m) {
+  m.def("equilibria", &equilibria, py::arg("chain"),
+        R"(The 2^n equilibria phi_i in {0, pi}, p = 0, as `npend equilibria`: a list of dicts
+with angles, energy (J), eigenvalues (of the Jacobian), stable, unstable_directions.)");
+  m.def("modes", &modes, py::arg("chain"), py::arg("angles") = py::none(),
+        R"(The normal modes about the equilibrium `angles` (default: hanging), as `npend
+modes`: a dict with omega_squared, frequencies (rad/s), growth_rates, shapes (row k: mode
+k), mass_matrix, stiffness_matrix; modes in ascending omega^2.)");
+}
+
+void bind_maps(py::module_& m) {
+  m.def("map_cells", &map_cells, py::arg("chain"), py::arg("x"), py::kw_only(),
+        py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
+        py::arg("flip_link") = 0, py::arg("threads") = 0,
+        R"(One map value per start state (x of shape (2n,) or (k, 2n)), computed on `threads`
+cores (0: all) as `npend map` computes its cells: quantity "flip" (time to the first flip of
+an arm, or arm flip_link; +inf if none by t_end or the energy forbids it) or "lyapunov" (the
+maximal exponent, rk4 at dt to t_end). NaN for a cell whose integration failed.)");
+  m.def("map", &map, py::arg("chain"), py::arg("x"), py::arg("y"), py::kw_only(),
+        py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
+        py::arg("flip_link") = 0, py::arg("x0") = py::none(), py::arg("threads") = 0,
+        R"(A chaos map over a grid of start states, as `npend map`: x and y are
+(name, from, to, count) with name phi1..phin or p1..pn, count values from `from` to `to`
+both included; the other coordinates come from x0 (default 0). Returns an array of shape
+(y count, x count), row 0 the first y value: the same numbers as npend map's map.npy.)");
+}
+
+}  // namespace npend::python

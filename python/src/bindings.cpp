@@ -1,0 +1,91 @@
+// The helpers the binding files share (bindings.hpp).
+#include "bindings.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+#include "npend/stepper_kind.hpp"
+
+namespace npend::python {
+
+py::array_t<double> to_numpy(std::vector<double>&& values, std::vector<py::ssize_t> shape) {
+  auto* owned = new std::vector<double>(std::move(values));
+  py::capsule free_when_done(owned, [](void* p) { delete static_cast<std::vector<double>*>(p); });
+  return py::array_t<double>(std::move(shape), owned->data(), free_when_done);
+}
+
+namespace {
+
+std::string shape_text(const py::array& a) {
+  std::string s = "(";
+  for (py::ssize_t i = 0; i < a.ndim(); ++i) s += fmt::format("{}{}", i ? ", " : "", a.shape(i));
+  return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
+}  // namespace
+
+double_array as_array(const py::handle& values, const char* what) {
+  // ensure() returns a null array (its error cleared) for what numpy cannot convert.
+  double_array a = double_array::ensure(values);
+  if (!a) throw std::invalid_argument(fmt::format("{} must be an array of numbers", what));
+  return a;
+}
+
+std::vector<double> to_vector(const py::handle& values, std::size_t expected, const char* what) {
+  const double_array a = as_array(values, what);
+  if (a.ndim() != 1 || static_cast<std::size_t>(a.shape(0)) != expected)
+    throw std::invalid_argument(
+        fmt::format("{} must have shape ({},); got {}", what, expected, shape_text(a)));
+  return {a.data(), a.data() + expected};
+}
+
+state_batch to_states(const py::handle& x, int state_size, const char* what) {
+  state_batch b;
+  b.array = as_array(x, what);
+  b.width = static_cast<std::size_t>(state_size);
+  const auto width = static_cast<py::ssize_t>(state_size);
+  if (b.array.ndim() == 1 && b.array.shape(0) == width) {
+    b.count = 1;
+    return b;
+  }
+  if (b.array.ndim() == 2 && b.array.shape(1) == width) {
+    b.count = static_cast<std::size_t>(b.array.shape(0));
+    b.single = false;
+    return b;
+  }
+  throw std::invalid_argument(fmt::format("{} must have shape ({},) or (k, {}); got {}", what,
+                                          state_size, state_size, shape_text(b.array)));
+}
+
+integration_options integration_from(double t_end, double dt, const std::string& stepper,
+                                     double t_start, double abs_tol, double rel_tol) {
+  integration_options o;
+  o.stepper = parse_stepper_kind(stepper);
+  o.t_start = t_start;
+  o.t_end = t_end;
+  o.dt = dt;
+  o.abs_tol = abs_tol;
+  o.rel_tol = rel_tol;
+  o.validate();
+  return o;
+}
+
+bool python_interrupt::stop_requested() {
+  if (interrupted()) return true;
+  // Worker threads (a map's OpenMP team) only read the flag: the thread that made this
+  // control is the one that called from Python, and only there can signal handlers run.
+  if (std::this_thread::get_id() != m_owner) return false;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - m_last_check < std::chrono::milliseconds(20)) return false;
+  m_last_check = now;
+  py::gil_scoped_acquire gil;
+  if (PyErr_CheckSignals() != 0) m_interrupted.store(true, std::memory_order_relaxed);
+  return interrupted();
+}
+
+void python_interrupt::raise_if_interrupted() const {
+  if (interrupted()) throw py::error_already_set();
+}
+
+}  // namespace npend::python

@@ -1,0 +1,216 @@
+// npend.Chain: a chain's parameters and its generated functions, each taking one state or a
+// batch of states as the rows of a 2-D array.
+#include <fmt/format.h>
+#include <pybind11/stl.h>
+
+#include <functional>
+#include <stdexcept>
+
+#include "bindings.hpp"
+#include "chain_options.hpp"
+#include "npend/excitation.hpp"
+
+namespace npend::python {
+
+namespace {
+
+// A per-link list as users give it: None (the default), one number for every link, or one
+// value per link, checked as the command line checks them.
+std::vector<double> per_link(const py::handle& value, int links, const char* what,
+                             std::string_view symbol) {
+  if (value.is_none()) return {};
+  const double_array a = as_array(value, what);
+  if (a.ndim() > 1)
+    throw std::invalid_argument(
+        fmt::format("{}: expected a number or a list of {} numbers (one per link)", what, links));
+  return cli::per_link_values({a.data(), a.data() + a.size()}, what, links, symbol);
+}
+
+chain make_chain(int links, const py::object& masses, const py::object& lengths, double g,
+                 const py::object& com, const py::object& inertia, bool rods,
+                 const py::object& stiffness, const py::object& rest_angles,
+                 const py::object& damping, const std::string& pivot) {
+  if (links < 1) throw std::invalid_argument(fmt::format("links must be >= 1; got {}", links));
+  chain_parameters p = chain_parameters::uniform(links, 1.0, 1.0, g);
+  if (!masses.is_none()) p.masses = per_link(masses, links, "masses", "m");
+  if (!lengths.is_none()) p.lengths = per_link(lengths, links, "lengths", "l");
+  p.com = per_link(com, links, "com", "c");
+  p.inertia = per_link(inertia, links, "inertia", "J");
+  if (rods) {
+    if (!p.com.empty() || !p.inertia.empty())
+      throw std::invalid_argument("rods=True sets com and inertia; give one or the other");
+    p.make_uniform_rods();
+  }
+  p.stiffness = per_link(stiffness, links, "stiffness", "k");
+  p.rest_angles = per_link(rest_angles, links, "rest_angles", "theta");
+  p.damping = per_link(damping, links, "damping", "b");
+  if (!pivot.empty() && pivot != "fixed") p.pivot = cli::parse_pivot(pivot);
+  return chain(std::move(p));
+}
+
+// f(x) of every state in the batch: `out_per_state` values each, written by `fill`.
+py::array_t<double> over_states(const chain& c, const py::handle& x, std::size_t out_per_state,
+                                std::vector<py::ssize_t> out_shape,
+                                const std::function<void(const double* x, double* out)>& fill) {
+  const state_batch b = to_states(x, c.state_size(), "x");
+  std::vector<double> out(b.count * out_per_state);
+  {
+    py::gil_scoped_release no_gil;
+    for (std::size_t i = 0; i < b.count; ++i) fill(b.row(i), out.data() + i * out_per_state);
+  }
+  if (!b.single) out_shape.insert(out_shape.begin(), static_cast<py::ssize_t>(b.count));
+  return to_numpy(std::move(out), std::move(out_shape));
+}
+
+std::span<const double> angles_of(const chain& c, const double* x) {
+  return {x, static_cast<std::size_t>(c.links())};
+}
+
+py::dict parameters_dict(const chain_parameters& p) {
+  py::dict d;
+  d["links"] = p.links();
+  d["masses"] = p.masses;
+  d["lengths"] = p.lengths;
+  d["g"] = p.g;
+  d["com"] = p.com;
+  d["inertia"] = p.inertia;
+  d["stiffness"] = p.stiffness;
+  d["rest_angles"] = p.rest_angles;
+  d["damping"] = p.damping;
+  d["pivot"] = p.pivot.describe();
+  return d;
+}
+
+// A direction for the excitations: none (their default) or n numbers.
+std::vector<double> direction_of(const chain& c, const py::object& direction) {
+  if (direction.is_none()) return {};
+  return to_vector(direction, static_cast<std::size_t>(c.links()), "direction");
+}
+
+void bind_excitations(py::module_& m) {
+  m.def("energy_from_epsilon", &energy_from_epsilon, py::arg("chain"), py::arg("epsilon"),
+        "E = epsilon m g l (J), the paper's dimensionless energy, for equal masses and lengths.");
+  m.def(
+      "deflected_state",
+      [](const chain& c, double energy, const py::object& direction) {
+        return to_numpy(deflected_state(c, energy, direction_of(c, direction)), {c.state_size()});
+      },
+      py::arg("chain"), py::arg("energy"), py::arg("direction") = py::none(),
+      R"(The chain at rest with its angles s * direction (default: all ones), s chosen so
+that H = energy (J): the paper's excitation by deflecting the arms.)");
+  m.def(
+      "kicked_state",
+      [](const chain& c, double energy, const py::object& direction) {
+        return to_numpy(kicked_state(c, energy, direction_of(c, direction)), {c.state_size()});
+      },
+      py::arg("chain"), py::arg("energy"), py::arg("direction") = py::none(),
+      R"(The hanging chain with momenta s * direction (default: a horizontal kick on the
+lowest bob), s chosen so that H = energy (J): the paper's excitation by a kick.)");
+}
+
+}  // namespace
+
+void bind_chain(py::module_& m) {
+  bind_excitations(m);
+  m.def("built_link_counts", &built_link_counts,
+        "The link counts whose generated kernels are compiled into this build.");
+
+  py::class_<chain>(m, "Chain", R"(An n-link planar pendulum chain with fixed parameters.
+
+State layout everywhere: x = [phi_1..phi_n, p_1..p_n] (angles in rad from the downward
+vertical, canonical momenta in kg m^2/s). Every method takes one state of shape (2n,) or a
+batch of k states as the rows of a (k, 2n) array, and then returns one result per row.
+
+Per-link parameters take one number for every link or a list of n values. Point masses on
+massless rods (the paper's model) unless com/inertia/rods, springs, damping or a moving
+pivot ("vertical:A:OMEGA" or "horizontal:A:OMEGA") make it a physical chain.)")
+      .def(py::init(&make_chain), py::arg("links"), py::kw_only(), py::arg("masses") = py::none(),
+           py::arg("lengths") = py::none(), py::arg("g") = standard_gravity,
+           py::arg("com") = py::none(), py::arg("inertia") = py::none(), py::arg("rods") = false,
+           py::arg("stiffness") = py::none(), py::arg("rest_angles") = py::none(),
+           py::arg("damping") = py::none(), py::arg("pivot") = "")
+      .def_property_readonly("links", &chain::links)
+      .def_property_readonly("state_size", &chain::state_size)
+      .def_property_readonly("is_physical", &chain::is_physical)
+      .def_property_readonly(
+          "parameters", [](const chain& c) { return parameters_dict(c.parameters()); },
+          "The parameters as a dict (masses, lengths, g, com, inertia, stiffness, "
+          "rest_angles, damping, pivot)")
+      .def(
+          "rhs",
+          [](const chain& c, const py::handle& x, double t) {
+            const auto d = static_cast<std::size_t>(c.state_size());
+            return over_states(c, x, d, {static_cast<py::ssize_t>(d)},
+                               [&](const double* s, double* out) { c.evaluate_rhs(s, t, out); });
+          },
+          py::arg("x"), py::arg("t") = 0.0, "Hamilton's equations dx/dt = f(x, t).")
+      .def(
+          "jacobian",
+          [](const chain& c, const py::handle& x, double t) {
+            const auto d = static_cast<std::size_t>(c.state_size());
+            const auto s = static_cast<py::ssize_t>(d);
+            return over_states(c, x, d * d, {s, s}, [&](const double* xs, double* out) {
+              c.evaluate_jacobian(xs, t, out);
+            });
+          },
+          py::arg("x"), py::arg("t") = 0.0, "The exact Jacobian df/dx, shape (2n, 2n).")
+      .def(
+          "hamiltonian",
+          [](const chain& c, const py::handle& x, double t) -> py::object {
+            const auto d = static_cast<std::size_t>(c.state_size());
+            const auto h = over_states(c, x, 1, {}, [&](const double* s, double* out) {
+              *out = c.hamiltonian({s, d}, t);
+            });
+            if (h.ndim() == 0) return py::float_(*h.data());
+            return h;
+          },
+          py::arg("x"), py::arg("t") = 0.0, "The energy H = T + V in J.")
+      .def(
+          "positions",
+          [](const chain& c, const py::handle& x) {
+            const auto n = static_cast<std::size_t>(c.links());
+            return over_states(c, x, 2 * n, {static_cast<py::ssize_t>(n), 2},
+                               [&](const double* s, double* out) {
+                                 c.positions(angles_of(c, s), {out, 2 * n});
+                               });
+          },
+          py::arg("x"),
+          "The link ends (bobs) relative to the pivot, shape (n, 2): rows (x_i, y_i) in m, "
+          "y pointing down.")
+      .def(
+          "velocities",
+          [](const chain& c, const py::handle& x) {
+            const auto n = static_cast<std::size_t>(c.links());
+            return over_states(c, x, n, {static_cast<py::ssize_t>(n)},
+                               [&](const double* s, double* out) {
+                                 c.velocities(angles_of(c, s), {s + n, n}, {out, n});
+                               });
+          },
+          py::arg("x"), "The angular velocities dphi/dt = A(phi)^-1 p, shape (n,).")
+      .def(
+          "mass_matrix",
+          [](const chain& c, const py::handle& x) {
+            const auto n = static_cast<std::size_t>(c.links());
+            const auto s = static_cast<py::ssize_t>(n);
+            return over_states(c, x, n * n, {s, s}, [&](const double* xs, double* out) {
+              c.mass_matrix(angles_of(c, xs), {out, n * n});
+            });
+          },
+          py::arg("x"), "The mass matrix A(phi) of T = p^T A^-1 p / 2, shape (n, n).")
+      .def(
+          "state_from_velocities",
+          [](const chain& c, const py::handle& phi, const py::handle& dphi) {
+            const auto n = static_cast<std::size_t>(c.links());
+            const auto a = to_vector(phi, n, "phi");
+            const auto v = to_vector(dphi, n, "dphi");
+            return to_numpy(c.state_from_velocities(a, v), {static_cast<py::ssize_t>(2 * n)});
+          },
+          py::arg("phi"), py::arg("dphi"),
+          "The state [phi, A(phi) dphi] for angles phi and angular velocities dphi.")
+      .def("__repr__", [](const chain& c) {
+        return fmt::format("npend.Chain({} links, {})", c.links(),
+                           c.is_physical() ? "physical" : "point masses");
+      });
+}
+
+}  // namespace npend::python

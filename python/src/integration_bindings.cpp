@@ -1,0 +1,151 @@
+// npend.simulate, npend.lyapunov and npend.poincare: integrations run without the GIL, with
+// Ctrl-C stopping them (KeyboardInterrupt) instead of waiting for the end.
+#include <fmt/format.h>
+#include <pybind11/stl.h>
+
+#include "bindings.hpp"
+#include "npend/analysis/lyapunov.hpp"
+#include "npend/analysis/poincare_section.hpp"
+#include "section_spec.hpp"
+
+namespace npend::python {
+
+namespace {
+
+std::vector<double> start_state(const chain& c, const py::handle& x0) {
+  return to_vector(x0, static_cast<std::size_t>(c.state_size()), "x0");
+}
+
+py::tuple simulate(const chain& c, const py::handle& x0_in, double t_end, double dt,
+                   const std::string& stepper, double t_start, double abs_tol, double rel_tol) {
+  const auto x0 = start_state(c, x0_in);
+  auto o = integration_from(t_end, dt, stepper, t_start, abs_tol, rel_tol);
+  // The arrays grow as the run goes: memory for what was computed, not for what was asked.
+  const std::size_t rows_asked = output_steps(o) + 1;
+  const auto d = static_cast<std::size_t>(c.state_size());
+  std::vector<double> t, states;
+  t.reserve(std::min<std::size_t>(rows_asked, 1 << 16));
+  states.reserve(t.capacity() * d);
+  python_interrupt interrupt;
+  o.control = &interrupt;
+  {
+    py::gil_scoped_release no_gil;
+    integrate(c, x0, o, [&](double time, std::span<const double> x) {
+      t.push_back(time);
+      states.insert(states.end(), x.begin(), x.end());
+    });
+  }
+  interrupt.raise_if_interrupted();
+  const std::size_t rows = t.size();
+  return py::make_tuple(
+      to_numpy(std::move(t), {static_cast<py::ssize_t>(rows)}),
+      to_numpy(std::move(states), {static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(d)}));
+}
+
+py::array_t<double> rows_array(const std::vector<std::vector<double>>& rows, std::size_t width) {
+  std::vector<double> flat;
+  flat.reserve(rows.size() * width);
+  for (const auto& r : rows) flat.insert(flat.end(), r.begin(), r.end());
+  return to_numpy(std::move(flat),
+                  {static_cast<py::ssize_t>(rows.size()), static_cast<py::ssize_t>(width)});
+}
+
+py::dict lyapunov(const chain& c, const py::handle& x0_in, double t_end, double dt,
+                  const std::string& stepper, bool maximal, double renormalise_every,
+                  double transient, std::size_t blocks) {
+  const auto x0 = start_state(c, x0_in);
+  lyapunov_options o;
+  o.integration = integration_from(t_end, dt, stepper, 0, 1e-10, 1e-10);
+  o.renormalisation_interval = renormalise_every;
+  o.transient = transient;
+  o.blocks = blocks;
+  python_interrupt interrupt;
+  o.integration.control = &interrupt;
+  lyapunov_result r;
+  {
+    py::gil_scoped_release no_gil;
+    r = maximal ? maximal_lyapunov_exponent(c, x0, o) : lyapunov_spectrum(c, x0, o);
+  }
+  interrupt.raise_if_interrupted();
+  py::dict d;
+  d["exponents"] = py::array(py::cast(r.exponents));
+  d["sum"] = r.sum;
+  d["pair_sums"] = py::array(py::cast(r.pair_sums));
+  d["standard_error"] = py::array(py::cast(r.block_standard_error));
+  d["spread"] = py::array(py::cast(r.spread));
+  d["history_t"] = py::array(py::cast(r.history_t));
+  d["history"] = rows_array(r.history, r.exponents.size());
+  d["t"] = r.t;
+  d["averaging_time"] = r.averaging_time;
+  d["renormalisations"] = r.renormalisations;
+  d["max_rel_energy_error"] = r.max_rel_energy_error;
+  d["method"] = r.method;
+  d["state"] = py::array(py::cast(r.state));
+  return d;
+}
+
+py::dict poincare(const chain& c, const py::handle& x0_in, const std::string& section_text,
+                  double t_end, double dt, const std::string& stepper, const std::string& direction,
+                  std::size_t max_crossings, bool unwrapped, double abs_tol, double rel_tol) {
+  const auto x0 = start_state(c, x0_in);
+  const auto section =
+      cli::section_from_spec(cli::parse_section_spec(section_text, "section"), c.links(), "section",
+                             unwrapped ? cli::angle_mode::unwrapped : cli::angle_mode::circle);
+  auto o = integration_from(t_end, dt, stepper, 0, abs_tol, rel_tol);
+  poincare_options po;
+  po.direction = cli::parse_direction(direction, "direction");
+  po.max_crossings = max_crossings;
+  python_interrupt interrupt;
+  o.control = &interrupt;
+  poincare_result r;
+  {
+    py::gil_scoped_release no_gil;
+    r = poincare_section(c, x0, section, o, po);
+  }
+  interrupt.raise_if_interrupted();
+  std::vector<std::vector<double>> states;
+  for (const auto& k : r.crossings) states.push_back(k.state);
+  py::dict d;
+  d["t"] = py::array(py::cast(crossing_times(r.crossings)));
+  d["states"] = rows_array(states, static_cast<std::size_t>(c.state_size()));
+  d["t_end"] = r.integration.t;
+  return d;
+}
+
+}  // namespace
+
+void bind_integration(py::module_& m) {
+  m.def("simulate", &simulate, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
+        py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("t_start") = 0.0,
+        py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10,
+        R"(Integrates Hamilton's equations from x0 (shape (2n,)) on the grid
+t_k = t_start + k dt up to t_end, as `npend simulate` does.
+
+Returns (t, X): t of shape (N+1,), X of shape (N+1, 2n), row k the state at t_k.
+stepper: gauss6 (default), gauss4, rk4, dopri5, rkf78, bs, rosenbrock4; the adaptive ones
+use abs_tol and rel_tol. Raises ValueError for bad input, RuntimeError when the integration
+cannot go on, KeyboardInterrupt on Ctrl-C.)");
+  m.def("lyapunov", &lyapunov, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
+        py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("maximal") = false,
+        py::arg("renormalise_every") = 0.1, py::arg("transient") = 0.0, py::arg("blocks") = 10,
+        R"(Lyapunov exponents of the trajectory from x0 by Benettin's method, as
+`npend lyapunov` computes them: the full spectrum of 2n exponents (descending), or with
+maximal=True the largest alone.
+
+Returns a dict: exponents (1/s), sum, pair_sums (lambda_i + lambda_(2n+1-i), 0 for a
+Hamiltonian flow), standard_error (from the blocks), spread, history_t and history (the
+running estimates), t, averaging_time, renormalisations, max_rel_energy_error, method,
+state (the final state).)");
+  m.def("poincare", &poincare, py::arg("chain"), py::arg("x0"), py::arg("section"),
+        py::arg("t_end"), py::kw_only(), py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6",
+        py::arg("direction") = "up", py::arg("max_crossings") = 0, py::arg("unwrapped") = false,
+        py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10,
+        R"(The crossings of a Poincare section by the trajectory from x0, as
+`npend poincare`: section as on the command line ("phi1=0", "p2=0.5", "phi2=phi3"),
+direction "up", "down" or "both".
+
+Returns a dict: t (crossing times, shape (k,)), states (shape (k, 2n)), t_end (how far the
+integration went).)");
+}
+
+}  // namespace npend::python

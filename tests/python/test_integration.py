@@ -1,0 +1,89 @@
+"""npend.simulate, npend.lyapunov and npend.poincare: the command line's numbers, the
+conservation laws, and arrays of the right shape."""
+
+import io
+
+import numpy as np
+import pytest
+
+import npend
+from conftest import csv_list, npend_json, run_npend
+
+X0 = [0.9, -0.6, 1.2, 0.0, 0.3, -0.1]
+
+
+def test_simulate_equals_npend_simulate():
+    c = npend.Chain(3, masses=[1, 2, 0.5])
+    t, X = npend.simulate(c, X0, 0.5, dt=0.01)
+    assert t.shape == (51,) and X.shape == (51, 6) and X.dtype == np.float64
+    csv = run_npend("simulate", "--links", 3, "--masses", "1,2,0.5", "--phi", csv_list(X0[:3]),
+                    "--p", csv_list(X0[3:]), "--t-end", 0.5, "--dt", 0.01).stdout
+    table = np.genfromtxt(io.StringIO(csv), delimiter=",", names=True)
+    assert np.array_equal(t, table["t"])
+    for i in range(3):
+        assert np.array_equal(X[:, i], table[f"phi_{i + 1}"])
+        assert np.array_equal(X[:, 3 + i], table[f"p_{i + 1}"])
+    assert np.array_equal(c.hamiltonian(X), table["H"])
+
+
+@pytest.mark.parametrize("stepper", ["gauss6", "gauss4", "rk4", "dopri5", "rkf78", "bs",
+                                     "rosenbrock4"])
+def test_every_stepper_keeps_the_energy(stepper):
+    c = npend.Chain(3)
+    t, X = npend.simulate(c, X0, 2.0, dt=0.002, stepper=stepper)
+    energy = c.hamiltonian(X)
+    assert t[-1] == pytest.approx(2.0)
+    assert np.max(np.abs(energy - energy[0])) < 1e-6 * abs(energy[0])
+
+
+def test_simulate_starts_at_t_start_and_can_go_backwards():
+    c = npend.Chain(2)
+    t, X = npend.simulate(c, X0[:2] + X0[3:5], 1.0, dt=0.01, t_start=0.5)
+    assert t[0] == 0.5 and t[-1] == pytest.approx(1.0) and len(t) == 51
+    # Integrating back from the end returns to the start (gauss6 is time-symmetric).
+    _, back = npend.simulate(c, X[-1], 0.5, dt=-0.01, t_start=1.0)
+    assert back[-1] == pytest.approx(X[0], abs=1e-10)
+
+
+def test_lyapunov_equals_npend_lyapunov_and_pairs_up():
+    c = npend.Chain(2)
+    x0 = [2.0, 1.5, 0.0, 0.0]
+    r = npend.lyapunov(c, x0, 20.0, dt=0.005)
+    ref = npend_json("lyapunov", "--links", 2, "--phi", "2,1.5", "--t-end", 20, "--dt", 0.005)
+    assert np.array_equal(r["exponents"], ref["exponents"])
+    # A Hamiltonian flow: the exponents come in pairs +-lambda (to round-off with gauss6).
+    assert np.max(np.abs(r["pair_sums"])) < 1e-10
+    assert r["history"].shape == (len(r["history_t"]), 4)
+    m = npend.lyapunov(c, x0, 20.0, dt=0.005, maximal=True)
+    assert m["exponents"].shape == (1,)
+
+
+def test_poincare_equals_npend_poincare_and_lies_on_the_section():
+    c = npend.Chain(3)
+    x0 = [0.1, -0.1, 0.1, 0, 0, 0]
+    r = npend.poincare(c, x0, "phi1=0", 30.0)
+    ref = npend_json("poincare", "--links", 3, "--phi", "0.1,-0.1,0.1", "--t-end", 30,
+                     "--section", "phi1=0")
+    times = [p["t"] for p in ref["points"]]
+    assert np.array_equal(r["t"], times)
+    assert r["states"].shape == (len(times), 6)
+    assert np.max(np.abs(r["states"][:, 0])) < 1e-9
+    assert np.all(c.velocities(r["states"])[:, 0] > 0)  # "up": phi1 increasing
+    energy = c.hamiltonian(r["states"])
+    assert np.max(np.abs(energy - c.hamiltonian(x0))) < 1e-9
+
+
+def test_bad_integration_input_raises_value_error():
+    c = npend.Chain(2)
+    with pytest.raises(ValueError, match="gauss6"):
+        npend.simulate(c, [0, 0, 0, 0], 1.0, stepper="euler")
+    with pytest.raises(ValueError, match=r"x0 must have shape \(4,\)"):
+        npend.simulate(c, [0, 0, 0], 1.0)
+    with pytest.raises(ValueError):
+        npend.simulate(c, [0, 0, 0, 0], 1.0, dt=0)
+    with pytest.raises(ValueError, match="not finite|non-finite"):
+        npend.simulate(c, [float("nan"), 0, 0, 0], 1.0)
+    with pytest.raises(ValueError, match="section"):
+        npend.poincare(c, [0, 0, 0, 0], "phi9=0", 1.0)
+    with pytest.raises(ValueError, match="direction"):
+        npend.poincare(c, [0, 0, 0, 0], "phi1=0", 1.0, direction="sideways")

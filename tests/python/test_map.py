@@ -1,0 +1,58 @@
+"""npend.map: the numbers of npend map's map.npy, the same for any thread count, and the
+energy bound of Heyl's flip map."""
+
+import math
+
+import numpy as np
+import pytest
+
+import npend
+from conftest import run_npend
+
+
+def test_map_equals_npend_map(tmp_path):
+    c = npend.Chain(2)
+    m = npend.map(c, ("phi1", -3, 3, 12), ("phi2", -2.5, 3, 10), t_end=10, dt=0.01, threads=2)
+    assert m.shape == (10, 12) and m.dtype == np.float64
+    run_npend("map", "--links", 2, "--x", "phi1:-3:3:12", "--y", "phi2:-2.5:3:10", "--t-end", 10,
+              "--dt", 0.01, "--out", tmp_path / "m")
+    ref = np.load(tmp_path / "m" / "map.npy")
+    assert np.array_equal(m, ref, equal_nan=True)
+    one_thread = npend.map(c, ("phi1", -3, 3, 12), ("phi2", -2.5, 3, 10), t_end=10, threads=1)
+    assert np.array_equal(m, one_thread, equal_nan=True)
+
+
+def test_cells_the_energy_forbids_never_flip():
+    # Equal double pendulum from rest: no flip is possible where 3 cos phi1 + cos phi2 > 2.
+    c = npend.Chain(2)
+    phi = np.linspace(-3, 3, 9)
+    starts = np.array([[a, b, 0, 0] for b in phi for a in phi])
+    times = npend.map_cells(c, starts, t_end=20)
+    forbidden = 3 * np.cos(starts[:, 0]) + np.cos(starts[:, 1]) > 2
+    assert forbidden.any() and np.all(np.isinf(times[forbidden]))
+    assert np.isfinite(times[~forbidden]).any()
+
+
+def test_lyapunov_map_cells_are_maximal_exponents():
+    c = npend.Chain(2)
+    x = np.array([[2.0, 1.5, 0, 0], [0.1, 0.1, 0, 0]])
+    values = npend.map_cells(c, x, quantity="lyapunov", t_end=20, dt=0.005)
+    for row, value in zip(x, values):
+        r = npend.lyapunov(c, row, 20, dt=0.005, stepper="rk4", maximal=True)
+        assert value == r["exponents"][0]
+
+
+def test_bad_map_input():
+    c = npend.Chain(2)
+    with pytest.raises(ValueError, match="quantity"):
+        npend.map_cells(c, [0, 0, 0, 0], quantity="colour")
+    with pytest.raises(ValueError, match="phi7"):
+        npend.map(c, ("phi7", 0, 1, 2), ("phi1", 0, 1, 2))
+    with pytest.raises(ValueError, match="different"):
+        npend.map(c, ("phi1", 0, 1, 2), ("phi1", 0, 1, 2))
+    with pytest.raises(ValueError, match="non-finite"):
+        npend.map_cells(c, [[0, math.nan, 0, 0]])
+    with pytest.raises(ValueError, match="dt"):
+        npend.map_cells(c, [0, 0, 0, 0], dt=-1)
+    with pytest.raises(ValueError, match="conserve"):
+        npend.map_cells(npend.Chain(2, damping=0.1), [0, 0, 0, 0])
