@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
+#include "npend/analysis/chaos_indicators.hpp"
 #include "npend/analysis/lyapunov.hpp"
 #include "npend/analysis/poincare_section.hpp"
 #include "section_spec.hpp"
@@ -112,6 +113,45 @@ py::dict poincare(const chain& c, const py::handle& x0_in, const std::string& se
   return d;
 }
 
+py::dict indicators(const chain& c, const py::handle& x0_in, double t_end, double dt,
+                    std::size_t vectors, double sample_interval) {
+  const auto x0 = start_state(c, x0_in);
+  chaos_indicator_options o;
+  o.t_end = t_end;
+  o.dt = dt;
+  o.vectors = vectors;
+  o.sample_interval = sample_interval;
+  python_interrupt interrupt;
+  o.control = &interrupt;
+  chaos_indicator_result r;
+  {
+    py::gil_scoped_release no_gil;
+    r = chaos_indicators(c, x0, o);
+  }
+  interrupt.raise_if_interrupted();
+  std::vector<chaos_indicator_sample> samples = r.history;
+  if (samples.empty() || samples.back().t != r.last.t) samples.push_back(r.last);
+  std::vector<double> t, fli, megno, mean_megno, sali;
+  std::vector<std::vector<double>> gali;
+  for (const auto& s : samples) {
+    t.push_back(s.t);
+    fli.push_back(s.fli);
+    megno.push_back(s.megno);
+    mean_megno.push_back(s.mean_megno);
+    sali.push_back(s.sali);
+    gali.push_back(s.gali);
+  }
+  py::dict d;
+  d["t"] = py::array(py::cast(t));
+  d["fli"] = py::array(py::cast(fli));
+  d["megno"] = py::array(py::cast(megno));
+  d["mean_megno"] = py::array(py::cast(mean_megno));
+  d["sali"] = py::array(py::cast(sali));
+  d["gali"] = rows_array(gali, vectors - 1);
+  d["state"] = py::array(py::cast(r.state));
+  return d;
+}
+
 }  // namespace
 
 void bind_integration(py::module_& m) {
@@ -136,6 +176,15 @@ Returns a dict: exponents (1/s), sum, pair_sums (lambda_i + lambda_(2n+1-i), 0 f
 Hamiltonian flow), standard_error (from the blocks), spread, history_t and history (the
 running estimates), t, averaging_time, renormalisations, max_rel_energy_error, method,
 state (the final state).)");
+  m.def("chaos_indicators", &indicators, py::arg("chain"), py::arg("x0"), py::arg("t_end"),
+        py::kw_only(), py::arg("dt") = 0.01, py::arg("vectors") = 2,
+        py::arg("sample_interval") = 0.0,
+        R"(The fast chaos indicators of the trajectory from x0 (rk4 at dt with `vectors`
+deviation vectors): FLI, MEGNO Y and <Y>, SALI and GALI_2..GALI_vectors, sampled every
+sample_interval seconds (0: at t_end only). Returns a dict of arrays over the samples: t,
+fli, megno, mean_megno, sali, gali (shape (samples, vectors - 1)), and the final state.
+On a torus <Y> -> 2 and SALI stays away from 0; on a chaotic orbit <Y> ~ lambda_1 t / 2
+and SALI ~ exp(-(lambda_1 - lambda_2) t).)");
   m.def("poincare", &poincare, py::arg("chain"), py::arg("x0"), py::arg("section"),
         py::arg("t_end"), py::kw_only(), py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6",
         py::arg("direction") = "up", py::arg("max_crossings") = 0, py::arg("unwrapped") = false,

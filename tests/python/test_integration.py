@@ -87,3 +87,19 @@ def test_bad_integration_input_raises_value_error():
         npend.poincare(c, [0, 0, 0, 0], "phi9=0", 1.0)
     with pytest.raises(ValueError, match="direction"):
         npend.poincare(c, [0, 0, 0, 0], "phi1=0", 1.0, direction="sideways")
+
+
+def test_chaos_indicators_of_the_single_pendulum():
+    """A single pendulum's orbits are 1-tori: MEGNO <Y> -> 2 (the period depends on the
+    amplitude, so deviations grow linearly) and GALI_2 = SALI falls like t^-2 (until rk4's
+    error in the two vectors' angle, near 1e-7 at dt = 0.01, stops it after t = 1000 s)."""
+    r = npend.chaos_indicators(npend.Chain(1), [2.0, 0.0], 2000, sample_interval=100)
+    assert r["t"].shape == (20,) and r["gali"].shape == (20, 1)
+    assert abs(r["mean_megno"][-1] - 2) < 0.05
+    # For two unit vectors, GALI_2 = |sin angle| and SALI = 2 sin(angle/2) agree as they -> 0.
+    assert np.allclose(r["gali"][:, 0], r["sali"], rtol=1e-6)
+    early = r["t"] <= 600
+    slope = np.polyfit(np.log(r["t"][early]), np.log(r["sali"][early]), 1)[0]
+    assert abs(slope + 2) < 0.2
+    with pytest.raises(ValueError, match="vectors"):
+        npend.chaos_indicators(npend.Chain(1), [2.0, 0.0], 10, vectors=3)
