@@ -139,8 +139,10 @@ std::vector<double> cells_in_parallel(const chain& c, const state_batch& starts,
   return out;
 }
 
-map_cell_options cell_options(const std::string& quantity, double t_end, double dt, int flip_link) {
+map_cell_options cell_options(const std::string& quantity, double t_end, double dt, int flip_link,
+                              int gali_order) {
   map_cell_options o;
+  o.gali_order = gali_order;
   o.quantity = parse_map_quantity(quantity);
   o.t_end = t_end;
   o.dt = dt;
@@ -157,9 +159,9 @@ void check_finite(const state_batch& b) {
 }
 
 py::array_t<double> map_cells(const chain& c, const py::handle& x, const std::string& quantity,
-                              double t_end, double dt, int flip_link, int threads) {
+                              double t_end, double dt, int flip_link, int gali_order, int threads) {
   const state_batch b = to_states(x, c.state_size(), "x");
-  const auto o = cell_options(quantity, t_end, dt, flip_link);
+  const auto o = cell_options(quantity, t_end, dt, flip_link, gali_order);
   o.validate(c);
   check_finite(b);
   python_interrupt interrupt;
@@ -188,7 +190,7 @@ map_axis axis_from(const py::tuple& spec, int links, const char* what) {
 
 py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
                         const std::string& quantity, double t_end, double dt, int flip_link,
-                        const py::object& x0, int threads) {
+                        int gali_order, const py::object& x0, int threads) {
   const auto d = static_cast<std::size_t>(c.state_size());
   const map_axis ax = axis_from(x_axis, c.links(), "x");
   const map_axis ay = axis_from(y_axis, c.links(), "y");
@@ -207,7 +209,7 @@ py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple
     }
   auto array = to_numpy(std::move(starts),
                         {static_cast<py::ssize_t>(rows * cols), static_cast<py::ssize_t>(d)});
-  auto values = map_cells(c, array, quantity, t_end, dt, flip_link, threads);
+  auto values = map_cells(c, array, quantity, t_end, dt, flip_link, gali_order, threads);
   return values.reshape({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
 }
 
@@ -245,14 +247,17 @@ k), mass_matrix, stiffness_matrix; modes in ascending omega^2.)");
 void bind_maps(py::module_& m) {
   m.def("map_cells", &map_cells, py::arg("chain"), py::arg("x"), py::kw_only(),
         py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
-        py::arg("flip_link") = 0, py::arg("threads") = 0,
+        py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("threads") = 0,
         R"(One map value per start state (x of shape (2n,) or (k, 2n)), computed on `threads`
 cores (0: all) as `npend map` computes its cells: quantity "flip" (time to the first flip of
-an arm, or arm flip_link; +inf if none by t_end or the energy forbids it) or "lyapunov" (the
-maximal exponent, rk4 at dt to t_end). NaN for a cell whose integration failed.)");
+an arm, or arm flip_link; +inf if none by t_end or the energy forbids it), "lyapunov" (the
+maximal exponent, rk4 at dt to t_end), or the indicators of chaos_indicators at t_end:
+"fli", "megno" (<Y>), "sali", "gali" (GALI_k, k = gali_order, 0: n + 1). NaN for a cell
+whose integration failed.)");
   m.def("map", &map, py::arg("chain"), py::arg("x"), py::arg("y"), py::kw_only(),
         py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
-        py::arg("flip_link") = 0, py::arg("x0") = py::none(), py::arg("threads") = 0,
+        py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("x0") = py::none(),
+        py::arg("threads") = 0,
         R"(A chaos map over a grid of start states, as `npend map`: x and y are
 (name, from, to, count) with name phi1..phin or p1..pn, count values from `from` to `to`
 both included; the other coordinates come from x0 (default 0). Returns an array of shape

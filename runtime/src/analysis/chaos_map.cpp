@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
 #include <cmath>
 #include <limits>
@@ -87,14 +88,37 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
   return inf;
 }
 
+namespace {
+
+constexpr std::array all_map_quantities{map_quantity::flip, map_quantity::lyapunov,
+                                        map_quantity::fli,  map_quantity::megno,
+                                        map_quantity::sali, map_quantity::gali};
+
+}  // namespace
+
 std::string_view map_quantity_name(map_quantity quantity) {
-  return quantity == map_quantity::flip ? "flip" : "lyapunov";
+  switch (quantity) {
+    case map_quantity::flip:
+      return "flip";
+    case map_quantity::lyapunov:
+      return "lyapunov";
+    case map_quantity::fli:
+      return "fli";
+    case map_quantity::megno:
+      return "megno";
+    case map_quantity::sali:
+      return "sali";
+    case map_quantity::gali:
+      return "gali";
+  }
+  return "?";
 }
 
 map_quantity parse_map_quantity(std::string_view name) {
-  for (const auto q : {map_quantity::flip, map_quantity::lyapunov})
+  for (const auto q : all_map_quantities)
     if (name == map_quantity_name(q)) return q;
-  throw std::invalid_argument(fmt::format("quantity: one of flip, lyapunov, got '{}'", name));
+  throw std::invalid_argument(
+      fmt::format("quantity: one of flip, lyapunov, fli, megno, sali, gali, got '{}'", name));
 }
 
 namespace {
@@ -108,6 +132,26 @@ lyapunov_options map_lyapunov_options(const map_cell_options& o) {
   return lo;
 }
 
+// FLI, MEGNO, SALI or GALI_k at t_end: as many deviation vectors as the quantity needs.
+double indicator_cell(const chain& c, std::span<const double> x0, const map_cell_options& o) {
+  chaos_indicator_options io;
+  io.t_end = o.t_end;
+  io.dt = o.dt;
+  const int k = o.gali_order == 0 ? c.links() + 1 : o.gali_order;
+  io.vectors = o.quantity == map_quantity::gali ? static_cast<std::size_t>(k) : 2;
+  const auto last = chaos_indicators(c, x0, io).last;
+  switch (o.quantity) {
+    case map_quantity::fli:
+      return last.fli;
+    case map_quantity::megno:
+      return last.mean_megno;
+    case map_quantity::sali:
+      return last.sali;
+    default:
+      return last.gali.back();
+  }
+}
+
 }  // namespace
 
 void map_cell_options::validate(const chain& c) const {
@@ -117,10 +161,16 @@ void map_cell_options::validate(const chain& c) const {
   if (quantity == map_quantity::flip) {
     energy_forbids_flip(c, std::vector<double>(static_cast<std::size_t>(c.state_size()), 0.0),
                         flip_link);
-  } else {
+  } else if (quantity == map_quantity::lyapunov) {
     const auto lo = map_lyapunov_options(*this);
     lo.validate();
     lo.integration.validate();
+  } else if (quantity == map_quantity::gali) {
+    const int k = gali_order == 0 ? c.links() + 1 : gali_order;
+    if (k < 2 || k > c.state_size())
+      throw std::invalid_argument(fmt::format(
+          "gali: the order k of GALI_k must be 2..{} (2n) for the {}-link chain, got {}",
+          c.state_size(), c.links(), gali_order));
   }
 }
 
@@ -128,7 +178,9 @@ double map_cell(const chain& c, std::span<const double> x0, const map_cell_optio
   try {
     if (options.quantity == map_quantity::flip)
       return flip_time(c, x0, {options.t_end, options.dt, options.flip_link});
-    return maximal_lyapunov_exponent(c, x0, map_lyapunov_options(options)).exponents.front();
+    if (options.quantity == map_quantity::lyapunov)
+      return maximal_lyapunov_exponent(c, x0, map_lyapunov_options(options)).exponents.front();
+    return indicator_cell(c, x0, options);
   } catch (const integration_error&) {
     return std::numeric_limits<double>::quiet_NaN();
   }

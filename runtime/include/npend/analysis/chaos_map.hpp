@@ -7,6 +7,7 @@
 #include <span>
 #include <string_view>
 
+#include "npend/analysis/chaos_indicators.hpp"
 #include "npend/analysis/lyapunov.hpp"
 #include "npend/chain.hpp"
 
@@ -36,8 +37,12 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
 enum class map_quantity {
   flip,      ///< flip_time
   lyapunov,  ///< the maximal Lyapunov exponent (rk4, one tangent vector)
+  fli,       ///< the fast Lyapunov indicator at t_end (chaos_indicators)
+  megno,     ///< MEGNO ⟨Y⟩ at t_end
+  sali,      ///< SALI at t_end
+  gali,      ///< GALI_k at t_end, k = map_cell_options::gali_order
 };
-/// "flip" or "lyapunov".
+/// "flip", "lyapunov", "fli", "megno", "sali" or "gali".
 std::string_view map_quantity_name(map_quantity quantity);
 /// The quantity called `name`; throws std::invalid_argument naming the valid names.
 map_quantity parse_map_quantity(std::string_view name);
@@ -47,6 +52,9 @@ struct map_cell_options {
   double t_end = 100;  ///< s
   double dt = 0.01;    ///< rk4's step (s)
   int flip_link = 0;   ///< flip: 0 any arm, k ≥ 1 arm k
+  /// gali: k of GALI_k, 2..2n; 0 means n + 1, the least k beyond the dimension n of a
+  /// torus, where regular cells fall as a power of t and chaotic ones exponentially.
+  int gali_order = 0;
 
   /// Throws std::invalid_argument naming the problem with these options for chain `c` (as
   /// map_cell would on its first cell): dt or t_end, an arm that does not exist, a chain a
@@ -55,9 +63,10 @@ struct map_cell_options {
   void validate(const chain& c) const;
 };
 
-/// One cell of a map: the flip time (flip_options from `options`) or the maximal Lyapunov
-/// exponent (1/s) of maximal_lyapunov_exponent with rk4 at dt up to t_end; NaN when the
-/// integration fails (an integration_error). Throws std::invalid_argument as flip_time and
+/// One cell of a map: the flip time (flip_options from `options`), the maximal Lyapunov
+/// exponent (1/s) of maximal_lyapunov_exponent with rk4 at dt up to t_end, or an indicator
+/// of chaos_indicators (rk4 at dt, to t_end); NaN when the integration fails (an
+/// integration_error). Throws std::invalid_argument as flip_time and
 /// maximal_lyapunov_exponent do.
 double map_cell(const chain& c, std::span<const double> x0, const map_cell_options& options);
 
