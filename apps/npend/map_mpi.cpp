@@ -104,12 +104,38 @@ void tile_coordinator::serve() {
   }
 }
 
+struct tile_worker::request {
+  int finished = 0, tile = -1;  // the buffers of the request and its answer
+  MPI_Request handles[2];
+};
+
+tile_worker::tile_worker() : m_request(std::make_unique<request>()) {}
+
+tile_worker::~tile_worker() = default;
+
+void tile_worker::ask(bool finished_previous) {
+  m_request->finished = finished_previous ? 1 : 0;
+  MPI_Irecv(&m_request->tile, 1, MPI_INT, 0, tag_tile, MPI_COMM_WORLD, &m_request->handles[1]);
+  MPI_Isend(&m_request->finished, 1, MPI_INT, 0, tag_request, MPI_COMM_WORLD,
+            &m_request->handles[0]);
+  m_asking = true;
+}
+
+int tile_worker::answer() {
+  MPI_Waitall(2, m_request->handles, MPI_STATUSES_IGNORE);
+  m_asking = false;
+  return m_request->tile;
+}
+
 int tile_worker::next(bool finished_previous) {
   const std::lock_guard lock(m_mutex);
   if (m_stopped) return -1;
-  int request = finished_previous ? 1 : 0, tile = -1;
-  MPI_Send(&request, 1, MPI_INT, 0, tag_request, MPI_COMM_WORLD);
-  MPI_Recv(&tile, 1, MPI_INT, 0, tag_tile, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  if (!m_asking) ask(false);  // the first call
+  const int tile = answer();
+  if (tile < 0)
+    m_stopped = true;
+  else
+    ask(finished_previous);
   return tile;
 }
 
@@ -119,6 +145,8 @@ void tile_worker::stop() {
 }
 
 void tile_worker::done() {
+  const std::lock_guard lock(m_mutex);
+  if (m_asking) answer();  // rank 0 answers every request; a tile handed out now stays undone
   int nothing = 0;
   MPI_Send(&nothing, 1, MPI_INT, 0, tag_done, MPI_COMM_WORLD);
 }

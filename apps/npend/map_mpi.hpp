@@ -5,6 +5,7 @@
 #pragma once
 
 #include <atomic>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -70,18 +71,29 @@ class tile_coordinator final : public tile_queue {
   std::thread m_server;
 };
 
-/// A rank > 0's queue: each call asks rank 0 for the next tile (one request at a time).
+/// A rank > 0's queue: tiles come from rank 0, one request in flight at a time. The next
+/// tile is asked for as soon as one is handed out, so the answer is there when a thread
+/// wants it: a rank never idles for the round trip (rank 0's server thread may wait for a
+/// core), and keeps at most one tile beyond the one it computes.
 class tile_worker final : public tile_queue {
  public:
+  tile_worker();
+  ~tile_worker() override;
   int next(bool finished_previous) override;
   void stop() override;
   long finished() const override { return 0; }
-  /// Tells rank 0 that this rank asks for no more tiles (call once, after its threads end).
+  /// Waits for the answer still in flight and tells rank 0 that this rank asks for no more
+  /// tiles (call once, after its threads end).
   void done();
 
  private:
-  std::mutex m_mutex;  // one request in flight per rank: the replies cannot cross
-  bool m_stopped = false;
+  struct request;  // MPI's handles, out of this header
+  void ask(bool finished_previous);
+  int answer();
+
+  std::mutex m_mutex;
+  std::unique_ptr<request> m_request;
+  bool m_asking = false, m_stopped = false;
 };
 
 }  // namespace npend::app::mpi
