@@ -82,3 +82,30 @@ TEST_CASE("npend map under mpirun: a rank that cannot write its tile ends the wh
   CHECK(r.err.find("npend map: error: rank ") != std::string::npos);
   CHECK(r.err.find("tile_000005.bin' names a directory, not a file") != std::string::npos);
 }
+
+TEST_CASE("npend map under mpirun: killed part way and resumed, the bytes of one process") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-mpi-kill"));
+  const std::string big =
+      "map --links 2 --x phi1:-3.1:3.1:32 --y phi2:-3.1:3.1:32 --quantity lyapunov --t-end 100 "
+      "--tile 4 --threads 1";
+  REQUIRE(npend::test::run_npend(big + " --out " + (dir / "one").string()).exit_code == 0);
+  // mpirun passes the SIGTERM on to the ranks (here after a second or two), which stop after
+  // the tiles in flight; --t-end 100 keeps the run going that long.
+  const fs::path part = dir / "part";
+  const auto killed = npend::test::run_shell(
+      "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+      "ASAN_OPTIONS=detect_leaks=0 " NPEND_MPIEXEC " -np 2 --oversubscribe " +
+      std::string(NPEND_CLI_PATH) + " " + big + " --out " + part.string() +
+      " >/dev/null 2>&1 & pid=$!; for i in $(seq 600); do [ \"$(ls " + (part / "tiles").string() +
+      " 2>/dev/null | wc -l)\" -ge 4 ] && break; sleep 0.05; done; kill -TERM $pid; wait $pid");
+  const auto tiles = std::distance(fs::directory_iterator(part / "tiles"), {});
+  INFO("tiles left by the killed run: " << tiles);
+  CHECK(tiles >= 4);
+  CHECK(tiles < 1 + 64);  // run.json + some of the 64 tiles: it did not finish
+  CHECK_FALSE(fs::exists(part / "map.npy"));
+  const auto resumed = mpirun(2, big + " --resume --out " + part.string());
+  INFO(resumed.err);
+  REQUIRE(resumed.exit_code == 0);
+  CHECK(npend::test::read_text((dir / "one" / "map.npy").string()) ==
+        npend::test::read_text((part / "map.npy").string()));
+}
