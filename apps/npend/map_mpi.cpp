@@ -81,14 +81,15 @@ tile_coordinator::~tile_coordinator() {
 void tile_coordinator::wait_for_ranks() { m_server.join(); }
 
 // Polls rather than blocks in MPI_Recv: Open MPI's blocking receive spins a core, which the
-// computing threads of rank 0 need; a tile takes far longer than the polling interval.
+// computing threads of rank 0 need. Every 2 ms: polling every 0.5 ms took 4 % of a core
+// (measured with ps), and the workers ask for a tile ahead, so the delay does not idle them.
 void tile_coordinator::serve() {
   for (int done = 0; done < m_ranks - 1;) {
     int arrived = 0;
     MPI_Status status;
     MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &arrived, &status);
     if (!arrived) {
-      std::this_thread::sleep_for(std::chrono::microseconds(500));
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
       continue;
     }
     int value = 0;
