@@ -1,26 +1,37 @@
 // npend map: a quantity of chaos — the time to the first flip (Heyl's fractal) or the maximal
-// Lyapunov exponent — over a 2-D grid of start states, computed in tiles on every core,
+// Lyapunov exponent — over a 2-D grid of start states, computed in tiles on every core (and
+// across the ranks of an MPI job, or the jobs of an array with --part and `npend map merge`),
 // written as .npy, PNG and JSON, and resumable after an interruption.
 #include <fmt/format.h>
 #include <omp.h>
+#include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>
 
 #include "chain_options.hpp"
 #include "command.hpp"
 #include "input_parsing.hpp"
+#include "map_tile_queue.hpp"
 #include "npend/analysis/chaos_map.hpp"
 #include "npend/integration_error.hpp"
 #include "output_file.hpp"
 #include "plotting.hpp"
 #include "terminal_run.hpp"
+#ifdef NPEND_WITH_MPI
+#include "map_mpi.hpp"
+#endif
 
 namespace npend::app {
 
@@ -30,10 +41,12 @@ namespace fs = std::filesystem;
 
 struct map_command_options {
   cli::chain_options chain;
-  std::string x, y, quantity = "flip", phi, p, out;
+  std::string x, y, quantity = "flip", phi, p, out, part;
   double t_end = 100, dt = 0.01;
   int flip_link = 0, threads = 0, tile = 16;
   bool resume = false, json = false;
+  std::string merge_dir;  // npend map merge DIR [--json]
+  bool merge_json = false;
 };
 
 // One axis: count values from `from` to `to`, both ends included, of state coordinate
@@ -126,45 +139,80 @@ std::vector<double> cell_state(const std::vector<double>& base, const axis& ax, 
   return state;
 }
 
+// Which tiles a run computes: all of them, or with --part I/N those whose index is I - 1
+// modulo N — a fixed assignment, so that the jobs of an array need not talk to each other.
+struct part_share {
+  int index = 1, count = 1;
+  bool has(int tile) const { return tile % count == index - 1; }
+};
+
+part_share parse_part(const std::string& text) {
+  const auto whole = [](std::string_view piece, int& out) {
+    const std::string digits(cli::trim(piece));
+    if (digits.empty() || digits.size() > 6 ||
+        digits.find_first_not_of("0123456789") != std::string::npos)
+      return false;
+    out = std::stoi(digits);
+    return true;
+  };
+  const auto pieces = cli::split_list(text, '/');
+  part_share share;
+  if (pieces.size() != 2 || !whole(pieces[0], share.index) || !whole(pieces[1], share.count) ||
+      share.index < 1 || share.index > share.count)
+    throw cli::input_error(
+        fmt::format("--part: expected I/N with 1 <= I <= N (e.g. 3/8), got '{}'", text));
+  return share;
+}
+
+// The cells of one tile: columns x0..x1 - 1, rows y0..y1 - 1.
+struct tile_bounds {
+  int x0, x1, y0, y1;
+  std::size_t cells() const { return static_cast<std::size_t>((x1 - x0) * (y1 - y0)); }
+};
+
 struct tile_layout {
   int size, tiles_x, tiles_y;
   int count() const { return tiles_x * tiles_y; }
+  // Tile `index` (row-major over the tiles), clipped at the grid's edges.
+  tile_bounds bounds(int index, const axis& ax, const axis& ay) const {
+    const int x0 = index % tiles_x * size, y0 = index / tiles_x * size;
+    return {x0, std::min(ax.count, x0 + size), y0, std::min(ay.count, y0 + size)};
+  }
 };
 
-fs::path tile_path(const fs::path& dir, int index) {
-  return dir / "tiles" / fmt::format("tile_{:06d}.bin", index);
+// FNV-1a (64 bit) of the run's identity: the tag at the head of every tile file, which ties
+// the tile to its run.json without repeating the identity in each tile.
+std::uint64_t fnv1a(std::string_view text) {
+  std::uint64_t hash = 0xcbf29ce484222325ULL;
+  for (const unsigned char ch : text) {
+    hash ^= ch;
+    hash *= 0x100000001b3ULL;
+  }
+  return hash;
 }
 
-// The values of tile `index` (row-major within the tile, clipped at the grid's edges).
-std::vector<double> compute_tile(const chain& c, const map_command_options& o, const axis& ax,
-                                 const axis& ay, const std::vector<double>& base,
-                                 const tile_layout& layout, int index, std::atomic<long>& failed) {
-  const int tx = index % layout.tiles_x, ty = index / layout.tiles_x;
-  const int x0 = tx * layout.size, y0 = ty * layout.size;
-  const int x1 = std::min(ax.count, x0 + layout.size), y1 = std::min(ay.count, y0 + layout.size);
-  std::vector<double> values;
-  for (int j = y0; j < y1; ++j)
-    for (int i = x0; i < x1; ++i) {
-      const std::vector<double> state = cell_state(base, ax, ay, i, j);
-      try {
-        if (o.quantity == "flip") {
-          values.push_back(flip_time(c, state, {o.t_end, o.dt, o.flip_link}));
-        } else {
-          lyapunov_options lo;
-          lo.integration.stepper = stepper_kind::rk4;
-          lo.integration.t_end = o.t_end;
-          lo.integration.dt = o.dt;
-          values.push_back(maximal_lyapunov_exponent(c, state, lo).exponents.front());
-        }
-      } catch (const integration_error&) {
-        values.push_back(std::numeric_limits<double>::quiet_NaN());
-        ++failed;
-      }
-    }
-  return values;
-}
+// Everything a run needs, checked: the chain, the axes, the base state, the tiles, and the
+// run's identity, which a resumed run, another part or a merge must share.
+struct map_run {
+  map_command_options o;
+  chain c;
+  axis ax, ay;
+  std::vector<double> base;
+  tile_layout layout;
+  part_share part;
+  fs::path dir;
+  nlohmann::json identity;
+  std::uint64_t tag;
 
-// The run's identity: a resumed run must be the same map.
+  bool parted() const { return !o.part.empty(); }
+  fs::path tiles() const { return dir / "tiles"; }
+  fs::path run_file() const { return dir / "tiles" / "run.json"; }
+  fs::path tile_path(int index) const {
+    return dir / "tiles" / fmt::format("tile_{:06d}.bin", index);
+  }
+};
+
+// The run's identity: what makes two runs the same map.
 nlohmann::json run_identity(const map_command_options& o, const chain& c, const axis& ax,
                             const axis& ay, const std::vector<double>& base) {
   return {{"links", c.links()},
@@ -177,6 +225,276 @@ nlohmann::json run_identity(const map_command_options& o, const chain& c, const 
           {"flip_link", o.flip_link},
           {"tile", o.tile},
           {"base_state", base}};
+}
+
+// The options as typed (the chain file's values filled in), stored in run.json beside the
+// identity so that `npend map merge DIR` can rebuild the run from the folder alone.
+constexpr std::pair<const char*, std::string cli::chain_options::*> chain_texts[] = {
+    {"masses", &cli::chain_options::masses},
+    {"lengths", &cli::chain_options::lengths},
+    {"g", &cli::chain_options::g},
+    {"com", &cli::chain_options::com},
+    {"inertia", &cli::chain_options::inertia},
+    {"stiffness", &cli::chain_options::stiffness},
+    {"rest_angles", &cli::chain_options::rest_angles},
+    {"damping", &cli::chain_options::damping},
+    {"pivot", &cli::chain_options::pivot}};
+constexpr std::pair<const char*, std::string map_command_options::*> map_texts[] = {
+    {"x", &map_command_options::x},
+    {"y", &map_command_options::y},
+    {"quantity", &map_command_options::quantity},
+    {"phi", &map_command_options::phi},
+    {"p", &map_command_options::p}};
+
+nlohmann::json options_record(const map_command_options& o) {
+  const cli::chain_options chain = o.chain.with_file();
+  nlohmann::json j = {{"links", chain.links}, {"rods", chain.rods},       {"t_end", o.t_end},
+                      {"dt", o.dt},           {"flip_link", o.flip_link}, {"tile", o.tile}};
+  for (const auto& [key, member] : chain_texts) j[key] = chain.*member;
+  for (const auto& [key, member] : map_texts) j[key] = o.*member;
+  return j;
+}
+
+// Throws nlohmann::json::exception for a record that is not options_record's.
+map_command_options options_from_record(const nlohmann::json& j) {
+  map_command_options o;
+  o.chain.links = j.at("links").get<int>();
+  o.chain.rods = j.at("rods").get<bool>();
+  o.t_end = j.at("t_end").get<double>();
+  o.dt = j.at("dt").get<double>();
+  o.flip_link = j.at("flip_link").get<int>();
+  o.tile = j.at("tile").get<int>();
+  for (const auto& [key, member] : chain_texts) o.chain.*member = j.at(key).get<std::string>();
+  for (const auto& [key, member] : map_texts) o.*member = j.at(key).get<std::string>();
+  return o;
+}
+
+// Checks the options and builds the run; touches no file.
+map_run prepare_run(const map_command_options& o) {
+  const chain c = o.chain.make_chain(cli::model_support::conservative, "npend map");
+  const int n = c.links();
+  if (o.quantity != "flip" && o.quantity != "lyapunov")
+    throw cli::input_error(fmt::format("--quantity: one of flip, lyapunov, got '{}'", o.quantity));
+  const axis ax = parse_axis(o.x, "--x", n), ay = parse_axis(o.y, "--y", n);
+  if (ax.coordinate == ay.coordinate)
+    throw cli::input_error(fmt::format("--x and --y: both are {}", ax.name));
+  if (!(o.t_end > 0) || !(o.dt > 0) || o.dt > o.t_end)
+    throw cli::input_error(
+        fmt::format("--t-end and --dt: need 0 < dt <= t-end, got {} and {}", o.dt, o.t_end));
+  if (o.flip_link < 0 || o.flip_link > n)
+    throw cli::input_error(
+        fmt::format("--flip-link: 1..{} (or 0: any arm), got {}", n, o.flip_link));
+  if (o.tile < 1 || o.tile > 1024)
+    throw cli::input_error(fmt::format("--tile: 1..1024, got {}", o.tile));
+  if (o.threads < 0) throw cli::input_error(fmt::format("--threads: >= 0, got {}", o.threads));
+  const part_share part = o.part.empty() ? part_share{} : parse_part(o.part);
+  std::vector<double> base(static_cast<std::size_t>(2 * n), 0.0);
+  if (!o.phi.empty()) {
+    const auto phi = cli::parse_angle_list(o.phi, "--phi", n);
+    std::copy(phi.begin(), phi.end(), base.begin());
+  }
+  if (!o.p.empty()) {
+    const auto p = cli::parse_number_list(o.p, "--p", static_cast<std::size_t>(n),
+                                          fmt::format("p_1..p_{}", n));
+    std::copy(p.begin(), p.end(), base.begin() + n);
+  }
+  if (o.quantity == "flip") energy_forbids_flip(c, base, o.flip_link);  // refuses springs early
+  if (o.out.empty()) throw cli::input_error("--out: the folder for map.npy, map.png, map.json");
+  const tile_layout layout{o.tile, (ax.count + o.tile - 1) / o.tile,
+                           (ay.count + o.tile - 1) / o.tile};
+  nlohmann::json identity = run_identity(o, c, ax, ay, base);
+  const std::uint64_t tag = fnv1a(identity.dump());
+  return {o, c, ax, ay, base, layout, part, fs::path(o.out), std::move(identity), tag};
+}
+
+nlohmann::json run_file_content(const map_run& run) {
+  return {{"identity", run.identity}, {"options", options_record(run.o)}};
+}
+
+// run.json of a folder; input_error naming `option` if it is not readable.
+nlohmann::json read_run_file(const fs::path& file, std::string_view option) {
+  std::ifstream in(file);
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception&) {
+  }
+  if (!j.is_object() || !j.contains("identity") || !j.contains("options"))
+    throw cli::input_error(fmt::format("{}: {} is not readable", option, file.string()));
+  return j;
+}
+
+void check_same_map(const map_run& run, std::string_view option) {
+  if (read_run_file(run.run_file(), option)["identity"] != run.identity)
+    throw cli::input_error(fmt::format(
+        "{}: {} holds a different map (other chain, axes, quantity or times)", option, run.o.out));
+}
+
+// A new run: the folder's old tiles go, run.json says which map the new ones belong to.
+void start_fresh_folder(const map_run& run) {
+  std::error_code ec;
+  fs::create_directories(run.dir, ec);
+  if (ec)
+    throw cli::input_error(fmt::format("--out: cannot create '{}': {}", run.o.out, ec.message()));
+  fs::remove_all(run.tiles(), ec);
+  fs::create_directories(run.tiles(), ec);
+  if (ec)
+    throw cli::input_error(fmt::format("--out: cannot write in '{}': {}", run.o.out, ec.message()));
+  cli::write_file_atomically(run.run_file(), run_file_content(run).dump(2) + "\n");
+}
+
+// The parts of a job array may start at the same moment on one shared folder, so none of
+// them clears it: the first to get there writes run.json — complete under a temporary name,
+// then hard-linked into place, which fails atomically (also on NFS) when another part was
+// first — and every part checks that run.json describes its own map.
+void claim_run_file(const map_run& run) {
+  std::error_code ec;
+  fs::create_directories(run.tiles(), ec);
+  if (ec)
+    throw cli::input_error(fmt::format("--out: cannot write in '{}': {}", run.o.out, ec.message()));
+  const fs::path temporary = cli::temporary_sibling(run.run_file());
+  {
+    std::ofstream out(temporary);
+    out << run_file_content(run).dump(2) << "\n";
+    out.close();
+    if (!out) {
+      fs::remove(temporary, ec);
+      throw std::runtime_error(fmt::format("writing '{}' failed", temporary.string()));
+    }
+  }
+  const int linked = ::link(temporary.c_str(), run.run_file().c_str());
+  const int error = errno;
+  fs::remove(temporary, ec);
+  if (linked != 0 && error != EEXIST)
+    throw std::runtime_error(
+        fmt::format("cannot create '{}': {}", run.run_file().string(), std::strerror(error)));
+  if (linked != 0) check_same_map(run, "--part");
+}
+
+void prepare_folder(const map_run& run) {
+  if (run.parted()) return claim_run_file(run);
+  if (!run.o.resume) return start_fresh_folder(run);
+  if (!fs::exists(run.run_file()))
+    throw cli::input_error(fmt::format("--resume: {} holds no interrupted map (no {})", run.o.out,
+                                       run.run_file().string()));
+  check_same_map(run, "--resume");
+}
+
+// This run's tiles (its part's), without those a resumed run finds done.
+std::vector<int> pending_tiles(const map_run& run) {
+  std::vector<int> pending;
+  for (int t = 0; t < run.layout.count(); ++t)
+    if (run.part.has(t) && !(run.o.resume && fs::exists(run.tile_path(t)))) pending.push_back(t);
+  return pending;
+}
+
+long tiles_present(const map_run& run) {
+  long present = 0;
+  for (int t = 0; t < run.layout.count(); ++t) present += fs::exists(run.tile_path(t)) ? 1 : 0;
+  return present;
+}
+
+// The values of tile `index`, row-major within the tile; a cell whose integration fails
+// is NaN.
+std::vector<double> compute_tile(const map_run& run, int index) {
+  const map_command_options& o = run.o;
+  const tile_bounds b = run.layout.bounds(index, run.ax, run.ay);
+  std::vector<double> values;
+  values.reserve(b.cells());
+  for (int j = b.y0; j < b.y1; ++j)
+    for (int i = b.x0; i < b.x1; ++i) {
+      const std::vector<double> state = cell_state(run.base, run.ax, run.ay, i, j);
+      try {
+        if (o.quantity == "flip") {
+          values.push_back(flip_time(run.c, state, {o.t_end, o.dt, o.flip_link}));
+        } else {
+          lyapunov_options lo;
+          lo.integration.stepper = stepper_kind::rk4;
+          lo.integration.t_end = o.t_end;
+          lo.integration.dt = o.dt;
+          values.push_back(maximal_lyapunov_exponent(run.c, state, lo).exponents.front());
+        }
+      } catch (const integration_error&) {
+        values.push_back(std::numeric_limits<double>::quiet_NaN());
+      }
+    }
+  return values;
+}
+
+// A tile file: the run's tag, then the values as float64 in the machine's byte order.
+void write_tile(const map_run& run, int index, const std::vector<double>& values) {
+  std::string bytes(reinterpret_cast<const char*>(&run.tag), sizeof run.tag);
+  bytes += bytes_of(values);
+  cli::write_file_atomically(run.tile_path(index), bytes);
+}
+
+std::vector<double> read_tile(const map_run& run, int index) {
+  const fs::path path = run.tile_path(index);
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in) throw std::runtime_error(fmt::format("tile {} cannot be read", path.string()));
+  std::vector<double> values(run.layout.bounds(index, run.ax, run.ay).cells());
+  const std::size_t expected = sizeof run.tag + values.size() * sizeof(double);
+  if (bytes.size() != expected)
+    throw std::runtime_error(
+        fmt::format("tile {} is damaged ({} bytes, expected {}); remove it and finish with "
+                    "--resume",
+                    path.string(), bytes.size(), expected));
+  std::uint64_t tag = 0;
+  std::memcpy(&tag, bytes.data(), sizeof tag);
+  if (tag != run.tag)
+    throw std::runtime_error(fmt::format("tile {} belongs to a different map than {}",
+                                         path.string(), run.run_file().string()));
+  std::memcpy(values.data(), bytes.data() + sizeof tag, values.size() * sizeof(double));
+  return values;
+}
+
+struct tiles_outcome {
+  bool interrupted = false;
+  std::exception_ptr error;  // the first tile that failed (not thrown: MPI must abort the job)
+};
+
+// Computes the tiles `queue` hands out on `threads` threads, each written as soon as it is
+// done, until the queue runs dry, a signal asks to stop or a tile fails. `total`: the tiles
+// the progress bar counts (shown only with `show_progress`).
+tiles_outcome compute_tiles(const map_run& run, tile_queue& queue, int threads,
+                            cli::terminal_run& control, long total, bool show_progress) {
+  std::atomic<bool> stop{false};
+  std::exception_ptr error;
+#pragma omp parallel num_threads(threads)
+  {
+    bool finished = false;
+    for (int index; !stop.load() && (index = queue.next(finished)) >= 0;) {
+      try {
+        write_tile(run, index, compute_tile(run, index));
+      } catch (...) {
+#pragma omp critical(npend_map_error)
+        if (!error) error = std::current_exception();
+        stop = true;
+        queue.stop();
+        break;
+      }
+      finished = true;
+      if (omp_get_thread_num() == 0) {
+        if (show_progress)
+          control.progress(static_cast<double>(queue.finished()), static_cast<double>(total));
+        if (control.stop_requested()) {
+          stop = true;
+          queue.stop();
+        }
+      }
+    }
+  }
+  control.finish();
+  return {control.interrupted(), error};
+}
+
+int report_interrupted(const map_run& run, int exit_code) {
+  fmt::print(stderr,
+             "npend map: interrupted: {} of {} tiles are in {}; finish with the same command "
+             "and --resume\n",
+             tiles_present(run), run.layout.count(), run.tiles().string());
+  return exit_code;
 }
 
 // The heat map. `low`..`high` is the range of the finite values (for flip times dt..t_end, on
@@ -230,131 +548,39 @@ cli::plot_outcome write_png(const fs::path& dir, const map_command_options& o, c
                                        .panels = {panel}});
 }
 
-int run_map(const map_command_options& o) {
-  const auto started = std::chrono::steady_clock::now();
-  const chain c = o.chain.make_chain(cli::model_support::conservative, "npend map");
-  const int n = c.links();
-  if (o.quantity != "flip" && o.quantity != "lyapunov")
-    throw cli::input_error(fmt::format("--quantity: one of flip, lyapunov, got '{}'", o.quantity));
-  const axis ax = parse_axis(o.x, "--x", n), ay = parse_axis(o.y, "--y", n);
-  if (ax.coordinate == ay.coordinate)
-    throw cli::input_error(fmt::format("--x and --y: both are {}", ax.name));
-  if (!(o.t_end > 0) || !(o.dt > 0) || o.dt > o.t_end)
-    throw cli::input_error(
-        fmt::format("--t-end and --dt: need 0 < dt <= t-end, got {} and {}", o.dt, o.t_end));
-  if (o.flip_link < 0 || o.flip_link > n)
-    throw cli::input_error(
-        fmt::format("--flip-link: 1..{} (or 0: any arm), got {}", n, o.flip_link));
-  if (o.tile < 1 || o.tile > 1024)
-    throw cli::input_error(fmt::format("--tile: 1..1024, got {}", o.tile));
-  if (o.threads < 0) throw cli::input_error(fmt::format("--threads: >= 0, got {}", o.threads));
-  std::vector<double> base(static_cast<std::size_t>(2 * n), 0.0);
-  if (!o.phi.empty()) {
-    const auto phi = cli::parse_angle_list(o.phi, "--phi", n);
-    std::copy(phi.begin(), phi.end(), base.begin());
-  }
-  if (!o.p.empty()) {
-    const auto p = cli::parse_number_list(o.p, "--p", static_cast<std::size_t>(n),
-                                          fmt::format("p_1..p_{}", n));
-    std::copy(p.begin(), p.end(), base.begin() + n);
-  }
-  if (o.quantity == "flip") energy_forbids_flip(c, base, o.flip_link);  // refuses springs early
-
-  const fs::path dir(o.out);
-  if (o.out.empty()) throw cli::input_error("--out: the folder for map.npy, map.png, map.json");
-  const nlohmann::json identity = run_identity(o, c, ax, ay, base);
-  const fs::path run_file = dir / "tiles" / "run.json";
-  std::error_code ec;
-  if (o.resume) {
-    std::ifstream in(run_file);
-    if (!in)
-      throw cli::input_error(
-          fmt::format("--resume: {} holds no interrupted map (no {})", o.out, run_file.string()));
-    nlohmann::json before;
-    try {
-      in >> before;
-    } catch (const nlohmann::json::exception&) {
-      throw cli::input_error(fmt::format("--resume: {} is not readable", run_file.string()));
-    }
-    if (before != identity)
-      throw cli::input_error(fmt::format(
-          "--resume: {} holds a different map (other chain, axes, quantity or times)", o.out));
-  } else {
-    fs::create_directories(dir, ec);
-    if (ec)
-      throw cli::input_error(fmt::format("--out: cannot create '{}': {}", o.out, ec.message()));
-    fs::remove_all(dir / "tiles", ec);
-    fs::create_directories(dir / "tiles", ec);
-    if (ec)
-      throw cli::input_error(fmt::format("--out: cannot write in '{}': {}", o.out, ec.message()));
-    cli::write_file_atomically(run_file, identity.dump(2) + "\n");
-  }
-
-  const tile_layout layout{o.tile, (ax.count + o.tile - 1) / o.tile,
-                           (ay.count + o.tile - 1) / o.tile};
-  std::vector<int> pending;
-  for (int t = 0; t < layout.count(); ++t)
-    if (!o.resume || !fs::exists(tile_path(dir, t))) pending.push_back(t);
-  const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
-  cli::terminal_run control;
-  std::atomic<long> done{0}, failed{0};
-  std::atomic<bool> stop{false};
-  const long total = static_cast<long>(pending.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (long k = 0; k < total; ++k) {
-    if (stop.load()) continue;
-    const int index = pending[static_cast<std::size_t>(k)];
-    const std::vector<double> values = compute_tile(c, o, ax, ay, base, layout, index, failed);
-    cli::write_file_atomically(tile_path(dir, index), bytes_of(values));
-    ++done;
-    if (omp_get_thread_num() == 0) {
-      control.progress(static_cast<double>(done.load()), static_cast<double>(total));
-      if (control.stop_requested()) stop = true;
-    }
-  }
-  control.finish();
-  if (stop.load() || control.interrupted()) {
-    fmt::print(stderr,
-               "npend map: interrupted: {} of {} tiles are in {}; finish with the same command "
-               "and --resume\n",
-               layout.count() - total + done.load(), layout.count(), (dir / "tiles").string());
-    return control.exit_code();
-  }
-
-  // Assemble the tiles into the row-major grid, row 0 = the first y value.
+// Reads every tile into the map and writes map.npy (and map.csv for small grids), map.png,
+// map.gp and map.json, then removes the tiles; returns map.json's content. `facts`: how the
+// run went (threads, ranks, merged), added to map.json.
+nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
+                            std::chrono::steady_clock::time_point started) {
+  const map_command_options& o = run.o;
+  const axis &ax = run.ax, &ay = run.ay;
+  // Row-major, row 0 = the first y value.
   std::vector<double> grid(static_cast<std::size_t>(ax.count) * static_cast<std::size_t>(ay.count));
-  for (int t = 0; t < layout.count(); ++t) {
-    std::ifstream in(tile_path(dir, t), std::ios::binary);
-    const int tx = t % layout.tiles_x, ty = t / layout.tiles_x;
-    const int x0 = tx * layout.size, y0 = ty * layout.size;
-    const int x1 = std::min(ax.count, x0 + layout.size), y1 = std::min(ay.count, y0 + layout.size);
-    std::vector<double> values(static_cast<std::size_t>((x1 - x0) * (y1 - y0)));
-    in.read(reinterpret_cast<char*>(values.data()),
-            static_cast<std::streamsize>(values.size() * sizeof(double)));
-    if (!in)
-      throw std::runtime_error(
-          fmt::format("npend map: tile {} is damaged; run again without "
-                      "--resume",
-                      tile_path(dir, t).string()));
+  const auto cell = [&](int i, int j) -> double& {
+    return grid[static_cast<std::size_t>(j) * static_cast<std::size_t>(ax.count) +
+                static_cast<std::size_t>(i)];
+  };
+  for (int t = 0; t < run.layout.count(); ++t) {
+    const std::vector<double> values = read_tile(run, t);
+    const tile_bounds b = run.layout.bounds(t, ax, ay);
     std::size_t k = 0;
-    for (int j = y0; j < y1; ++j)
-      for (int i = x0; i < x1; ++i)
-        grid[static_cast<std::size_t>(j) * static_cast<std::size_t>(ax.count) +
-             static_cast<std::size_t>(i)] = values[k++];
+    for (int j = b.y0; j < b.y1; ++j)
+      for (int i = b.x0; i < b.x1; ++i) cell(i, j) = values[k++];
   }
   const std::string header = npy_header(ay.count, ax.count);
-  cli::write_file_atomically(dir / "map.npy", header + bytes_of(grid));
+  cli::write_file_atomically(run.dir / "map.npy", header + bytes_of(grid));
   const bool small = static_cast<long>(ax.count) * ay.count <= max_csv_cells;
-  if (small) write_csv(dir / "map.csv", ax, ay, grid);
+  if (small) write_csv(run.dir / "map.csv", ax, ay, grid);
   long never = 0, nan = 0, forbidden = 0;
   for (int j = 0; j < ay.count; ++j)
     for (int i = 0; i < ax.count; ++i) {
-      const double v = grid[static_cast<std::size_t>(j) * static_cast<std::size_t>(ax.count) +
-                            static_cast<std::size_t>(i)];
+      const double v = cell(i, j);
       if (std::isnan(v)) ++nan;
       if (std::isinf(v)) {
         ++never;
-        if (energy_forbids_flip(c, cell_state(base, ax, ay, i, j), o.flip_link)) ++forbidden;
+        if (energy_forbids_flip(run.c, cell_state(run.base, ax, ay, i, j), o.flip_link))
+          ++forbidden;
       }
     }
   double low = std::numeric_limits<double>::infinity(), high = -low;
@@ -367,11 +593,10 @@ int run_map(const map_command_options& o) {
     low = std::isfinite(low) ? low - 1 : 0;
     high = low + 2;
   }
-  const cli::plot_outcome plot = write_png(dir, o, ax, ay, header.size(), low, high);
+  const cli::plot_outcome plot = write_png(run.dir, o, ax, ay, header.size(), low, high);
   if (!plot.rendered) fmt::print(stderr, "npend map: note: {}\n", plot.message);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  nlohmann::json summary = identity;
+  nlohmann::json summary = run.identity;
+  summary.update(facts);
   summary["x"] = {{"name", ax.name}, {"from", ax.from}, {"to", ax.to}, {"count", ax.count}};
   summary["y"] = {{"name", ay.name}, {"from", ay.from}, {"to", ay.to}, {"count", ay.count}};
   summary["cells"] = ax.count * ay.count;
@@ -380,24 +605,215 @@ int run_map(const map_command_options& o) {
     summary["no_flip"] = never;
     summary["no_flip_by_energy"] = forbidden;
   }
-  summary["threads"] = threads;
-  summary["wall_seconds"] = seconds;
+  summary["wall_seconds"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   summary["resumed"] = o.resume;
   summary["files"] = {"map.npy", "map.json", "map.gp", "map.png"};
   if (small) summary["files"].push_back("map.csv");
-  cli::write_file_atomically(dir / "map.json", summary.dump(2) + "\n");
-  fs::remove_all(dir / "tiles", ec);
-  if (o.json) {
+  cli::write_file_atomically(run.dir / "map.json", summary.dump(2) + "\n");
+  std::error_code ec;
+  fs::remove_all(run.tiles(), ec);
+  return summary;
+}
+
+// `how`: where the map was computed ("on 8 threads"), for the line on stdout.
+void print_map_summary(const map_run& run, const nlohmann::json& summary, const std::string& how) {
+  if (run.o.json) {
     std::cout << summary.dump(2) << "\n";
+    return;
+  }
+  fmt::print("{} map of {} x {} cells ({} x {}) in {:.1f} s {}: {}\n", run.o.quantity, run.ax.count,
+             run.ay.count, run.ax.name, run.ay.name, summary["wall_seconds"].get<double>(), how,
+             (run.dir / "map.npy").string());
+  if (run.o.quantity == "flip")
+    fmt::print("no flip by t = {:g} s: {} cells ({} of them ruled out by their energy)\n",
+               run.o.t_end, summary["no_flip"].get<long>(),
+               summary["no_flip_by_energy"].get<long>());
+  if (summary["failed"].get<long>() > 0)
+    fmt::print("{} cells failed to integrate (NaN)\n", summary["failed"].get<long>());
+}
+
+// A part of a job array assembles nothing: it says what it did and how to merge.
+void print_part_summary(const map_run& run, long computed, double seconds) {
+  const long present = tiles_present(run);
+  if (run.o.json) {
+    const nlohmann::json summary = {{"part", run.o.part},
+                                    {"tiles_computed", computed},
+                                    {"tiles_present", present},
+                                    {"tiles", run.layout.count()},
+                                    {"wall_seconds", seconds}};
+    std::cout << summary.dump(2) << "\n";
+    return;
+  }
+  fmt::print(
+      "part {} of the map: {} tiles in {:.1f} s; {} of {} tiles are in {}; when every part is "
+      "done: npend map merge {}\n",
+      run.o.part, computed, seconds, present, run.layout.count(), run.tiles().string(), run.o.out);
+}
+
+// After the tiles: a part stops here, a whole run assembles the map.
+int finish_map(const map_run& run, long computed, const nlohmann::json& facts,
+               const std::string& how, std::chrono::steady_clock::time_point started) {
+  if (run.parted()) {
+    print_part_summary(
+        run, computed,
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     return 0;
   }
-  fmt::print("{} map of {} x {} cells ({} x {}) in {:.1f} s on {} threads: {}\n", o.quantity,
-             ax.count, ay.count, ax.name, ay.name, seconds, threads, (dir / "map.npy").string());
-  if (o.quantity == "flip")
-    fmt::print("no flip by t = {:g} s: {} cells ({} of them ruled out by their energy)\n", o.t_end,
-               never, forbidden);
-  if (nan > 0) fmt::print("{} cells failed to integrate (NaN)\n", nan);
+  print_map_summary(run, assemble_map(run, facts, started), how);
   return 0;
+}
+
+int thread_count(const map_command_options& o) {
+  return o.threads > 0 ? o.threads : omp_get_max_threads();
+}
+
+// One process: its threads take the tiles from a shared counter.
+int run_map(const map_command_options& o) {
+  const auto started = std::chrono::steady_clock::now();
+  const map_run run = prepare_run(o);
+  prepare_folder(run);
+  const int threads = thread_count(o);
+  const std::vector<int> pending = pending_tiles(run);
+  const long total = static_cast<long>(pending.size());
+  local_tile_queue queue(pending);
+  cli::terminal_run control;
+  const tiles_outcome outcome = compute_tiles(run, queue, threads, control, total, true);
+  if (outcome.error) std::rethrow_exception(outcome.error);
+  if (outcome.interrupted) return report_interrupted(run, control.exit_code());
+  return finish_map(run, total, {{"threads", threads}}, fmt::format("on {} threads", threads),
+                    started);
+}
+
+// `npend map merge DIR`: the map from the tiles that --part runs left in DIR/tiles/, exactly
+// as one uninterrupted run would have written it.
+int run_merge(const std::string& folder, bool json) {
+  const auto started = std::chrono::steady_clock::now();
+  if (folder.empty()) throw cli::input_error("merge: the folder name is empty");
+  const fs::path file = fs::path(folder) / "tiles" / "run.json";
+  if (!fs::exists(file))
+    throw cli::input_error(
+        fmt::format("merge: {} holds no map's tiles (no {})", folder, file.string()));
+  const nlohmann::json record = read_run_file(file, "merge");
+  map_command_options o;
+  try {
+    o = options_from_record(record["options"]);
+  } catch (const nlohmann::json::exception&) {
+    throw cli::input_error(fmt::format("merge: {} is not readable", file.string()));
+  }
+  o.out = folder;
+  o.json = json;
+  const map_run run = prepare_run(o);
+  if (run.identity != record["identity"])
+    throw cli::input_error(fmt::format(
+        "merge: {} does not describe the map its options give (written by another npend?)",
+        file.string()));
+  std::vector<std::string> missing;
+  for (int t = 0; t < run.layout.count(); ++t)
+    if (!fs::exists(run.tile_path(t))) missing.push_back(run.tile_path(t).filename().string());
+  if (!missing.empty()) {
+    constexpr std::size_t shown = 8;
+    std::string names;
+    for (std::size_t k = 0; k < std::min(shown, missing.size()); ++k)
+      names += (k > 0 ? ", " : "") + missing[k];
+    if (missing.size() > shown) names += ", ...";
+    throw cli::input_error(fmt::format(
+        "merge: {} of {} tiles are missing from {}: {} (run the parts that compute them, with "
+        "--resume to keep the tiles that are there)",
+        missing.size(), run.layout.count(), run.tiles().string(), names));
+  }
+  return finish_map(run, 0, {{"merged", true}}, "by merging its tiles", started);
+}
+
+#ifdef NPEND_WITH_MPI
+[[noreturn]] void abort_job(const mpi::session& mpi, const std::exception_ptr& error) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const std::exception& e) {
+    mpi.abort(e.what(), 1);
+  } catch (...) {
+    mpi.abort("unknown error", 1);
+  }
+}
+
+// One rank of an MPI job: rank 0 prepares the folder, hands out the tiles (its own threads
+// compute too) and assembles the map; the others compute the tiles it hands them. Bad input
+// is found by every rank alike and reported by rank 0 only.
+int run_map_on_ranks(const map_command_options& o, const mpi::session& mpi) {
+  const auto started = std::chrono::steady_clock::now();
+  const map_run run = prepare_run(o);
+  if (mpi.rank() == 0) {
+    try {
+      prepare_folder(run);
+    } catch (const cli::input_error&) {
+      mpi.broadcast(2);
+      throw;
+    } catch (...) {
+      mpi.broadcast(1);
+      throw;
+    }
+  }
+  if (const int failed = mpi.broadcast(0); failed != 0) return failed;
+  const int threads = thread_count(o);
+  cli::terminal_run control;
+  long total = 0;
+  tiles_outcome outcome;
+  std::vector<long> tiles_per_rank;
+  if (mpi.rank() == 0) {
+    const std::vector<int> pending = pending_tiles(run);
+    total = static_cast<long>(pending.size());
+    local_tile_queue tiles(pending);
+    mpi::tile_coordinator queue(tiles, mpi);
+    outcome = compute_tiles(run, queue, threads, control, total, true);
+    if (outcome.error) abort_job(mpi, outcome.error);
+    queue.wait_for_ranks();
+    tiles_per_rank = queue.tiles_per_rank();
+  } else {
+    mpi::tile_worker queue;
+    outcome = compute_tiles(run, queue, threads, control, 0, false);
+    if (outcome.error) abort_job(mpi, outcome.error);
+    queue.done();
+  }
+  const int exit_code = mpi.max(outcome.interrupted ? control.exit_code() : 0);
+  if (mpi.rank() != 0) return exit_code;
+  if (exit_code != 0) return report_interrupted(run, exit_code);
+  return finish_map(
+      run, total, {{"threads", threads}, {"ranks", mpi.size()}, {"tiles_per_rank", tiles_per_rank}},
+      fmt::format("on {} ranks x {} threads", mpi.size(), threads), started);
+}
+#endif
+
+// MPI only under an MPI launcher: a plain start (a shell, a job array's task) never pays for
+// MPI_Init, which in Open MPI starts a helper daemon even for a single process.
+int run_map_command(const map_command_options& o) {
+#ifdef NPEND_WITH_MPI
+  if (mpi::launched()) {
+    const mpi::session mpi;
+    try {
+      return run_map_on_ranks(o, mpi);
+    } catch (const cli::input_error&) {
+      if (mpi.rank() != 0) return 2;  // rank 0 says it
+      throw;
+    }
+  }
+#endif
+  return run_map(o);
+}
+
+// `npend map merge DIR` or `npend map ...`: --links, --x, --y and --out are checked here, not
+// by CLI11, which would demand them of `npend map merge DIR` too.
+int run_map_subcommand(const map_command_options& o, const CLI::App& cmd, const CLI::App& merge) {
+  if (merge.parsed()) {
+    for (const CLI::Option* option : cmd.get_options())
+      if (option->count() > 0)
+        throw cli::input_error(
+            fmt::format("merge: takes the folder (and --json) only, not {}", option->get_name()));
+    return run_merge(o.merge_dir, o.merge_json);
+  }
+  for (const char* name : {"--links", "--x", "--y", "--out"})
+    if (cmd.get_option(name)->count() == 0)
+      throw cli::input_error(fmt::format("{} is required (see npend map --help)", name));
+  return run_map_command(o);
 }
 
 }  // namespace
@@ -407,24 +823,32 @@ void add_map_command(CLI::App& app, command_list& commands) {
   CLI::App* cmd = app.add_subcommand(
       "map",
       "A chaos map over a 2-D grid of starts: time to the first flip (Heyl's fractal) or the "
-      "maximal Lyapunov exponent; tiles on every core, resumable; map.npy, map.png, map.json");
-  o->chain.add_to(*cmd);
-  cmd->add_option("--x", o->x, "NAME:FROM:TO:COUNT, NAME a start coordinate (phi1.., p1..)")
-      ->required();
-  cmd->add_option("--y", o->y, "NAME:FROM:TO:COUNT for the rows (row 0 = FROM)")->required();
+      "maximal Lyapunov exponent; tiles on every core, across MPI ranks (mpirun) or the jobs of "
+      "an array (--part, then npend map merge DIR), resumable; map.npy, map.png, map.json");
+  o->chain.add_to(*cmd, false);  // --links is required all the same: run_map_subcommand
+  cmd->add_option("--x", o->x,
+                  "NAME:FROM:TO:COUNT, NAME a start coordinate (phi1.., p1..) (required)");
+  cmd->add_option("--y", o->y, "NAME:FROM:TO:COUNT for the rows (row 0 = FROM) (required)");
   cmd->add_option("--quantity", o->quantity, "flip (default) or lyapunov");
   cmd->add_option("--phi", o->phi, "The start's other angles (rad; default 0)");
   cmd->add_option("--p", o->p, "The start's other momenta (kg m^2/s; default 0)");
   cmd->add_option("--t-end", o->t_end, "Integration time per cell in s (default 100)");
   cmd->add_option("--dt", o->dt, "rk4's step in s (default 0.01)");
   cmd->add_option("--flip-link", o->flip_link, "flip: only arm K counts (default 0: any arm)");
-  cmd->add_option("--threads", o->threads, "Threads (default: every core)");
+  cmd->add_option("--threads", o->threads, "Threads (default: every core; per rank under MPI)");
   cmd->add_option("--tile", o->tile, "Cells per tile side (default 16)");
-  cmd->add_option("--out", o->out, "The folder for map.npy, map.png and map.json")->required();
+  cmd->add_option("--out", o->out, "The folder for map.npy, map.png and map.json (required)");
   cmd->add_flag("--resume", o->resume,
                 "Finish an interrupted map in --out (same command): its finished tiles are kept");
+  cmd->add_option("--part", o->part,
+                  "I/N: compute only the tiles whose index is I-1 modulo N into --out's tiles/ "
+                  "(one job of an array of N; no map: npend map merge DIR assembles it)");
   cmd->add_flag("--json", o->json, "Print the summary (map.json) to stdout");
-  commands.push_back({cmd, [o] { return run_map(*o); }});
+  CLI::App* merge = cmd->add_subcommand(
+      "merge", "Assemble map.npy, map.png, map.json from the tiles --part runs left in DIR");
+  merge->add_option("dir", o->merge_dir, "The --out folder of the parts")->required();
+  merge->add_flag("--json", o->merge_json, "Print the summary (map.json) to stdout");
+  commands.push_back({cmd, [o, cmd, merge] { return run_map_subcommand(*o, *cmd, *merge); }});
 }
 
 }  // namespace npend::app

@@ -109,3 +109,84 @@ TEST_CASE("npend map: killed part way and resumed, the same bytes as one run") {
   CHECK(npend::test::read_text((dir / "whole" / "map.npy").string()) ==
         npend::test::read_text((part / "map.npy").string()));
 }
+
+namespace {
+
+// `grid` in folder `dir` as part `part` (I/N) of a job array.
+npend::test::command_result run_part(const fs::path& dir, const std::string& part,
+                                     const std::string& extra = "") {
+  return run_npend(grid + extra + " --threads 1 --part " + part + " --out " + dir.string());
+}
+
+}  // namespace
+
+TEST_CASE("npend map --part and merge: the parts, merged, give the bytes of one run") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-parts"));
+  REQUIRE(run_npend(grid + " --out " + (dir / "whole").string()).exit_code == 0);
+  const fs::path parts = dir / "parts";
+  for (const std::string part : {"1/3", "2/3", "3/3"}) {
+    const auto r = run_part(parts, part);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.out.find("npend map merge") != std::string::npos);
+    CHECK_FALSE(fs::exists(parts / "map.npy"));  // a part assembles nothing
+  }
+  const auto merged = run_npend("map merge " + parts.string() + " --json");
+  REQUIRE(merged.exit_code == 0);
+  CHECK(nlohmann::json::parse(merged.out)["merged"] == true);
+  CHECK(npend::test::read_text((dir / "whole" / "map.npy").string()) ==
+        npend::test::read_text((parts / "map.npy").string()));
+  CHECK(npend::test::read_text((dir / "whole" / "map.csv").string()) ==
+        npend::test::read_text((parts / "map.csv").string()));
+  CHECK(fs::exists(parts / "map.png"));
+  CHECK_FALSE(fs::exists(parts / "tiles"));
+}
+
+TEST_CASE("npend map --part: parts started at the same moment on one folder share it") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-parts-race"));
+  REQUIRE(run_npend(grid + " --out " + (dir / "whole").string()).exit_code == 0);
+  // Four parts race to create the folder and its run.json; none may clear another's tiles.
+  std::string jobs;
+  for (int i = 1; i <= 4; ++i)
+    jobs += std::string(NPEND_CLI_PATH) + " " + grid + " --threads 1 --part " + std::to_string(i) +
+            "/4 --out " + (dir / "shared").string() + " >/dev/null & ";
+  const auto started = npend::test::run_shell(jobs + "wait");
+  REQUIRE(started.exit_code == 0);
+  REQUIRE(run_npend("map merge " + (dir / "shared").string()).exit_code == 0);
+  CHECK(npend::test::read_text((dir / "whole" / "map.npy").string()) ==
+        npend::test::read_text((dir / "shared" / "map.npy").string()));
+}
+
+TEST_CASE("npend map merge: names the missing tiles, and --part --resume computes only those") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-merge-missing"));
+  REQUIRE(run_part(dir, "1/2").exit_code == 0);  // tiles 0, 2, 4, 6, 8 of 9
+  const auto r = run_npend("map merge " + dir.string());
+  CHECK(npend::test::is_input_error(
+      r, "merge: 4 of 9 tiles are missing from " + (dir / "tiles").string() +
+             ": tile_000001.bin, tile_000003.bin, tile_000005.bin, tile_000007.bin"));
+  CHECK_FALSE(fs::exists(dir / "map.npy"));
+  const auto resumed =
+      run_npend(grid + " --threads 1 --part 2/2 --resume --json --out " + dir.string());
+  REQUIRE(resumed.exit_code == 0);
+  CHECK(nlohmann::json::parse(resumed.out)["tiles_computed"] == 4);
+  CHECK(run_npend("map merge " + dir.string()).exit_code == 0);
+}
+
+TEST_CASE("npend map --part and merge: a folder or a tile of another map is refused") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-parts-other"));
+  const fs::path mine = dir / "mine", other = dir / "other";
+  REQUIRE(run_part(mine, "1/2").exit_code == 0);
+  // Another part with other times cannot join the folder.
+  const auto joined = run_part(mine, "2/2", " --dt 0.02");
+  CHECK(npend::test::is_input_error(
+      joined, "--part: " + mine.string() +
+                  " holds a different map (other chain, axes, quantity or times)"));
+  REQUIRE(run_part(mine, "2/2").exit_code == 0);
+  // A tile of another map copied in is found when merging.
+  REQUIRE(run_part(other, "1/1", " --dt 0.02").exit_code == 0);
+  fs::copy_file(other / "tiles" / "tile_000003.bin", mine / "tiles" / "tile_000003.bin",
+                fs::copy_options::overwrite_existing);
+  const auto merged = run_npend("map merge " + mine.string());
+  CHECK(merged.exit_code == 1);
+  CHECK(merged.err.find("tile_000003.bin belongs to a different map") != std::string::npos);
+  CHECK_FALSE(fs::exists(mine / "map.npy"));
+}
