@@ -61,11 +61,14 @@ int run_animate(const animate_options& o) {
   open_output(video, o.out, "--out");
   if (!o.frames_csv.empty()) open_output(csv, o.frames_csv, "--frames-csv");
 
-  // Integrating, then drawing (and encoding): two equal parts of the progress bar.
-  run_control_part integrating(&control, 0, 2), rendering(&control, 1, 2);
+  // Integrating, then drawing (and encoding): a frame takes milliseconds to draw, the
+  // chain's motion over 1/fps far less to integrate.
+  cli::run_control_share integrating(&control, 0, 0.1), rendering(&control, 0.1, 1);
   integration_options sampled = options;
   sampled.control = &integrating;
   const sampled_motion motion = sample_motion(c, x0, sampled, style.fps);
+  // Thousands of integration steps a second, then tens of frames.
+  control.new_pace();
   const bool done =
       !motion.stopped && render_animation(c, motion, style, format, *video, &rendering);
   control.finish();

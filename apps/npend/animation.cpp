@@ -12,6 +12,7 @@
 #include "input_parsing.hpp"
 #include "output_file.hpp"
 #include "plotting.hpp"
+#include "terminal_run.hpp"
 
 namespace npend::app {
 
@@ -343,9 +344,9 @@ void require_animation_tools(video_format format) {
 
 bool render_animation(const chain& c, const sampled_motion& motion, const animation_style& style,
                       video_format format, cli::atomic_output_file& file, run_control* control) {
-  // An MP4's progress: drawing, then encoding, as two equal parts.
-  const std::size_t parts = format == video_format::gif ? 1 : 2;
-  run_control_part drawing(control, 0, parts), encoding(control, 1, parts);
+  // An MP4's progress: drawing, then encoding, which takes about half as long.
+  const double drawn = format == video_format::gif ? 1 : 0.7;
+  cli::run_control_share drawing(control, 0, drawn), encoding(control, drawn, 1);
   if (format == video_format::gif) {
     if (!draw_frames(c, motion, style, format, ".",
                      std::filesystem::absolute(file.temporary_path()), &drawing))
