@@ -340,6 +340,19 @@ TEST_CASE("npend animate: SIGINT while drawing leaves neither the file nor the f
   CHECK(npend::test::directory_listing(dir).empty());
 }
 
+TEST_CASE("npend animate: a progress bar on a terminal while the frames are drawn") {
+  const std::string dir = npend::test::temporary_directory("animate-progress");
+  // Integrating 60 s takes a fraction of a second; the bar must then follow the drawing.
+  const std::string run = "timeout --preserve-status -s INT 3 " + std::string(NPEND_CLI_PATH) +
+                          " animate --links 3 --phi 1.5,1.5,1.5 --t-end 60 --out " + dir + "/a.mp4";
+  // `script` runs the command on a pseudo-terminal and copies what it shows to stdout.
+  const auto on_terminal = run_shell("script -qec '" + run + "' /dev/null");
+  INFO(on_terminal.out);
+  CHECK(on_terminal.out.find("% ") != std::string::npos);
+  CHECK(on_terminal.out.find("s left") != std::string::npos);
+  CHECK(npend::test::directory_listing(dir).empty());
+}
+
 TEST_CASE("npend animate: --help describes every option") {
   const auto r = run_npend("animate --help");
   CHECK(r.exit_code == 0);
