@@ -6,6 +6,7 @@
 #include "animation.hpp"
 #include "chain_options.hpp"
 #include "command.hpp"
+#include "control_options.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
 #include "output_file.hpp"
@@ -20,6 +21,7 @@ struct animate_options {
   cli::chain_options chain;
   cli::start_options start;
   cli::integrator_options integrator;
+  cli::control_options control;
   std::string out, fps, trail, size, frames_csv;
 };
 
@@ -49,6 +51,7 @@ int run_animate(const animate_options& o) {
   const chain c = o.chain.make_chain(cli::model_support::any);
   const std::vector<double> x0 = o.start.make_state(c);
   const integration_options options = o.integrator.make();
+  const std::optional<lqr_design> design = o.control.controller_design(c);
   const video_format format = video_format_of(o.out);
   const animation_style style = make_style(o, format);
   const std::size_t frames = frame_count(options.t_end, style.fps);
@@ -66,7 +69,8 @@ int run_animate(const animate_options& o) {
   cli::run_control_share integrating(&control, 0, 0.1), rendering(&control, 0.1, 1);
   integration_options sampled = options;
   sampled.control = &integrating;
-  const sampled_motion motion = sample_motion(c, x0, sampled, style.fps);
+  const sampled_motion motion =
+      sample_motion(c, x0, sampled, style.fps, design ? &*design : nullptr);
   // Thousands of integration steps a second, then tens of frames.
   control.new_pace();
   const bool done =
@@ -95,6 +99,7 @@ void add_animate_command(CLI::App& app, command_list& commands) {
   opts->chain.add_to(*cmd);
   opts->start.add_to(*cmd);
   opts->integrator.add_to(*cmd);
+  opts->control.add_controller_to(*cmd);
   cmd->add_option("--out", opts->out,
                   "The animation: FILE.gif (drawn by gnuplot) or FILE.mp4 (H.264, frames drawn "
                   "by gnuplot and encoded by ffmpeg)")

@@ -10,6 +10,7 @@
 
 #include "child_process.hpp"
 #include "input_parsing.hpp"
+#include "npend/integrate_system.hpp"
 #include "output_file.hpp"
 #include "plotting.hpp"
 #include "terminal_run.hpp"
@@ -276,7 +277,7 @@ std::size_t frame_count(double t_end, double fps) {
 }
 
 sampled_motion sample_motion(const chain& c, std::span<const double> x0,
-                             integration_options options, double fps) {
+                             integration_options options, double fps, const lqr_design* design) {
   const int n = c.links();
   sampled_motion m;
   m.links = n;
@@ -313,7 +314,10 @@ sampled_motion sample_motion(const chain& c, std::span<const double> x0,
     }
     return next > last ? observer_action::stop : observer_action::proceed;
   };
-  const integration_result result = integrate(c, x0, options, {}, sample);
+  const integration_result result =
+      design != nullptr
+          ? integrate_system(make_feedback_system(c, *design), x0, options, {}, sample)
+          : integrate(c, x0, options, {}, sample);
   m.stopped = next <= last && result.stopped;
   return m;
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "npend/analysis/lqr.hpp"
 #include "npend/chain.hpp"
 #include "npend/integrate.hpp"
 #include "npend/run_control.hpp"
@@ -70,12 +71,14 @@ struct sampled_motion {
   }
 };
 
-/// Integrates `c` from x0 (dim 2n) with `options` (t_start = 0, forward) and samples it at
-/// the frame times up to options.t_end and in between for the trail: the integrator's own
-/// state where a sample falls on the end of a step, its dense output (integration_step::
-/// state_at) inside a step. Throws what npend::integrate throws.
+/// Integrates `c` from x0 (dim 2n) with `options` (t_start = 0, forward) — under the LQR
+/// feedback of `design` if given (npend simulate --controller) — and samples it at the
+/// frame times up to options.t_end and in between for the trail: the integrator's own state
+/// where a sample falls on the end of a step, its dense output (integration_step::state_at)
+/// inside a step. Throws what npend::integrate throws.
 sampled_motion sample_motion(const chain& c, std::span<const double> x0,
-                             integration_options options, double fps);
+                             integration_options options, double fps,
+                             const lqr_design* design = nullptr);
 
 /// The frames as CSV: header t,H,x_0,y_0,x_1,y_1,..,x_n,y_n (point 0 the pivot, y down, m),
 /// one row per frame, numbers in the shortest form that reads back exactly.

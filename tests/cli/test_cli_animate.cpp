@@ -254,6 +254,34 @@ TEST_CASE("npend animate: a driven chain of rods, its pivot drawn where the driv
   CHECK(parse_gif(read_bytes(dir + "/a.gif")).images == 26);
 }
 
+TEST_CASE("npend animate: the standing chain held by --controller lqr, as npend simulate runs it") {
+  const std::string dir = npend::test::temporary_directory("animate-lqr");
+  const std::string start = "--links 3 --controller lqr --at pi --phi 3.04,3.04,3.04 --t-end 4 ";
+  const auto r = run_npend("animate " + start + "--fps 5 --size 64x64 --out " + dir +
+                           "/a.gif --frames-csv " + dir + "/frames.csv");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  std::string header;
+  const auto rows = csv_rows(npend::test::read_text(dir + "/frames.csv"), header);
+  REQUIRE(rows.size() == 21);
+  // Every 200th row of npend simulate's trajectory (1 ms grid) is a frame at 5 fps.
+  const auto sim = run_npend("simulate " + start);
+  REQUIRE(sim.exit_code == 0);
+  std::string sim_header;
+  const auto trajectory = csv_rows(sim.out, sim_header);
+  REQUIRE(trajectory.size() == 4001);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    CAPTURE(k);
+    const auto& frame = rows[k];
+    const auto& row = trajectory[200 * k];
+    // simulate's columns: t, phi_1..3, p_1..3, H, x_1, y_1, ..
+    CHECK(frame[0] == doctest::Approx(row[0]).epsilon(1e-12));
+    for (std::size_t i = 0; i < 6; ++i) CHECK(std::fabs(frame[4 + i] - row[8 + i]) < 1e-10);
+  }
+  // Held upright: the last bob 3 m above the pivot (y points down).
+  CHECK(rows.back()[9] == doctest::Approx(-3).epsilon(1e-4));
+}
+
 TEST_CASE("npend animate: the last bob is drawn at its position, on fixed axes with equal scales") {
   const std::string dir = npend::test::temporary_directory("animate-pixels");
   // No trail, so the red of the last bob is nowhere else. A wide image: the view is
