@@ -22,6 +22,25 @@ void control_options::add_to(CLI::App& command, bool at_required) {
                      "R = R on the torques (default 10:1:1)");
 }
 
+void control_options::add_controller_to(CLI::App& command) {
+  command.add_option("--controller", controller,
+                     "lqr: run the chain under the LQR feedback u = -K (x - x*) that holds it at "
+                     "--at (with --actuated, --weights as for npend control)");
+  add_to(command, false);
+}
+
+std::optional<lqr_design> control_options::controller_design(const chain& c) const {
+  if (controller.empty()) {
+    if (given() || !actuated.empty() || !weights.empty())
+      throw input_error("--at, --actuated and --weights go with --controller lqr");
+    return std::nullopt;
+  }
+  if (controller != "lqr")
+    throw input_error(fmt::format("--controller: the one controller is lqr, got '{}'", controller));
+  if (!given()) throw input_error("--controller lqr needs the equilibrium to hold: --at phi_1,..");
+  return design(c);
+}
+
 lqr_design control_options::design(const chain& c) const {
   const int n = c.links();
   const std::vector<double> angles = parse_angle_list(at, "--at", n);

@@ -4,15 +4,26 @@
 
 #include <CLI/CLI.hpp>
 #include <npend/analysis/lqr.hpp>
+#include <optional>
 #include <string>
 
 namespace npend::cli {
 
 struct control_options {
   std::string at, actuated, weights;
+  std::string controller;  ///< --controller, for commands that run a chain under control
 
   /// Adds --at (required unless `at_required` is false), --actuated and --weights.
   void add_to(CLI::App& command, bool at_required = true);
+
+  /// Adds --controller and, optional, the design's --at, --actuated and --weights (npend
+  /// simulate, npend animate: running the chain under the feedback).
+  void add_controller_to(CLI::App& command);
+
+  /// The design to run the chain under: none without --controller, the LQR design with
+  /// --controller lqr. Throws input_error for another controller, lqr without --at, and
+  /// --at, --actuated or --weights without --controller.
+  std::optional<lqr_design> controller_design(const chain& c) const;
 
   /// Whether a design was asked for (--at given).
   bool given() const { return !at.empty(); }

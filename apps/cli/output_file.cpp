@@ -12,16 +12,30 @@
 
 namespace npend::cli {
 
+namespace {
+
+// The folder `path` is in.
+std::filesystem::path folder_of(const std::filesystem::path& path) {
+  return path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+}
+
+// "<dir>/.<name>.npend-XXXXXX", the template of mkstemp and mkdtemp.
+std::string hidden_pattern(const std::filesystem::path& path) {
+  std::string name = ".";  // built by appending: GCC 12 misreports `"." + s` (-Wrestrict)
+  name += path.filename().string();
+  name += ".npend-XXXXXX";
+  return (folder_of(path) / name).string();
+}
+
+}  // namespace
+
 std::filesystem::path temporary_sibling(const std::filesystem::path& path) {
   std::error_code ec;
   // Checked up front: otherwise the rename at the end, after all the work, is what fails.
   if (path.filename().empty() || std::filesystem::is_directory(path, ec))
     throw std::runtime_error(fmt::format("'{}' names a directory, not a file", path.string()));
-  const auto dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
-  std::string name = ".";  // built by appending: GCC 12 misreports `"." + s` (-Wrestrict)
-  name += path.filename().string();
-  name += ".npend-XXXXXX";
-  std::string pattern = (dir / name).string();
+  const auto dir = folder_of(path);
+  std::string pattern = hidden_pattern(path);
   const int fd = ::mkstemp(pattern.data());
   if (fd < 0)
     throw std::runtime_error(
@@ -32,6 +46,19 @@ std::filesystem::path temporary_sibling(const std::filesystem::path& path) {
   ::fchmod(fd, 0666 & ~mask);
   ::close(fd);
   return pattern;
+}
+
+temporary_folder::temporary_folder(const std::filesystem::path& path) {
+  std::string pattern = hidden_pattern(path);
+  if (::mkdtemp(pattern.data()) == nullptr)
+    throw std::runtime_error(fmt::format("cannot create a folder in '{}': {}",
+                                         folder_of(path).string(), std::strerror(errno)));
+  m_path = pattern;
+}
+
+temporary_folder::~temporary_folder() {
+  std::error_code ec;
+  std::filesystem::remove_all(m_path, ec);
 }
 
 atomic_output_file::atomic_output_file(std::filesystem::path path)

@@ -17,6 +17,22 @@ namespace npend::cli {
 /// removes it. Throws std::runtime_error "cannot create a file in '<dir>': <reason>".
 std::filesystem::path temporary_sibling(const std::filesystem::path& path);
 
+/// A new, empty hidden folder next to `path` (".<name>.npend-XXXXXX", made by mkdtemp) for
+/// the intermediate files of an output (an animation's frames), removed with everything in
+/// it on destruction. Throws std::runtime_error "cannot create a folder in '<dir>': <reason>".
+class temporary_folder {
+ public:
+  explicit temporary_folder(const std::filesystem::path& path);
+  ~temporary_folder();
+  temporary_folder(const temporary_folder&) = delete;
+  temporary_folder& operator=(const temporary_folder&) = delete;
+
+  const std::filesystem::path& path() const { return m_path; }
+
+ private:
+  std::filesystem::path m_path;
+};
+
 /// An output file that appears under its name only when complete: writes go to a
 /// temporary_sibling, and commit() renames it to `path` (an existing file there stays
 /// untouched until then). Without commit() the destructor removes the temporary file, and so
@@ -31,6 +47,8 @@ class atomic_output_file {
 
   /// The stream to write to.
   std::FILE* stream() { return m_stream; }
+  /// The path it will have once committed.
+  const std::filesystem::path& path() const { return m_path; }
   /// The temporary file's path (for tests and messages).
   const std::filesystem::path& temporary_path() const { return m_temporary; }
   /// Flushes, syncs, closes and renames to the requested path. Throws std::runtime_error on a

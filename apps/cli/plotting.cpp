@@ -1,15 +1,13 @@
 #include "plotting.hpp"
 
-#include "output_file.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
+#include <stdexcept>
 #include <system_error>
-#include <sys/wait.h>
-#include <unistd.h>
+
+#include "child_process.hpp"
+#include "output_file.hpp"
 
 namespace npend::cli {
 
@@ -25,38 +23,15 @@ constexpr std::string_view panel_defaults =
     "set tics nomirror out\n"
     "set mxtics; set mytics\n";
 
-// Runs `gnuplot -e "npend_output='<png>'" <script>` in `dir`; returns the exit status (127:
-// not found) and what gnuplot printed.
-std::pair<int, std::string> run_gnuplot(const std::filesystem::path& dir, const std::string& script,
-                                        const std::string& png) {
-  int pipe_fds[2];
-  if (::pipe(pipe_fds) != 0) return {-1, std::strerror(errno)};
-  const std::string assignment = "npend_output=" + gnuplot_string(png);
-  const pid_t pid = ::fork();
-  if (pid < 0) return {-1, std::strerror(errno)};
-  if (pid == 0) {
-    ::close(pipe_fds[0]);
-    ::dup2(pipe_fds[1], STDOUT_FILENO);
-    ::dup2(pipe_fds[1], STDERR_FILENO);
-    if (::chdir(dir.c_str()) != 0) ::_exit(126);
-    ::execlp("gnuplot", "gnuplot", "-e", assignment.c_str(), script.c_str(), nullptr);
-    ::_exit(127);
+// Runs `gnuplot -e "npend_output='<png>'" <script>` in `dir`; a failure to start it at all
+// (no pipe, no fork) comes back as status -1 with the reason, like a failed run.
+program_result run_gnuplot(const std::filesystem::path& dir, const std::string& script,
+                           const std::string& png) {
+  try {
+    return run_program({"gnuplot", "-e", "npend_output=" + gnuplot_string(png), script}, dir);
+  } catch (const std::runtime_error& e) {
+    return {-1, e.what()};
   }
-  ::close(pipe_fds[1]);
-  std::string output;
-  char buffer[4096];
-  for (ssize_t got; (got = ::read(pipe_fds[0], buffer, sizeof buffer)) != 0;) {
-    if (got < 0) {
-      if (errno == EINTR) continue;
-      break;
-    }
-    output.append(buffer, static_cast<std::size_t>(got));
-  }
-  ::close(pipe_fds[0]);
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
 }  // namespace
@@ -126,8 +101,9 @@ plot_outcome write_plot(const std::filesystem::path& stem, const figure& f) {
   const auto dir = script.has_parent_path() ? script.parent_path() : std::filesystem::path(".");
   const auto temporary = temporary_sibling(png);
   const signal_cleanup cleanup(temporary);
-  const auto [status, output] =
+  const program_result run =
       run_gnuplot(dir, script.filename().string(), temporary.filename().string());
+  const int status = run.status;
   std::error_code ec;
   if (status == 0 && std::filesystem::file_size(temporary, ec) > 0 && !ec) {
     std::filesystem::rename(temporary, png, ec);
@@ -139,10 +115,7 @@ plot_outcome write_plot(const std::filesystem::path& stem, const figure& f) {
                                "the plot later with `gnuplot {}` in {}",
                                script.string(), script.filename().string(), dir.string())};
   // gnuplot ends its complaint with the reason; report that line.
-  std::string reason = output;
-  while (!reason.empty() && (reason.back() == '\n' || reason.back() == ' ')) reason.pop_back();
-  reason = reason.substr(
-      reason.find_last_of('\n') == std::string::npos ? 0 : reason.find_last_of('\n') + 1);
+  const std::string reason = run.last_line();
   return {false, fmt::format("gnuplot failed (status {}){}{}: the data and {} are written", status,
                              reason.empty() ? "" : ": ", reason, script.string())};
 }

@@ -33,6 +33,11 @@ void progress_bar::update(double done, double total) {
   draw(total > 0 ? std::clamp(done / total, 0.0, 1.0) : 0.0, now);
 }
 
+void progress_bar::new_pace() {
+  m_stride = 1;
+  m_next_check = m_calls + 1;
+}
+
 void progress_bar::draw(double fraction, std::chrono::steady_clock::time_point now) {
   const double elapsed = std::chrono::duration<double>(now - m_started).count();
   const double remaining = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0;

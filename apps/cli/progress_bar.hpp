@@ -20,6 +20,10 @@ class progress_bar {
   /// counting calls in between (a fixed count would never show the bar of a run whose calls
   /// are few and slow, like a Lyapunov spectrum's re-orthonormalisations).
   void update(double done, double total);
+  /// The calls that follow come at another pace (the next phase of a run, e.g. drawing
+  /// frames after integrating): look at the clock at the next call and adapt from there,
+  /// instead of counting out the previous phase's many quick calls first.
+  void new_pace();
   /// Erases the bar if it was shown.
   void finish();
 

@@ -22,6 +22,8 @@ class terminal_run final : public run_control {
   void progress(double done, double total) override { m_bar.update(done, total); }
   bool stop_requested() override { return m_interrupt.interrupted(); }
 
+  /// The progress reports that follow come at another pace (progress_bar::new_pace).
+  void new_pace() { m_bar.new_pace(); }
   /// Erases the progress bar (call before printing results).
   void finish() { m_bar.finish(); }
   /// Whether a signal stopped the run.
@@ -32,6 +34,27 @@ class terminal_run final : public run_control {
  private:
   interrupt_guard m_interrupt;
   progress_bar m_bar;
+};
+
+/// The share [from, to] (fractions, 0 ≤ from < to ≤ 1) of the parent's work that one phase
+/// of a run takes, when the phases cost unequally (npend animate: integrating is quick,
+/// drawing the frames slow; run_control_part splits equally): maps the phase's progress
+/// into it and passes stop requests through. A null parent gives a control that does
+/// nothing.
+class run_control_share final : public run_control {
+ public:
+  run_control_share(run_control* parent, double from, double to)
+      : m_parent(parent), m_from(from), m_to(to) {}
+
+  void progress(double done, double total) override {
+    if (m_parent != nullptr && total > 0)
+      m_parent->progress(m_from + (m_to - m_from) * done / total, 1);
+  }
+  bool stop_requested() override { return npend::stop_requested(m_parent); }
+
+ private:
+  run_control* m_parent;
+  double m_from, m_to;
 };
 
 /// A command stopped by a signal in a computation that has nothing useful to return

@@ -22,6 +22,7 @@ void add_demo_command(CLI::App& app, command_list& commands);
 /// npend equilibria, npend modes, npend toda-brumer.
 void add_stability_commands(CLI::App& app, command_list& commands);
 void add_simulate_command(CLI::App& app, command_list& commands);
+void add_animate_command(CLI::App& app, command_list& commands);
 /// The time-series analyses: npend spectrum, npend autocorrelation.
 void add_spectrum_commands(CLI::App& app, command_list& commands);
 void add_recurrence_command(CLI::App& app, command_list& commands);

@@ -174,6 +174,22 @@ void demo_forms_of_motion(const demo_context& demo) {
              },
              {1400, 520, 2});
 
+  // The two kinds of motion to watch: section 3's weak excitation (ε = 0.01 would move the
+  // bobs by a few pixels only) and the strong one.
+  for (const auto& [key, epsilon] : {std::pair{"weak", 0.1}, std::pair{"strong", 1.5}}) {
+    const auto x0 = deflected_state(c, energy_from_epsilon(c, epsilon), zigzag);
+    add_demo_animation(
+        folder, c, x0, fmt::format("animation_{}", key),
+        fmt::format("The {} excitation, animated (ε = {})", key, epsilon),
+        fmt::format("The first 6 s from the zigzag at rest, s = {:.3f} rad, frames at 20 fps from "
+                    "gauss6 (npend animate); the red trail is the last bob's path over 1.5 s. {}",
+                    x0[0],
+                    epsilon < 1 ? "Small regular oscillations about the hanging chain: the "
+                                  "bobs move by centimetres."
+                                : "Large irregular swings of all three arms, bending against "
+                                  "each other; below epsilon = 2 no arm goes over the top."));
+  }
+
   // Abb. 6.8: the Poincaré section.
   double mode_spread = 0;
   for (const auto& x : mode_section)

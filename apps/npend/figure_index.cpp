@@ -35,8 +35,11 @@ std::string figure_index::markdown() const {
     for (const auto& d : e.data)
       links += fmt::format("{}[{}]({})", links.empty() ? "" : ", ", d, d);
     const std::string script = e.image.substr(0, e.image.rfind('.')) + ".gp";
-    md += fmt::format("Data: {}; plot script: [{}]({}).\n", links.empty() ? "none" : links, script,
-                      script);
+    if (e.scripted)
+      md += fmt::format("Data: {}; plot script: [{}]({}).\n", links.empty() ? "none" : links,
+                        script, script);
+    else
+      md += fmt::format("Data: {}.\n", links.empty() ? "none" : links);
   }
   return md;
 }

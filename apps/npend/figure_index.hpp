@@ -19,6 +19,7 @@ struct index_entry {
   std::string image;              ///< the PNG, relative to the index ("spectrum.png")
   std::string text;               ///< what it shows (Markdown)
   std::vector<std::string> data;  ///< the CSV files it reads, relative to the index
+  bool scripted = true;  ///< whether a gnuplot script X.gp draws it (an animation has none)
 };
 
 struct figure_index {
@@ -29,7 +30,7 @@ struct figure_index {
   std::vector<std::string> notes;  ///< shown as notes under the table
 
   /// The index as Markdown. '|' in table cells is escaped; the plot script of image X.png
-  /// is linked as X.gp.
+  /// is linked as X.gp (if it has one).
   std::string markdown() const;
 };
 

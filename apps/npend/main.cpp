@@ -66,6 +66,7 @@ int main(int argc, char** argv) {
   npend::app::add_map_command(app, commands);
   npend::app::add_harmonic_validity_commands(app, commands);
   npend::app::add_simulate_command(app, commands);
+  npend::app::add_animate_command(app, commands);
   npend::app::add_spectrum_commands(app, commands);
   npend::app::add_recurrence_command(app, commands);
   npend::app::add_embed_command(app, commands);

@@ -30,7 +30,7 @@ struct simulate_options {
   cli::start_options start;
   cli::integrator_options integrator;
   cli::control_options control;
-  std::string out, every, controller;
+  std::string out, every;
   bool json = false, tensions = false;
 };
 
@@ -102,17 +102,7 @@ int run_simulate(const simulate_options& o) {
   integration_options options = o.integrator.make();
   const std::size_t every = parse_every(o.every);
   // --controller lqr: the chain under u = −K(x − x*) of the design at --at.
-  std::optional<lqr_design> design;
-  if (!o.controller.empty()) {
-    if (o.controller != "lqr")
-      throw cli::input_error(
-          fmt::format("--controller: the one controller is lqr, got '{}'", o.controller));
-    if (!o.control.given())
-      throw cli::input_error("--controller lqr needs the equilibrium to hold: --at phi_1,..");
-    design = o.control.design(c);
-  } else if (o.control.given() || !o.control.actuated.empty() || !o.control.weights.empty()) {
-    throw cli::input_error("--at, --actuated and --weights go with --controller lqr");
-  }
+  const std::optional<lqr_design> design = o.control.controller_design(c);
   if (o.tensions && design)
     throw cli::input_error(
         "--tensions: a controlled chain's joint torques load the rods with more than a tension");
@@ -221,10 +211,7 @@ void add_simulate_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--every", opts->every, "Write every K-th output step only (default: 1)");
   cmd->add_flag("--json", opts->json,
                 "Print a JSON summary (steps, energies, max_rel_energy_error, ...) to stdout");
-  cmd->add_option("--controller", opts->controller,
-                  "lqr: run the chain under the LQR feedback u = -K (x - x*) that holds it at "
-                  "--at (with --actuated, --weights as for npend control)");
-  opts->control.add_to(*cmd, false);
+  opts->control.add_controller_to(*cmd);
   commands.push_back({cmd, [opts] { return run_simulate(*opts); }});
 }
 

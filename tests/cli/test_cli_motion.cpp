@@ -254,6 +254,19 @@ TEST_CASE("npend demo: writes the paper's figures 6.8-6.13 and an index to --out
         CHECK(fs::exists(dir / script.substr(open + 1, at + 4 - open - 1)));
       }
     }
+  // The two motions animated: a GIF each (121 frames: 6 s at 20 fps), with its frames'
+  // table, in the index without a plot script.
+  for (const std::string f : {"animation_weak", "animation_strong"}) {
+    CAPTURE(f);
+    const std::string gif = read(dir / (f + ".gif"));
+    CHECK(gif.rfind("GIF89a", 0) == 0);
+    CHECK(gif.size() > 10000);
+    const std::string frames = read(dir / (f + "_frames.csv"));
+    CHECK(std::count(frames.begin(), frames.end(), '\n') == 122);
+    CHECK(index.find("](" + f + ".gif)") != std::string::npos);
+    CHECK(index.find("[" + f + ".gp]") == std::string::npos);
+    CHECK(r.out.find("-> " + (dir / (f + ".gif")).string()) != std::string::npos);
+  }
   CHECK(r.out.find("## 5. Forms of motion") != std::string::npos);
   CHECK(r.out.find("open " + (dir / "index.md").string()) != std::string::npos);
 
