@@ -43,7 +43,7 @@ struct map_command_options {
   cli::chain_options chain;
   std::string x, y, quantity = "flip", phi, p, out, part;
   double t_end = 100, dt = 0.01;
-  int flip_link = 0, threads = 0, tile = 16;
+  int flip_link = 0, gali_order = 0, threads = 0, tile = 16;
   bool resume = false, json = false;
   std::string merge_dir;  // npend map merge DIR [--json]
   bool merge_json = false;
@@ -56,9 +56,7 @@ struct axis {
   int coordinate = 0;
   double from = 0, to = 0;
   int count = 0;
-  double value(int i) const {
-    return count == 1 ? from : from + (to - from) * static_cast<double>(i) / (count - 1);
-  }
+  double value(int i) const { return grid_value(from, to, count, i); }
 };
 
 axis parse_axis(const std::string& text, const char* option, int links) {
@@ -223,6 +221,7 @@ nlohmann::json run_identity(const map_command_options& o, const chain& c, const 
           {"t_end", o.t_end},
           {"dt", o.dt},
           {"flip_link", o.flip_link},
+          {"gali_order", o.gali_order},
           {"tile", o.tile},
           {"base_state", base}};
 }
@@ -248,8 +247,9 @@ constexpr std::pair<const char*, std::string map_command_options::*> map_texts[]
 
 nlohmann::json options_record(const map_command_options& o) {
   const cli::chain_options chain = o.chain.with_file();
-  nlohmann::json j = {{"links", chain.links}, {"rods", chain.rods},       {"t_end", o.t_end},
-                      {"dt", o.dt},           {"flip_link", o.flip_link}, {"tile", o.tile}};
+  nlohmann::json j = {
+      {"links", chain.links},     {"rods", chain.rods},         {"t_end", o.t_end}, {"dt", o.dt},
+      {"flip_link", o.flip_link}, {"gali_order", o.gali_order}, {"tile", o.tile}};
   for (const auto& [key, member] : chain_texts) j[key] = chain.*member;
   for (const auto& [key, member] : map_texts) j[key] = o.*member;
   return j;
@@ -263,18 +263,33 @@ map_command_options options_from_record(const nlohmann::json& j) {
   o.t_end = j.at("t_end").get<double>();
   o.dt = j.at("dt").get<double>();
   o.flip_link = j.at("flip_link").get<int>();
+  o.gali_order = j.at("gali_order").get<int>();
   o.tile = j.at("tile").get<int>();
   for (const auto& [key, member] : chain_texts) o.chain.*member = j.at(key).get<std::string>();
   for (const auto& [key, member] : map_texts) o.*member = j.at(key).get<std::string>();
   return o;
 }
 
+// What each cell computes. Throws input_error for an unknown quantity.
+map_cell_options cell_options(const map_command_options& o) {
+  map_cell_options cell;
+  try {
+    cell.quantity = parse_map_quantity(o.quantity);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(fmt::format("--{}", e.what()));
+  }
+  cell.t_end = o.t_end;
+  cell.dt = o.dt;
+  cell.flip_link = o.flip_link;
+  cell.gali_order = o.gali_order;
+  return cell;
+}
+
 // Checks the options and builds the run; touches no file.
 map_run prepare_run(const map_command_options& o) {
   const chain c = o.chain.make_chain(cli::model_support::conservative, "npend map");
   const int n = c.links();
-  if (o.quantity != "flip" && o.quantity != "lyapunov")
-    throw cli::input_error(fmt::format("--quantity: one of flip, lyapunov, got '{}'", o.quantity));
+  const map_cell_options cell = cell_options(o);
   const axis ax = parse_axis(o.x, "--x", n), ay = parse_axis(o.y, "--y", n);
   if (ax.coordinate == ay.coordinate)
     throw cli::input_error(fmt::format("--x and --y: both are {}", ax.name));
@@ -298,7 +313,16 @@ map_run prepare_run(const map_command_options& o) {
                                           fmt::format("p_1..p_{}", n));
     std::copy(p.begin(), p.end(), base.begin() + n);
   }
-  if (o.quantity == "flip") energy_forbids_flip(c, base, o.flip_link);  // refuses springs early
+  // The chain and options a cell can take, checked before any thread starts.
+  if (cell.quantity == map_quantity::gali && o.gali_order != 0 &&
+      (o.gali_order < 2 || o.gali_order > 2 * n))
+    throw cli::input_error(
+        fmt::format("--gali-order: 2..{} (2n), or 0 for n + 1, got {}", 2 * n, o.gali_order));
+  try {
+    cell.validate(c);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(e.what());
+  }
   if (o.out.empty()) throw cli::input_error("--out: the folder for map.npy, map.png, map.json");
   const tile_layout layout{o.tile, (ax.count + o.tile - 1) / o.tile,
                            (ay.count + o.tile - 1) / o.tile};
@@ -397,26 +421,14 @@ long tiles_present(const map_run& run) {
 // The values of tile `index`, row-major within the tile; a cell whose integration fails
 // is NaN.
 std::vector<double> compute_tile(const map_run& run, int index) {
-  const map_command_options& o = run.o;
+  const map_cell_options cell = cell_options(run.o);
   const tile_bounds b = run.layout.bounds(index, run.ax, run.ay);
   std::vector<double> values;
   values.reserve(b.cells());
   for (int j = b.y0; j < b.y1; ++j)
     for (int i = b.x0; i < b.x1; ++i) {
       const std::vector<double> state = cell_state(run.base, run.ax, run.ay, i, j);
-      try {
-        if (o.quantity == "flip") {
-          values.push_back(flip_time(run.c, state, {o.t_end, o.dt, o.flip_link}));
-        } else {
-          lyapunov_options lo;
-          lo.integration.stepper = stepper_kind::rk4;
-          lo.integration.t_end = o.t_end;
-          lo.integration.dt = o.dt;
-          values.push_back(maximal_lyapunov_exponent(run.c, state, lo).exponents.front());
-        }
-      } catch (const integration_error&) {
-        values.push_back(std::numeric_limits<double>::quiet_NaN());
-      }
+      values.push_back(map_cell(run.c, state, cell));
     }
   return values;
 }
@@ -503,25 +515,50 @@ int report_interrupted(const map_run& run, int exit_code) {
 // from `bottom` to `top`, a hair beyond low and high, and those cells are given these ends.
 // (Leaving them undefined needs gnuplot's `image pixels`, whose millions of sub-pixel
 // rectangles wash the colours out.)
+// How a quantity is shown: the plot's title, the colour bar's label and whether its scale is
+// logarithmic (times and the indicators that fall exponentially).
+struct quantity_style {
+  std::string title, label;
+  bool logarithmic = false;
+};
+
+quantity_style style_of(const map_command_options& o) {
+  const auto over = fmt::format(" over {:g} s; red: failed", o.t_end);
+  switch (parse_map_quantity(o.quantity)) {
+    case map_quantity::flip:
+      return {
+          fmt::format("Time to the first flip (s); white: no flip by {:g} s; red: failed", o.t_end),
+          "t_{flip} (s)", true};
+    case map_quantity::lyapunov:
+      return {"Maximal Lyapunov exponent (1/s)" + over, "λ_1 (1/s)"};
+    case map_quantity::fli:
+      return {"Fast Lyapunov indicator" + over, "FLI"};
+    case map_quantity::megno:
+      return {"MEGNO <Y> (2: regular, growing: chaotic)" + over, "<Y>"};
+    case map_quantity::sali:
+      return {"SALI (0: chaotic)" + over + "; below 1e-16 shown as 1e-16", "SALI", true};
+    case map_quantity::gali:
+      return {"GALI (0: chaotic)" + over + "; below 1e-16 shown as 1e-16", "GALI", true};
+  }
+  return {};
+}
+
 cli::plot_outcome write_png(const fs::path& dir, const map_command_options& o, const axis& ax,
                             const axis& ay, std::size_t header_bytes, double low, double high) {
-  const bool flip = o.quantity == "flip";
+  const quantity_style style = style_of(o);
+  const bool logarithmic = style.logarithmic;
   const double dx = ax.count > 1 ? (ax.to - ax.from) / (ax.count - 1) : 1;
   const double dy = ay.count > 1 ? (ay.to - ay.from) / (ay.count - 1) : 1;
   // low and high sit at these fractions of the colour bar (the palette's indices -0.02..4.02
   // put viridis's ends at 0.00495 and 0.99505).
   constexpr double low_at = 0.005, high_at = 0.995;
-  const auto scale = [&](double v) { return flip ? std::log(v) : v; };
-  const auto unscale = [&](double v) { return flip ? std::exp(v) : v; };
+  const auto scale = [&](double v) { return logarithmic ? std::log(v) : v; };
+  const auto unscale = [&](double v) { return logarithmic ? std::exp(v) : v; };
   const double range = (scale(high) - scale(low)) / (high_at - low_at);
   const double bottom = unscale(scale(low) - low_at * range),
                top = unscale(scale(low) + (1 - low_at) * range);
   cli::plot_panel panel{
-      .title =
-          flip ? fmt::format("Time to the first flip (s); white: no flip by {:g} s; red: "
-                             "failed",
-                             o.t_end)
-               : fmt::format("Maximal Lyapunov exponent (1/s) over {:g} s; red: failed", o.t_end),
+      .title = style.title,
       .xlabel = ax.name,
       .ylabel = ay.name,
       .commands = {"set size ratio -1",
@@ -530,16 +567,19 @@ cli::plot_outcome write_png(const fs::path& dir, const map_command_options& o, c
                    "1 '#3b528b', 2 '#21918c', 3 '#5ec962', 4 '#fde725', 4.0001 'white', "
                    "4.02 'white')",
                    fmt::format("set cbrange [{:.17g}:{:.17g}]", bottom, top),
-                   fmt::format("set cblabel '{}'", flip ? "t_{flip} (s)" : "λ_1 (1/s)"),
+                   fmt::format("set cblabel '{}'", style.label),
                    fmt::format("set xrange [{}:{}]", std::min(ax.from, ax.to) - dx / 2,
                                std::max(ax.from, ax.to) + dx / 2),
                    fmt::format("set yrange [{}:{}]", std::min(ay.from, ay.to) - dy / 2,
                                std::max(ay.from, ay.to) + dy / 2)}};
-  if (flip) panel.commands.push_back("set logscale cb");
+  if (logarithmic) panel.commands.push_back("set logscale cb");
+  // Values below `low` (a SALI that reached 0) take its colour.
   panel.curves.push_back(
       {"map.npy",
-       fmt::format("($1 == $1 ? (abs($1) < 1e300 ? $1 : {:.17g}) : {:.17g})", top, bottom), "image",
-       "",
+       fmt::format("($1 == $1 ? (abs($1) < 1e300 ? ($1 > {:.17g} ? $1 : {:.17g}) : {:.17g}) : "
+                   "{:.17g})",
+                   low, low, top, bottom),
+       "image", "",
        fmt::format("binary skip={} array=({},{}) format='%float64' dx={} dy={} origin=({},{})",
                    header_bytes, ax.count, ay.count, dx, dy, ax.from, ay.from)});
   return cli::write_plot(dir / "map", {.description = {"npend map: " + panel.title},
@@ -586,9 +626,13 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
   double low = std::numeric_limits<double>::infinity(), high = -low;
   for (const double v : grid)
     if (std::isfinite(v)) low = std::min(low, v), high = std::max(high, v);
+  const bool indicator_to_zero = o.quantity == "sali" || o.quantity == "gali";
   if (o.quantity == "flip") {
     low = o.dt;
     high = o.t_end;
+  } else if (indicator_to_zero) {  // a log scale: from 1e-16 (or the least value) up
+    low = std::max(low, 1e-16);
+    if (!(high > low)) high = low * 10;
   } else if (!(high > low)) {  // no finite value, or all equal: any range that shows them
     low = std::isfinite(low) ? low - 1 : 0;
     high = low + 2;
@@ -829,7 +873,12 @@ void add_map_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--x", o->x,
                   "NAME:FROM:TO:COUNT, NAME a start coordinate (phi1.., p1..) (required)");
   cmd->add_option("--y", o->y, "NAME:FROM:TO:COUNT for the rows (row 0 = FROM) (required)");
-  cmd->add_option("--quantity", o->quantity, "flip (default) or lyapunov");
+  cmd->add_option("--quantity", o->quantity,
+                  "flip (default: the time to the first flip), lyapunov (the maximal exponent), "
+                  "or a fast indicator at --t-end: fli, megno (<Y>), sali, gali (GALI_k)");
+  cmd->add_option("--gali-order", o->gali_order,
+                  "gali: k of GALI_k, 2..2n (default 0: n + 1, the least k beyond a torus's "
+                  "dimension)");
   cmd->add_option("--phi", o->phi, "The start's other angles (rad; default 0)");
   cmd->add_option("--p", o->p, "The start's other momenta (kg m^2/s; default 0)");
   cmd->add_option("--t-end", o->t_end, "Integration time per cell in s (default 100)");

@@ -75,6 +75,37 @@ TEST_CASE("npend map: the .npy grid holds the library's flip time of every cell"
   CHECK_FALSE(fs::exists(dir / "tiles"));
 }
 
+TEST_CASE("npend map: the fast indicators, every cell the library's") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-indicators"));
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  for (const std::string quantity : {"fli", "megno", "sali", "gali"}) {
+    const auto r =
+        run_npend("map --links 2 --x phi1:-3:3:5 --y phi2:-2:3:4 --t-end 20 --quantity " +
+                  quantity + " --out " + (dir / quantity).string());
+    REQUIRE(r.exit_code == 0);
+    const npy m = read_npy(dir / quantity / "map.npy");
+    REQUIRE(m.values.size() == 20);
+    npend::map_cell_options o;
+    o.quantity = npend::parse_map_quantity(quantity);
+    o.t_end = 20;
+    for (int row = 0; row < 4; ++row)
+      for (int col = 0; col < 5; ++col) {
+        const std::vector<double> x{npend::grid_value(-3, 3, 5, col),
+                                    npend::grid_value(-2, 3, 4, row), 0, 0};
+        INFO(quantity << ", row " << row << ", column " << col);
+        CHECK(m.values[static_cast<std::size_t>(row * 5 + col)] == npend::map_cell(c, x, o));
+      }
+    CHECK(fs::exists(dir / quantity / "map.png"));
+  }
+  // GALI_k's order: n + 1 = 3 by default, so --gali-order 3 is the same map.
+  REQUIRE(run_npend("map --links 2 --x phi1:-3:3:5 --y phi2:-2:3:4 --t-end 20 --quantity gali "
+                    "--gali-order 3 --out " +
+                    (dir / "gali3").string())
+              .exit_code == 0);
+  CHECK(npend::test::read_text((dir / "gali" / "map.npy").string()) ==
+        npend::test::read_text((dir / "gali3" / "map.npy").string()));
+}
+
 TEST_CASE("npend map: one thread or two, the same bytes") {
   const fs::path dir(npend::test::temporary_directory("cli-map-threads"));
   REQUIRE(run_npend(grid + " --threads 1 --out " + (dir / "one").string()).exit_code == 0);
