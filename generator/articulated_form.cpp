@@ -6,10 +6,51 @@ namespace {
 std::size_t u(int i) { return static_cast<std::size_t>(i); }
 }  // namespace
 
+elimination_step eliminate_tip(sx mass, sx q) {
+  expr_graph& g = *mass.graph;
+  elimination_step e;
+  e.d = e.r = mass;
+  e.inv_d = g.constant(1) / mass;
+  e.num = q;
+  e.a = q * e.inv_d;
+  e.rsc = e.gamma = e.beta = g.constant(0);
+  return e;
+}
+
+elimination_step eliminate_link(sx mass, sx C, sx S, sx q, sx q_next, sx r_next, sx beta_next) {
+  expr_graph& g = *mass.graph;
+  elimination_step e;
+  e.d = mass + r_next * (S * S);
+  e.inv_d = g.constant(1) / e.d;
+  e.r = mass * (mass + r_next) * e.inv_d;
+  e.rsc = r_next * (S * C);
+  e.gamma = e.rsc * e.inv_d;
+  e.num = q - C * q_next - S * beta_next;
+  e.a = e.num * e.inv_d;
+  e.beta = C * beta_next - S * q_next + e.rsc * e.a;
+  return e;
+}
+
+pivot_step pivot_link(sx a, sx gamma, sx r, sx beta, sx x, sx y) {
+  pivot_step step;
+  step.w = a - gamma * y;
+  step.omega = step.w - x;
+  step.axial = r * y + beta;
+  step.kinetic_force = -(step.omega * step.axial);
+  return step;
+}
+
+pivot_step pivot_link(sx a, sx gamma, sx r, sx beta, sx x, sx y, sx C, sx S) {
+  pivot_step step = pivot_link(a, gamma, r, beta, x, y);
+  step.x_next = C * step.w - S * y;
+  step.y_next = S * step.w + C * y;
+  return step;
+}
+
 // Every node of the value pass, per link k (C, S and the products of them only for k < n − 1).
 struct articulated_form::values {
   std::vector<sx> q, d, inv_d, r, gamma, rsc, num, a, beta;  // elimination from the tip
-  std::vector<sx> x, y, w, omega, axial, kinetic_force;       // the pass from the pivot
+  std::vector<sx> x, y, w, omega, axial, kinetic_force;      // the pass from the pivot
 };
 
 articulated_form::articulated_form(int links, expr_graph& graph) : n(links), m_graph(&graph) {
@@ -36,39 +77,34 @@ articulated_form::values articulated_form::evaluate(const std::vector<sx>& p) co
   v.gamma = v.rsc = v.beta = std::vector<sx>(nn, zero);
   for (int k = n - 1; k >= 0; --k) {
     const auto i = u(k);
-    if (k == n - 1) {
-      v.d[i] = v.r[i] = mass[i];
-      v.inv_d[i] = m_graph->constant(1) / mass[i];
-      v.num[i] = v.q[i];
-      v.a[i] = v.q[i] * v.inv_d[i];
-      continue;
-    }
-    const sx C = cd[i], S = sd[i];
-    v.d[i] = mass[i] + v.r[i + 1] * (S * S);
-    v.inv_d[i] = m_graph->constant(1) / v.d[i];
-    v.r[i] = mass[i] * (mass[i] + v.r[i + 1]) * v.inv_d[i];
-    v.rsc[i] = v.r[i + 1] * (S * C);
-    v.gamma[i] = v.rsc[i] * v.inv_d[i];
-    v.num[i] = v.q[i] - C * v.q[i + 1] - S * v.beta[i + 1];
-    v.a[i] = v.num[i] * v.inv_d[i];
-    v.beta[i] = C * v.beta[i + 1] - S * v.q[i + 1] + v.rsc[i] * v.a[i];
+    const elimination_step e = k == n - 1 ? eliminate_tip(mass[i], v.q[i])
+                                          : eliminate_link(mass[i], cd[i], sd[i], v.q[i],
+                                                           v.q[i + 1], v.r[i + 1], v.beta[i + 1]);
+    v.d[i] = e.d;
+    v.inv_d[i] = e.inv_d;
+    v.r[i] = e.r;
+    v.num[i] = e.num;
+    v.a[i] = e.a;
+    if (k == n - 1) continue;
+    v.rsc[i] = e.rsc;
+    v.gamma[i] = e.gamma;
+    v.beta[i] = e.beta;
   }
   sx x = zero, y = zero;
   for (int k = 0; k < n; ++k) {
     const auto i = u(k);
-    const sx w = v.a[i] - v.gamma[i] * y;
-    const sx omega = w - x;
-    const sx axial = v.r[i] * y + v.beta[i];
+    const pivot_step step =
+        k + 1 < n ? pivot_link(v.a[i], v.gamma[i], v.r[i], v.beta[i], x, y, cd[i], sd[i])
+                  : pivot_link(v.a[i], v.gamma[i], v.r[i], v.beta[i], x, y);
     v.x.push_back(x);
     v.y.push_back(y);
-    v.w.push_back(w);
-    v.omega.push_back(omega);
-    v.axial.push_back(axial);
-    v.kinetic_force.push_back(-(omega * axial));
+    v.w.push_back(step.w);
+    v.omega.push_back(step.omega);
+    v.axial.push_back(step.axial);
+    v.kinetic_force.push_back(step.kinetic_force);
     if (k + 1 < n) {
-      const sx x_next = cd[i] * w - sd[i] * y;
-      y = sd[i] * w + cd[i] * y;
-      x = x_next;
+      x = step.x_next;
+      y = step.y_next;
     }
   }
   return v;
@@ -147,8 +183,8 @@ articulated_form::tangent articulated_form::propagate(const values& v, const std
   for (int k = n - 2; k >= 0; --k) {
     const auto i = u(k);
     const sx C = cd[i], S = sd[i];
-    const bool own_source = !is_zero(dq[i]) || !is_zero(dq[i + 1]) || !is_zero(dC[i]) ||
-                            !is_zero(dS[i]);
+    const bool own_source =
+        !is_zero(dq[i]) || !is_zero(dq[i + 1]) || !is_zero(dC[i]) || !is_zero(dS[i]);
     if (!own_source) {
       // Only dβ_{k+1} and the elimination's dr_{k+1} come in:
       //   da_k = −S_k/d_k dβ_{k+1} − a_k S_k²/d_k dr_{k+1},
@@ -158,11 +194,11 @@ articulated_form::tangent articulated_form::propagate(const values& v, const std
       d_beta[i] = rho(k) * db1 + (v.a[i] * ((S * C) * (mass[i] * v.inv_d[i]))) * dr1;
       continue;
     }
-    const sx d_num = dq[i] - (dC[i] * v.q[i + 1] + C * dq[i + 1]) -
-                     (dS[i] * v.beta[i + 1] + S * d_beta[i + 1]);
+    const sx d_num =
+        dq[i] - (dC[i] * v.q[i + 1] + C * dq[i + 1]) - (dS[i] * v.beta[i + 1] + S * d_beta[i + 1]);
     d_a[i] = d_num * v.inv_d[i] + v.num[i] * d_inv[i];
-    d_beta[i] = dC[i] * v.beta[i + 1] + C * d_beta[i + 1] -
-                (dS[i] * v.q[i + 1] + S * dq[i + 1]) + (d_rsc[i] * v.a[i] + v.rsc[i] * d_a[i]);
+    d_beta[i] = dC[i] * v.beta[i + 1] + C * d_beta[i + 1] - (dS[i] * v.q[i + 1] + S * dq[i + 1]) +
+                (d_rsc[i] * v.a[i] + v.rsc[i] * d_a[i]);
   }
 
   // The velocities from the pivot.

@@ -52,11 +52,32 @@
 // derivatives of the Lagrangian at exact rational points.
 #pragma once
 
-#include "expr_graph.hpp"
-
 #include <vector>
 
+#include "expr_graph.hpp"
+
 namespace npend::gen {
+
+/// One link's step of the elimination from the tip (the file comment's d_k, 1/d_k, r_k,
+/// r_{k+1} S_k C_k, γ_k, the numerator of a_k, a_k and β_k). The steps are shared by the
+/// unrolled kernels (articulated_form) and the loop kernels (loop_kernels.hpp), so both run
+/// the same algebra.
+struct elimination_step {
+  sx d, inv_d, r, rsc, gamma, num, a, beta;
+};
+/// The tip link, with nothing below it (γ, r S C and β are 0).
+elimination_step eliminate_tip(sx mass, sx q);
+/// Link k < n − 1, from link k + 1's r, β and q and the turn C_k, S_k between the rods.
+elimination_step eliminate_link(sx mass, sx C, sx S, sx q, sx q_next, sx r_next, sx beta_next);
+
+/// One link's step of the pass from the pivot: the velocity of bob k across rod k (w_k),
+/// ω_k, U_k = u_k·P_k (axial), the kinetic part −ω_k U_k of ṗ_k, and the suspension
+/// velocity (x_{k+1}, y_{k+1}) of the next rod (when C, S of the turn to it are given).
+struct pivot_step {
+  sx w, omega, axial, kinetic_force, x_next, y_next;
+};
+pivot_step pivot_link(sx a, sx gamma, sx r, sx beta, sx x, sx y);
+pivot_step pivot_link(sx a, sx gamma, sx r, sx beta, sx x, sx y, sx C, sx S);
 
 /// Graph nodes of the articulated-body formulation of one chain (see the file comment).
 struct articulated_form {
@@ -67,7 +88,7 @@ struct articulated_form {
   std::vector<sx> s, c;        ///< sin φ_k, cos φ_k (the only trigonometric calls)
   std::vector<sx> mass;        ///< m_k
   std::vector<sx> inv_length;  ///< 1/l_k
-  std::vector<sx> cd, sd;      ///< C_k = cos(φ_{k+1} − φ_k), S_k = sin(φ_{k+1} − φ_k), k < n − 1
+  std::vector<sx> cd, sd;  ///< C_k = cos(φ_{k+1} − φ_k), S_k = sin(φ_{k+1} − φ_k), k < n − 1
 
   /// The motion for momenta p (dim n): speeds ω_k = l_k φ̇_k, bob velocities (w_k, y_k) in
   /// the frame of rod k, and the kinetic part −ω_k U_k of ṗ_k.

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <functional>
 #include <map>
 #include <npend/chain_kernels.hpp>
 #include <stdexcept>
@@ -94,6 +95,8 @@ std::string input_text(argument_layout layout, int n, const node& in) {
       return fmt::format("inputs[{}]", chain_layout::pivot_acceleration_index(in.index));
     case input_kind::torque:
       return fmt::format("inputs[{}]", chain_layout::torque_index(n, in.index));
+    case input_kind::local:
+      break;  // a loop kernel's step names its own inputs
   }
   throw std::logic_error("emit: unknown input");
 }
@@ -142,17 +145,43 @@ std::string signature(const emitted_function& f) {
 }
 
 std::string body(int n, const emitted_function& f) {
-  const expr_graph& g = *f.graph;
-  const std::vector<int> order = postorder(g, f.outputs);
+  const auto leaf = [&](const node& in) {
+    if (!layout_has(f, in.input))
+      throw std::logic_error("emit: " + f.name + " uses an input it does not take");
+    return input_text(f.layout, n, in);
+  };
+  const emitted_statements st = emit_statements(*f.graph, f.outputs, leaf, "  ");
+  std::string text = st.text;
+  if (f.returns_scalar) {
+    text += fmt::format("  return {};\n", st.outputs.at(0));
+  } else {
+    for (std::size_t i = 0; i < st.outputs.size(); ++i)
+      text += fmt::format("  {}[{}] = {};\n", f.output_name, i, st.outputs[i]);
+  }
+  return text;
+}
+
+std::string doc_comment(const emitted_function& f) {
+  std::string out;
+  for (const auto& line : f.doc) out += "/// " + line + "\n";
+  return out;
+}
+
+}  // namespace
+
+emitted_statements emit_statements(const expr_graph& g, const std::vector<sx>& outputs,
+                                   const std::function<std::string(const node&)>& leaf,
+                                   const std::string& indent) {
+  const std::vector<int> order = postorder(g, outputs);
   std::vector<int> uses(u(g.size()), 0);
   for (const int id : order) {
     const node& nd = g.at(id);
     if (nd.lhs >= 0) ++uses[u(nd.lhs)];
     if (nd.rhs >= 0) ++uses[u(nd.rhs)];
   }
-  for (const sx out : f.outputs) ++uses[u(out.id)];
+  for (const sx out : outputs) ++uses[u(out.id)];
 
-  std::string text;
+  emitted_statements st;
   std::map<int, printed> done;
   int temporaries = 0;
   for (const int id : order) {
@@ -164,9 +193,7 @@ std::string body(int n, const emitted_function& f) {
         p = {literal(nd.value), nd.value < 0 ? int{unary} : int{atom}};
         break;
       case op::input:
-        if (!layout_has(f, nd.input))
-          throw std::logic_error("emit: " + f.name + " uses an input it does not take");
-        p = {input_text(f.layout, n, nd), atom};
+        p = {leaf(nd), atom};
         break;
       case op::neg:
         p = {"-" + wrap(child(nd.lhs), unary), unary};
@@ -193,31 +220,18 @@ std::string body(int n, const emitted_function& f) {
         p = {"std::cos(" + child(nd.lhs).text + ")", atom};
         break;
     }
-    const bool leaf = nd.kind == op::constant || nd.kind == op::input;
+    const bool leaf_node = nd.kind == op::constant || nd.kind == op::input;
     const bool trig = nd.kind == op::sin || nd.kind == op::cos;
-    if (!leaf && (uses[u(id)] > 1 || trig || p.text.size() > max_inline_length)) {
+    if (!leaf_node && (uses[u(id)] > 1 || trig || p.text.size() > max_inline_length)) {
       const std::string name = fmt::format("t{}", temporaries++);
-      text += fmt::format("  const double {} = {};\n", name, p.text);
+      st.text += fmt::format("{}const double {} = {};\n", indent, name, p.text);
       p = {name, atom};
     }
     done[id] = p;
   }
-  if (f.returns_scalar) {
-    text += fmt::format("  return {};\n", done.at(f.outputs.at(0).id).text);
-  } else {
-    for (std::size_t i = 0; i < f.outputs.size(); ++i)
-      text += fmt::format("  {}[{}] = {};\n", f.output_name, i, done.at(f.outputs[i].id).text);
-  }
-  return text;
+  for (const sx out : outputs) st.outputs.push_back(done.at(out.id).text);
+  return st;
 }
-
-std::string doc_comment(const emitted_function& f) {
-  std::string out;
-  for (const auto& line : f.doc) out += "/// " + line + "\n";
-  return out;
-}
-
-}  // namespace
 
 operation_count count_operations(const emitted_function& f) {
   operation_count c;

@@ -3,6 +3,7 @@
 // integer powers as products and 17 significant digits (a double round-trips).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,18 @@ struct operation_count {
 };
 
 operation_count count_operations(const emitted_function& f);
+
+/// The statements that compute `outputs` of graph `g`: every shared, trigonometric or long
+/// subexpression as a `const double tK` temporary (in a fixed order), each line starting
+/// with `indent`; and the text of each output (a temporary's name or a short expression).
+/// `leaf` prints an input node.
+struct emitted_statements {
+  std::string text;
+  std::vector<std::string> outputs;
+};
+emitted_statements emit_statements(const expr_graph& g, const std::vector<sx>& outputs,
+                                   const std::function<std::string(const node&)>& leaf,
+                                   const std::string& indent);
 
 /// The line every generated file starts with.
 std::string generated_banner(const std::string& command);

@@ -200,6 +200,9 @@ std::vector<GiNaC::numeric> expr_graph::evaluate(const std::vector<sx>& outputs,
           case input_kind::torque:
             value[i] = in.torque.at(k);
             break;
+          case input_kind::local:
+            value[i] = in.local.at(k);
+            break;
         }
         break;
       }

@@ -20,7 +20,8 @@ namespace npend::gen {
 enum class op : std::uint8_t { constant, input, neg, add, sub, mul, div, sin, cos };
 
 /// What an input node stands for; the emitter maps each to an argument array. drive (index 0
-/// a_x, 1 a_y) and torque are the time-dependent inputs of physical chains.
+/// a_x, 1 a_y) and torque are the time-dependent inputs of physical chains. local is an input
+/// of one link's step of a loop kernel (loop_kernels.hpp): a value its caller names.
 enum class input_kind : std::uint8_t {
   phi,
   dphi,
@@ -34,7 +35,8 @@ enum class input_kind : std::uint8_t {
   rest_angle,
   damping,
   drive,
-  torque
+  torque,
+  local
 };
 
 struct node {
@@ -82,6 +84,7 @@ class expr_graph {
     std::vector<GiNaC::numeric> sin_phi, cos_phi, dphi, p, mass, length;
     std::vector<GiNaC::numeric> com, inertia;  ///< of rigid links
     std::vector<GiNaC::numeric> phi, stiffness, rest_angle, damping, drive, torque;  ///< physical
+    std::vector<GiNaC::numeric> local;  ///< the inputs of a loop kernel's step
     GiNaC::numeric gravity;
   };
   std::vector<GiNaC::numeric> evaluate(const std::vector<sx>& outputs,
