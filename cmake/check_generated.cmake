@@ -5,7 +5,7 @@
 function(run_generator out_dir links)
   file(REMOVE_RECURSE "${out_dir}")
   execute_process(
-    COMMAND "${GEN}" --links ${links} --index ${LINKS} --out "${out_dir}"
+    COMMAND "${GEN}" --links ${links} --index ${LINKS} --loop --out "${out_dir}"
     RESULT_VARIABLE rc ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "npend-gen failed (${rc}): ${err}")

@@ -75,6 +75,9 @@ function(npend_generated_library target)
   # The headers to install with the library (cmake/npend_install.cmake).
   set_property(GLOBAL PROPERTY NPEND_GENERATED_HEADERS ${headers})
 
+  # The loop kernels serve every other link count (generated/chain_loop.*).
+  list(APPEND sources "${PROJECT_SOURCE_DIR}/generated/chain_loop.cpp")
+  list(APPEND headers "${PROJECT_SOURCE_DIR}/generated/chain_loop.hpp")
   add_library(${target} STATIC ${sources})
   add_library(npend::generated ALIAS ${target})
   # The build-tree index must shadow the committed one, so it comes first.
@@ -99,7 +102,7 @@ endfunction()
 function(npend_add_regenerate_target)
   _npend_join(list_arg ${NPEND_COMMITTED_LINKS})
   add_custom_target(npend_regenerate
-    COMMAND npend-gen --links ${list_arg} --index ${list_arg}
+    COMMAND npend-gen --links ${list_arg} --index ${list_arg} --loop
             --out "${PROJECT_SOURCE_DIR}/generated"
     COMMAND npend-gen --links ${list_arg} --model physical
             --out "${PROJECT_SOURCE_DIR}/generated"

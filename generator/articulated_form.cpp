@@ -6,6 +6,10 @@ namespace {
 std::size_t u(int i) { return static_cast<std::size_t>(i); }
 }  // namespace
 
+rod_turn turn_between(sx s, sx c, sx s_next, sx c_next) {
+  return {c * c_next + s * s_next, s_next * c - c_next * s};
+}
+
 elimination_step eliminate_tip(sx mass, sx q) {
   expr_graph& g = *mass.graph;
   elimination_step e;
@@ -62,9 +66,9 @@ articulated_form::articulated_form(int links, expr_graph& graph) : n(links), m_g
     inv_length.push_back(graph.constant(1) / graph.input(input_kind::length, k));
   }
   for (int k = 0; k + 1 < n; ++k) {
-    // Angle differences through products, so the kernel needs only 2n trigonometric calls.
-    cd.push_back(c[u(k)] * c[u(k + 1)] + s[u(k)] * s[u(k + 1)]);
-    sd.push_back(s[u(k + 1)] * c[u(k)] - c[u(k + 1)] * s[u(k)]);
+    const rod_turn t = turn_between(s[u(k)], c[u(k)], s[u(k + 1)], c[u(k + 1)]);
+    cd.push_back(t.C);
+    sd.push_back(t.S);
   }
 }
 

@@ -58,6 +58,14 @@
 
 namespace npend::gen {
 
+/// The turn between rod k and rod k + 1 from their sines and cosines, C_k = cos(φ_{k+1} − φ_k)
+/// and S_k = sin(φ_{k+1} − φ_k), through products, so that a kernel needs only 2n
+/// trigonometric calls.
+struct rod_turn {
+  sx C, S;
+};
+rod_turn turn_between(sx s, sx c, sx s_next, sx c_next);
+
 /// One link's step of the elimination from the tip (the file comment's d_k, 1/d_k, r_k,
 /// r_{k+1} S_k C_k, γ_k, the numerator of a_k, a_k and β_k). The steps are shared by the
 /// unrolled kernels (articulated_form) and the loop kernels (loop_kernels.hpp), so both run

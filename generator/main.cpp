@@ -14,6 +14,7 @@
 #include "chain_model.hpp"
 #include "emit_cpp.hpp"
 #include "latex.hpp"
+#include "loop_kernels.hpp"
 #include "verify.hpp"
 
 namespace fs = std::filesystem;
@@ -125,7 +126,7 @@ int main(int argc, char** argv) {
   fs::path out_dir;
   int latex = 0, verify = 0, points = 3;
   std::vector<int> stats;
-  bool json = false;
+  bool json = false, loop = false;
   std::string solver = "auto", model = "point";
   app.add_option("--links", links, "Link counts to generate (comma-separated), written to --out")
       ->delimiter(',')
@@ -134,7 +135,10 @@ int main(int argc, char** argv) {
                  "Write chain_index.hpp/.cpp listing these link counts (comma-separated)")
       ->delimiter(',')
       ->check(CLI::Range(1, max_links));
-  app.add_option("--out", out_dir, "Output directory for --links and --index");
+  app.add_flag("--loop", loop,
+               "Write chain_loop.hpp/.cpp: the point-mass chain's kernels for any link count, as "
+               "loops over the links (what the runtime runs for counts not in --links)");
+  app.add_option("--out", out_dir, "Output directory for --links, --index and --loop");
   app.add_option("--latex", latex, "Print the derived equations of N links as LaTeX")
       ->check(CLI::Range(1, max_links));
   app.add_option("--verify", verify,
@@ -164,7 +168,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
-  if (links.empty() && index.empty() && latex == 0 && verify == 0 && stats.empty()) {
+  if (links.empty() && index.empty() && !loop && latex == 0 && verify == 0 && stats.empty()) {
     std::cerr << app.help();
     return 2;
   }
@@ -176,8 +180,8 @@ int main(int argc, char** argv) {
                  "takes rigid links as the physical chain (--model physical)\n";
     return 2;
   }
-  if ((!links.empty() || !index.empty()) && out_dir.empty()) {
-    std::cerr << "npend-gen: --links and --index need --out DIR\n";
+  if ((!links.empty() || !index.empty() || loop) && out_dir.empty()) {
+    std::cerr << "npend-gen: --links, --index and --loop need --out DIR\n";
     return 2;
   }
   try {
@@ -193,6 +197,11 @@ int main(int argc, char** argv) {
       const chain_sources idx = emit_index(index);
       write_if_changed(out_dir, std::string(index_stem) + ".hpp", idx.header);
       write_if_changed(out_dir, std::string(index_stem) + ".cpp", idx.source);
+    }
+    if (loop) {
+      const chain_sources loops = emit_loop_kernels();
+      write_if_changed(out_dir, std::string(loop_stem) + ".hpp", loops.header);
+      write_if_changed(out_dir, std::string(loop_stem) + ".cpp", loops.source);
     }
     if (latex > 0) {
       const chain_symbols sym(latex, kind);

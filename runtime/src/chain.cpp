@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <chain_index.hpp>
+#include <chain_loop.hpp>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -23,9 +24,16 @@ namespace {
 std::string not_built_message(int n) {
   const std::string list = fmt::format("{}", fmt::join(built_link_counts(), ";"));
   return fmt::format(
-      "{} links are not built into this program (built: {}); add them with cmake "
-      "-DNPEND_LINKS=\"{};{}\" and rebuild",
+      "the physical chain of {} links is not built into this program (built: {}; point-mass "
+      "chains take any count); add it with cmake -DNPEND_LINKS=\"{};{}\" and rebuild",
       n, list, list, n);
+}
+
+std::invalid_argument no_physical_kernels(int n, const char* what) {
+  return std::invalid_argument(fmt::format(
+      "{} needs the physical kernels, which are built for {} links only, not {}; add {} with "
+      "cmake -DNPEND_LINKS",
+      what, fmt::join(built_link_counts(), ", "), n, n));
 }
 
 }  // namespace
@@ -35,8 +43,13 @@ chain::chain(chain_parameters params) : m_params(std::move(params)) {
   m_links = m_params.links();
   m_kernels = generated::find_chain(m_links);
   m_physical_kernels = generated::find_physical(m_links);
-  if (m_kernels == nullptr || m_physical_kernels == nullptr)
-    throw std::invalid_argument(not_built_message(m_links));
+  m_physical = m_params.is_physical();
+  if (m_kernels == nullptr || m_physical_kernels == nullptr) {
+    if (m_physical) throw std::invalid_argument(not_built_message(m_links));
+    m_loop = &generated::chain_loop::kernels;
+    m_packed = m_params.packed();
+    return;
+  }
   // Where generated code meets the runtime: the kernels must index the arrays as packed().
   const auto mismatch = [&](int state, int param, int want_param) {
     return std::logic_error(fmt::format(
@@ -52,7 +65,6 @@ chain::chain(chain_parameters params) : m_params(std::move(params)) {
       m_physical_kernels->input_size != chain_layout::input_size(m_links))
     throw mismatch(m_physical_kernels->state_size, m_physical_kernels->param_size,
                    chain_layout::physical_param_size(m_links));
-  m_physical = m_params.is_physical();
   m_physical_packed = m_params.physical_packed();
   m_packed = m_physical ? m_physical_packed : m_params.packed();
 }
@@ -60,10 +72,29 @@ chain::chain(chain_parameters params) : m_params(std::move(params)) {
 const chain_kernels& chain::kernels() const {
   if (m_physical)
     throw std::logic_error("chain::kernels(): a physical chain runs on physical_table()");
+  if (m_loop != nullptr)
+    throw std::logic_error("chain::kernels(): this chain runs on the loop kernels");
   return *m_kernels;
 }
 
+const physical_kernels& chain::physical_table() const {
+  if (m_physical_kernels == nullptr) throw no_physical_kernels(m_links, "this computation");
+  return *m_physical_kernels;
+}
+
+double* chain::loop_workspace() const {
+  thread_local std::vector<double> work;
+  const auto size = static_cast<std::size_t>(m_loop->workspace_size(m_links));
+  if (work.size() < size) work.resize(size);
+  return work.data();
+}
+
 const char* chain::equations_latex() const {
+  if (m_loop != nullptr)
+    throw std::invalid_argument(fmt::format(
+        "the equations of {} links are not derived in this build (it runs them on the loop "
+        "kernels); npend-gen --latex {} prints them",
+        m_links, m_links));
   return m_physical ? m_physical_kernels->equations_latex() : m_kernels->equations_latex();
 }
 
@@ -89,6 +120,7 @@ using input_buffer = std::array<double, chain_layout::input_size(chain_layout::m
 }  // namespace
 
 void chain::evaluate_rhs(const double* x, double t, double* dxdt) const noexcept {
+  if (m_loop != nullptr) return m_loop->rhs(m_links, x, m_packed.data(), dxdt, loop_workspace());
   if (!m_physical) return m_kernels->rhs(x, m_packed.data(), dxdt);
   input_buffer w;
   fill_inputs(t, w.data());
@@ -96,6 +128,8 @@ void chain::evaluate_rhs(const double* x, double t, double* dxdt) const noexcept
 }
 
 void chain::evaluate_jacobian(const double* x, double t, double* jac) const noexcept {
+  if (m_loop != nullptr)
+    return m_loop->jacobian(m_links, x, m_packed.data(), jac, loop_workspace());
   if (!m_physical) return m_kernels->jacobian(x, m_packed.data(), jac);
   input_buffer w;
   fill_inputs(t, w.data());
@@ -128,7 +162,7 @@ void chain::input_matrix(std::span<const double> phi, std::span<double> dfdw) co
   check_size(phi, m_links, "phi");
   check_size(dfdw, state_size() * chain_layout::input_size(m_links), "input matrix");
   // A point-mass chain is the physical chain with c = l and nothing else: same B.
-  m_physical_kernels->input_matrix(phi.data(), m_physical_packed.data(), dfdw.data());
+  physical_table().input_matrix(phi.data(), m_physical_packed.data(), dfdw.data());
 }
 
 void chain::rhs(std::span<const double> x, std::span<double> dxdt, double t,
@@ -136,9 +170,10 @@ void chain::rhs(std::span<const double> x, std::span<double> dxdt, double t,
   check_size(x, state_size(), "state x");
   check_size(dxdt, state_size(), "dxdt");
   check_size(torques, m_links, "torques");
+  const physical_kernels& kernels = physical_table();
   input_buffer w;
   fill_inputs(t, w.data(), torques.data());
-  m_physical_kernels->rhs(x.data(), m_physical_packed.data(), w.data(), dxdt.data());
+  kernels.rhs(x.data(), m_physical_packed.data(), w.data(), dxdt.data());
 }
 
 void chain::jacobian(std::span<const double> x, std::span<double> jac, double t,
@@ -146,9 +181,10 @@ void chain::jacobian(std::span<const double> x, std::span<double> jac, double t,
   check_size(x, state_size(), "state x");
   check_size(jac, state_size() * state_size(), "jacobian");
   check_size(torques, m_links, "torques");
+  const physical_kernels& kernels = physical_table();
   input_buffer w;
   fill_inputs(t, w.data(), torques.data());
-  m_physical_kernels->jacobian(x.data(), m_physical_packed.data(), w.data(), jac.data());
+  kernels.jacobian(x.data(), m_physical_packed.data(), w.data(), jac.data());
 }
 
 void chain::time_derivative(std::span<const double> x, std::span<double> dfdt, double t) const {
@@ -171,6 +207,8 @@ void chain::time_derivative(std::span<const double> x, std::span<double> dfdt, d
 
 double chain::hamiltonian(std::span<const double> x, double t) const {
   check_size(x, state_size(), "state x");
+  if (m_loop != nullptr)
+    return m_loop->hamiltonian(m_links, x.data(), m_packed.data(), loop_workspace());
   if (!m_physical) return m_kernels->hamiltonian(x.data(), m_packed.data());
   input_buffer w;
   fill_inputs(t, w.data());
@@ -193,6 +231,9 @@ void chain::velocities(std::span<const double> phi, std::span<const double> p,
   check_size(phi, m_links, "phi");
   check_size(p, m_links, "p");
   check_size(dphi, m_links, "dphi");
+  if (m_loop != nullptr)
+    return m_loop->velocities(m_links, phi.data(), p.data(), m_packed.data(), dphi.data(),
+                              loop_workspace());
   (m_physical ? m_physical_kernels->velocities : m_kernels->velocities)(
       phi.data(), p.data(), m_packed.data(), dphi.data());
 }
@@ -202,6 +243,9 @@ void chain::momenta(std::span<const double> phi, std::span<const double> dphi,
   check_size(phi, m_links, "phi");
   check_size(dphi, m_links, "dphi");
   check_size(p, m_links, "p");
+  if (m_loop != nullptr)
+    return m_loop->momenta(m_links, phi.data(), dphi.data(), m_packed.data(), p.data(),
+                           loop_workspace());
   (m_physical ? m_physical_kernels->momenta : m_kernels->momenta)(phi.data(), dphi.data(),
                                                                   m_packed.data(), p.data());
 }
@@ -210,6 +254,8 @@ double chain::lagrangian(std::span<const double> phi, std::span<const double> dp
                          double t) const {
   check_size(phi, m_links, "phi");
   check_size(dphi, m_links, "dphi");
+  if (m_loop != nullptr)
+    return m_loop->lagrangian(m_links, phi.data(), dphi.data(), m_packed.data(), loop_workspace());
   if (!m_physical) return m_kernels->lagrangian(phi.data(), dphi.data(), m_packed.data());
   input_buffer w;
   fill_inputs(t, w.data());
@@ -219,12 +265,17 @@ double chain::lagrangian(std::span<const double> phi, std::span<const double> dp
 double chain::kinetic_energy(std::span<const double> phi, std::span<const double> dphi) const {
   check_size(phi, m_links, "phi");
   check_size(dphi, m_links, "dphi");
+  if (m_loop != nullptr)
+    return m_loop->kinetic_energy(m_links, phi.data(), dphi.data(), m_packed.data(),
+                                  loop_workspace());
   return (m_physical ? m_physical_kernels->kinetic_energy : m_kernels->kinetic_energy)(
       phi.data(), dphi.data(), m_packed.data());
 }
 
 double chain::potential_energy(std::span<const double> phi, double t) const {
   check_size(phi, m_links, "phi");
+  if (m_loop != nullptr)
+    return m_loop->potential_energy(m_links, phi.data(), m_packed.data(), loop_workspace());
   if (!m_physical) return m_kernels->potential_energy(phi.data(), m_packed.data());
   input_buffer w;
   fill_inputs(t, w.data());
@@ -234,12 +285,16 @@ double chain::potential_energy(std::span<const double> phi, double t) const {
 void chain::mass_matrix(std::span<const double> phi, std::span<double> A) const {
   check_size(phi, m_links, "phi");
   check_size(A, m_links * m_links, "mass matrix");
+  if (m_loop != nullptr)
+    return m_loop->mass_matrix(m_links, phi.data(), m_packed.data(), A.data(), loop_workspace());
   (m_physical ? m_physical_kernels->mass_matrix : m_kernels->mass_matrix)(
       phi.data(), m_packed.data(), A.data());
 }
 
 double chain::det_mass_matrix(std::span<const double> phi) const {
   check_size(phi, m_links, "phi");
+  if (m_loop != nullptr)
+    return m_loop->det_mass_matrix(m_links, phi.data(), m_packed.data(), loop_workspace());
   return (m_physical ? m_physical_kernels->det_mass_matrix : m_kernels->det_mass_matrix)(
       phi.data(), m_packed.data());
 }
@@ -248,6 +303,9 @@ void chain::potential_gradient(std::span<const double> phi, std::span<double> gr
                                double t) const {
   check_size(phi, m_links, "phi");
   check_size(grad, m_links, "gradient");
+  if (m_loop != nullptr)
+    return m_loop->potential_gradient(m_links, phi.data(), m_packed.data(), grad.data(),
+                                      loop_workspace());
   if (!m_physical) return m_kernels->potential_gradient(phi.data(), m_packed.data(), grad.data());
   input_buffer w;
   fill_inputs(t, w.data());
@@ -257,6 +315,9 @@ void chain::potential_gradient(std::span<const double> phi, std::span<double> gr
 void chain::potential_hessian(std::span<const double> phi, std::span<double> hess, double t) const {
   check_size(phi, m_links, "phi");
   check_size(hess, m_links * m_links, "hessian");
+  if (m_loop != nullptr)
+    return m_loop->potential_hessian(m_links, phi.data(), m_packed.data(), hess.data(),
+                                     loop_workspace());
   if (!m_physical) return m_kernels->potential_hessian(phi.data(), m_packed.data(), hess.data());
   input_buffer w;
   fill_inputs(t, w.data());
@@ -266,8 +327,28 @@ void chain::potential_hessian(std::span<const double> phi, std::span<double> hes
 void chain::positions(std::span<const double> phi, std::span<double> xy) const {
   check_size(phi, m_links, "phi");
   check_size(xy, 2 * m_links, "positions");
+  if (m_loop != nullptr)
+    return m_loop->positions(m_links, phi.data(), m_packed.data(), xy.data(), loop_workspace());
   (m_physical ? m_physical_kernels->positions : m_kernels->positions)(phi.data(), m_packed.data(),
                                                                       xy.data());
+}
+
+void chain::jacobian_vector(std::span<const double> x, std::span<const double> u,
+                            std::span<double> ju, double t) const {
+  check_size(x, state_size(), "state x");
+  check_size(u, state_size(), "direction u");
+  check_size(ju, state_size(), "J u");
+  if (m_loop != nullptr)
+    return m_loop->jacobian_vector(m_links, x.data(), m_packed.data(), u.data(), ju.data(),
+                                   loop_workspace());
+  const auto dim = static_cast<std::size_t>(state_size());
+  std::vector<double> jac(dim * dim);
+  evaluate_jacobian(x.data(), t, jac.data());
+  for (std::size_t i = 0; i < dim; ++i) {
+    double sum = 0;
+    for (std::size_t j = 0; j < dim; ++j) sum += jac[i * dim + j] * u[j];
+    ju[i] = sum;
+  }
 }
 
 std::vector<double> chain::rhs(std::span<const double> x) const {

@@ -9,7 +9,8 @@
 
 namespace npend {
 
-/// The link counts compiled into this build (ascending).
+/// The link counts with unrolled kernels compiled into this build (ascending). A point-mass
+/// chain of any other count runs on the loop kernels (generated/chain_loop.*).
 std::vector<int> built_link_counts();
 
 /// An n-link chain with fixed parameters, calling the generated kernels for n: the
@@ -27,8 +28,9 @@ std::vector<int> built_link_counts();
 class chain {
  public:
   /// Throws std::invalid_argument if the parameters are invalid (see
-  /// chain_parameters::validate) or if this link count was not built — the message names
-  /// the CMake option that adds it.
+  /// chain_parameters::validate), or for a physical chain of a link count that was not built
+  /// (the message names the CMake option that adds it). A point-mass chain of a count not
+  /// built runs on the loop kernels, which take any n.
   explicit chain(chain_parameters params);
 
   int links() const { return m_links; }
@@ -36,13 +38,22 @@ class chain {
   const chain_parameters& parameters() const { return m_params; }
   /// Whether this chain runs on the physical kernels.
   bool is_physical() const { return m_physical; }
+  /// Whether this chain runs on the loop kernels (a point-mass chain of a link count without
+  /// unrolled kernels).
+  bool runs_on_loops() const { return m_loop != nullptr; }
   /// The packed parameters the kernels take: [m, l, g] for a point-mass chain, the physical
   /// layout (chain_layout::physical_param_size) for a physical one.
   const std::vector<double>& packed_parameters() const { return m_packed; }
-  /// The point-mass kernels behind this chain; throws std::logic_error for a physical chain.
+  /// The unrolled point-mass kernels behind this chain; throws std::logic_error for a
+  /// physical chain or one on the loop kernels.
   const chain_kernels& kernels() const;
-  /// The physical kernels of this link count (used by every chain for input_matrix).
-  const physical_kernels& physical_table() const { return *m_physical_kernels; }
+  /// The unrolled point-mass kernels, or nullptr (a physical chain, or one on the loops).
+  const chain_kernels* unrolled_kernels() const noexcept {
+    return m_physical || m_loop != nullptr ? nullptr : m_kernels;
+  }
+  /// The physical kernels of this link count (used by every chain for input_matrix); throws
+  /// std::invalid_argument for a chain on the loop kernels, which have none.
+  const physical_kernels& physical_table() const;
   /// The derived equations of this link count as LaTeX (npend-gen --latex).
   const char* equations_latex() const;
 
@@ -50,6 +61,9 @@ class chain {
   void rhs(std::span<const double> x, std::span<double> dxdt, double t = 0) const;
   /// Exact Jacobian ∂f/∂x, row-major (dim 2n × 2n).
   void jacobian(std::span<const double> x, std::span<double> jac, double t = 0) const;
+  /// J(x)·u (dim 2n) without forming J: O(n) on the loop kernels, J then a product otherwise.
+  void jacobian_vector(std::span<const double> x, std::span<const double> u, std::span<double> ju,
+                       double t = 0) const;
   /// f and ∂f/∂x with motor torques u_j at the joints (dim n, N m; u_j acts on link j and
   /// its reaction on link j−1) — on any chain: a point-mass chain runs them on the physical
   /// kernels with c = l.
@@ -113,8 +127,12 @@ class chain {
   chain_parameters m_params;
   std::vector<double> m_packed;
   std::vector<double> m_physical_packed;  ///< the physical layout, also for point-mass chains
+  // The workspace of the loop kernels, one per thread (a chain is shared by threads).
+  double* loop_workspace() const;
+
   const chain_kernels* m_kernels = nullptr;
   const physical_kernels* m_physical_kernels = nullptr;
+  const loop_kernels* m_loop = nullptr;
   int m_links = 0;
   bool m_physical = false;
 };

@@ -112,4 +112,36 @@ struct physical_kernels {
   const char* (*equations_latex)() noexcept = nullptr;
 };
 
+/// The loop kernels (generated/chain_loop.*): the point-mass chain's functions for any link
+/// count n, as loops over the links, for the counts without unrolled kernels. Each takes n
+/// first and a workspace of workspace_size(n) doubles last; the functions are those of
+/// chain_kernels, plus J(x)·u in O(n).
+struct loop_kernels {
+  int (*workspace_size)(int n) noexcept;
+  void (*rhs)(int n, const double* x, const double* params, double* dxdt, double* work) noexcept;
+  void (*jacobian_vector)(int n, const double* x, const double* params, const double* u, double* ju,
+                          double* work) noexcept;
+  void (*jacobian)(int n, const double* x, const double* params, double* jac,
+                   double* work) noexcept;
+  double (*hamiltonian)(int n, const double* x, const double* params, double* work) noexcept;
+  void (*velocities)(int n, const double* phi, const double* p, const double* params, double* dphi,
+                     double* work) noexcept;
+  void (*momenta)(int n, const double* phi, const double* dphi, const double* params, double* p,
+                  double* work) noexcept;
+  double (*kinetic_energy)(int n, const double* phi, const double* dphi, const double* params,
+                           double* work) noexcept;
+  double (*potential_energy)(int n, const double* phi, const double* params, double* work) noexcept;
+  double (*lagrangian)(int n, const double* phi, const double* dphi, const double* params,
+                       double* work) noexcept;
+  void (*mass_matrix)(int n, const double* phi, const double* params, double* A,
+                      double* work) noexcept;
+  double (*det_mass_matrix)(int n, const double* phi, const double* params, double* work) noexcept;
+  void (*potential_gradient)(int n, const double* phi, const double* params, double* grad,
+                             double* work) noexcept;
+  void (*potential_hessian)(int n, const double* phi, const double* params, double* hess,
+                            double* work) noexcept;
+  void (*positions)(int n, const double* phi, const double* params, double* xy,
+                    double* work) noexcept;
+};
+
 }  // namespace npend

@@ -35,7 +35,7 @@ class chain_system {
  public:
   explicit chain_system(const chain& c)
       : m_chain(&c),
-        m_point(c.is_physical() ? nullptr : &c.kernels()),
+        m_point(c.unrolled_kernels()),
         m_params(c.packed_parameters().data()),
         m_size(c.state_size()) {}
 
@@ -56,7 +56,7 @@ class chain_system {
 
  private:
   const chain* m_chain;
-  const chain_kernels* m_point;  ///< the point-mass kernels, nullptr for a physical chain
+  const chain_kernels* m_point;  ///< the unrolled point-mass kernels, or nullptr
   const double* m_params;
   int m_size;
 };

@@ -1,0 +1,546 @@
+#include "loop_kernels.hpp"
+
+#include <fmt/format.h>
+
+#include <memory>
+#include <stdexcept>
+#include <utility>
+
+#include "articulated_form.hpp"
+#include "forward_diff.hpp"
+
+namespace npend::gen {
+
+namespace {
+
+// One link's step of a loop: a small graph over inputs its caller names (array elements,
+// parameters, running sums) and the places its outputs are assigned to.
+class loop_step {
+ public:
+  loop_step() : m_graph(std::make_unique<expr_graph>()) {}
+
+  sx in(std::string text) {
+    m_inputs.push_back(std::move(text));
+    return m_graph->input(input_kind::local, static_cast<int>(m_inputs.size()) - 1);
+  }
+  sx constant(const GiNaC::numeric& value) { return m_graph->constant(value); }
+  void out(std::string target, sx value) {
+    m_targets.push_back(std::move(target));
+    m_outputs.push_back(value);
+  }
+
+  // Σ_i ∂value/∂input_i · tangent_i for each value: the step's forward-mode derivative, each
+  // seed pairing an input with the input that holds its tangent.
+  std::vector<sx> tangents(const std::vector<sx>& values,
+                           const std::vector<std::pair<sx, sx>>& seeds) {
+    std::vector<sx> out(values.size(), constant(0));
+    for (const auto& [input, tangent] : seeds) {
+      const std::vector<sx> d = directional_derivative(*m_graph, values, input);
+      for (std::size_t i = 0; i < values.size(); ++i) out[i] = out[i] + d[i] * tangent;
+    }
+    return out;
+  }
+
+  // The step's statements. Where an output is assigned to a name the step also reads (a
+  // running sum), every output is computed before any is assigned.
+  std::string emit(const std::string& indent) const {
+    const auto leaf = [&](const node& nd) -> std::string {
+      if (nd.input != input_kind::local) throw std::logic_error("loop step: a non-local input");
+      return m_inputs.at(static_cast<std::size_t>(nd.index));
+    };
+    const emitted_statements st = emit_statements(*m_graph, m_outputs, leaf, indent);
+    std::string text = st.text;
+    bool reads_target = false;
+    for (const auto& target : m_targets)
+      for (const auto& input : m_inputs) reads_target = reads_target || target == input;
+    if (reads_target && m_outputs.size() > 1) {
+      for (std::size_t i = 0; i < m_outputs.size(); ++i)
+        text += fmt::format("{}const double out{} = {};\n", indent, i, st.outputs[i]);
+      for (std::size_t i = 0; i < m_outputs.size(); ++i)
+        text += fmt::format("{}{} = out{};\n", indent, m_targets[i], i);
+      return text;
+    }
+    for (std::size_t i = 0; i < m_outputs.size(); ++i)
+      text += fmt::format("{}{} = {};\n", indent, m_targets[i], st.outputs[i]);
+    return text;
+  }
+
+ private:
+  std::unique_ptr<expr_graph> m_graph;
+  std::vector<std::string> m_inputs, m_targets;
+  std::vector<sx> m_outputs;
+};
+
+// The parameters of link k (and g) as the emitted code reads them.
+const char* const mass_k = "params[chain_layout::mass_index(n, k)]";
+const char* const length_k = "params[chain_layout::length_index(n, k)]";
+const char* const gravity = "params[chain_layout::gravity_index(n)]";
+
+// g μ_k l_k t: the gravity moment on the links from k down, times sin φ_k (−∂V/∂φ_k's
+// negative) or cos φ_k (∂²V/∂φ_k², and −V's term).
+sx gravity_moment(sx g, sx mu, sx l, sx trig) { return g * mu * l * trig; }
+
+std::string loop(const std::string& head, const std::string& body) {
+  return fmt::format("  for ({}) {{\n{}  }}\n", head, body);
+}
+std::string block(const std::string& comment, const std::string& body) {
+  return fmt::format("  {{  // {}\n{}  }}\n", comment, body);
+}
+const char* const in_loop = "    ";
+
+// s_k, c_k of φ_k, and q_k = p_k / l_k when `with_momentum`.
+std::string angle_step(bool with_momentum) {
+  loop_step st;
+  const sx phi = st.in("phi[k]");
+  st.out("v.s[k]", sin(phi));
+  st.out("v.c[k]", cos(phi));
+  if (with_momentum) st.out("v.q[k]", st.in("p[k]") * (st.constant(1) / st.in(length_k)));
+  return loop("int k = 0; k < n; ++k", st.emit(in_loop));
+}
+
+// The turns C_k, S_k between neighbouring rods.
+std::string turn_step() {
+  loop_step st;
+  const rod_turn t =
+      turn_between(st.in("v.s[k]"), st.in("v.c[k]"), st.in("v.s[k + 1]"), st.in("v.c[k + 1]"));
+  st.out("v.cd[k]", t.C);
+  st.out("v.sd[k]", t.S);
+  return loop("int k = 0; k + 1 < n; ++k", st.emit(in_loop));
+}
+
+// The inputs of link k's elimination step, as the value and the tangent step read them.
+struct elimination_inputs {
+  sx mass, C, S, q, q_next, r_next, beta_next;
+};
+elimination_inputs read_elimination(loop_step& st) {
+  return {st.in(mass_k),       st.in("v.cd[k]"),    st.in("v.sd[k]"),      st.in("v.q[k]"),
+          st.in("v.q[k + 1]"), st.in("v.r[k + 1]"), st.in("v.beta[k + 1]")};
+}
+elimination_step eliminate(const elimination_inputs& e) {
+  return eliminate_link(e.mass, e.C, e.S, e.q, e.q_next, e.r_next, e.beta_next);
+}
+
+// The elimination from the tip: μ_k, d_k, r_k, γ_k, a_k, β_k.
+std::string elimination_pass() {
+  loop_step tip;
+  const sx m = tip.in(mass_k);
+  const elimination_step t = eliminate_tip(m, tip.in("v.q[k]"));
+  tip.out("v.mu[k]", m);
+  tip.out("v.d[k]", t.d);
+  tip.out("v.r[k]", t.r);
+  tip.out("v.gamma[k]", t.gamma);
+  tip.out("v.a[k]", t.a);
+  tip.out("v.beta[k]", t.beta);
+
+  loop_step st;
+  const elimination_inputs in = read_elimination(st);
+  const elimination_step e = eliminate(in);
+  st.out("v.mu[k]", in.mass + st.in("v.mu[k + 1]"));
+  st.out("v.d[k]", e.d);
+  st.out("v.r[k]", e.r);
+  st.out("v.gamma[k]", e.gamma);
+  st.out("v.a[k]", e.a);
+  st.out("v.beta[k]", e.beta);
+  return block("the tip", "    const int k = n - 1;\n" + tip.emit(in_loop)) +
+         loop("int k = n - 2; k >= 0; --k", st.emit(in_loop));
+}
+
+// The inputs of link k's step from the pivot.
+struct pivot_inputs {
+  sx a, gamma, r, beta, x, y, C, S;
+};
+pivot_inputs read_pivot(loop_step& st, bool last) {
+  pivot_inputs p{st.in("v.a[k]"),
+                 st.in("v.gamma[k]"),
+                 st.in("v.r[k]"),
+                 st.in("v.beta[k]"),
+                 st.in("v.x[k]"),
+                 st.in("v.y[k]"),
+                 {},
+                 {}};
+  if (!last) {
+    p.C = st.in("v.cd[k]");
+    p.S = st.in("v.sd[k]");
+  }
+  return p;
+}
+pivot_step step_from_pivot(const pivot_inputs& p, bool last) {
+  return last ? pivot_link(p.a, p.gamma, p.r, p.beta, p.x, p.y)
+              : pivot_link(p.a, p.gamma, p.r, p.beta, p.x, p.y, p.C, p.S);
+}
+
+// The pass from the pivot: w_k, ω_k, the kinetic part of ṗ_k and the next suspension's
+// velocity (x_{k+1}, y_{k+1}).
+std::string pivot_pass() {
+  std::string text = "  v.x[0] = 0.0;\n  v.y[0] = 0.0;\n";
+  for (const bool last : {false, true}) {
+    loop_step st;
+    const pivot_step p = step_from_pivot(read_pivot(st, last), last);
+    st.out("v.w[k]", p.w);
+    st.out("v.omega[k]", p.omega);
+    st.out("v.force[k]", p.kinetic_force);
+    if (!last) {
+      st.out("v.x[k + 1]", p.x_next);
+      st.out("v.y[k + 1]", p.y_next);
+    }
+    text += last ? block("the tip", "    const int k = n - 1;\n" + st.emit(in_loop))
+                 : loop("int k = 0; k + 1 < n; ++k", st.emit(in_loop));
+  }
+  return text;
+}
+
+// f_k = φ̇_k = ω_k / l_k and f_{n+k} = ṗ_k = −ω_k U_k − g μ_k l_k sin φ_k from the passes'
+// ω, kinetic force and sine (nodes of `st`).
+std::pair<sx, sx> hamilton_equations(loop_step& st, sx omega, sx kinetic_force, sx s) {
+  const sx l = st.in(length_k);
+  const sx dphi = omega * (st.constant(1) / l);
+  const sx dp = kinetic_force - gravity_moment(st.in(gravity), st.in("v.mu[k]"), l, s);
+  return {dphi, dp};
+}
+
+// The tangent pass: along the direction (dphi, dp), the derivative of every step in turn.
+std::string tangent_pass() {
+  std::string text;
+  {
+    loop_step st;
+    const sx s = st.in("v.s[k]"), c = st.in("v.c[k]"), dphi = st.in("dphi[k]");
+    st.out("v.ds[k]", c * dphi);
+    st.out("v.dc[k]", -(s * dphi));
+    const sx p = st.in("p_unused"), q = p * (st.constant(1) / st.in(length_k));
+    st.out("v.dq[k]", st.tangents({q}, {{p, st.in("dp[k]")}})[0]);
+    text += loop("int k = 0; k < n; ++k", st.emit(in_loop));
+  }
+  {
+    loop_step st;
+    const sx s = st.in("v.s[k]"), c = st.in("v.c[k]"), s1 = st.in("v.s[k + 1]"),
+             c1 = st.in("v.c[k + 1]");
+    const rod_turn t = turn_between(s, c, s1, c1);
+    const auto d = st.tangents({t.C, t.S}, {{s, st.in("v.ds[k]")},
+                                            {c, st.in("v.dc[k]")},
+                                            {s1, st.in("v.ds[k + 1]")},
+                                            {c1, st.in("v.dc[k + 1]")}});
+    st.out("v.dcd[k]", d[0]);
+    st.out("v.dsd[k]", d[1]);
+    text += loop("int k = 0; k + 1 < n; ++k", st.emit(in_loop));
+  }
+  {
+    loop_step tip;
+    const sx q = tip.in("v.q[k]");
+    const elimination_step t = eliminate_tip(tip.in(mass_k), q);
+    const auto d = tip.tangents({t.r, t.gamma, t.a, t.beta}, {{q, tip.in("v.dq[k]")}});
+    tip.out("v.dr[k]", d[0]);
+    tip.out("v.dgamma[k]", d[1]);
+    tip.out("v.da[k]", d[2]);
+    tip.out("v.dbeta[k]", d[3]);
+    text += block("the tip", "    const int k = n - 1;\n" + tip.emit(in_loop));
+
+    loop_step st;
+    const elimination_inputs in = read_elimination(st);
+    const elimination_step e = eliminate(in);
+    const auto de =
+        st.tangents({e.r, e.gamma, e.a, e.beta}, {{in.C, st.in("v.dcd[k]")},
+                                                  {in.S, st.in("v.dsd[k]")},
+                                                  {in.q, st.in("v.dq[k]")},
+                                                  {in.q_next, st.in("v.dq[k + 1]")},
+                                                  {in.r_next, st.in("v.dr[k + 1]")},
+                                                  {in.beta_next, st.in("v.dbeta[k + 1]")}});
+    st.out("v.dr[k]", de[0]);
+    st.out("v.dgamma[k]", de[1]);
+    st.out("v.da[k]", de[2]);
+    st.out("v.dbeta[k]", de[3]);
+    text += loop("int k = n - 2; k >= 0; --k", st.emit(in_loop));
+  }
+  text += "  v.dx[0] = 0.0;\n  v.dy[0] = 0.0;\n";
+  for (const bool last : {false, true}) {
+    loop_step st;
+    const pivot_inputs in = read_pivot(st, last);
+    const pivot_step p = step_from_pivot(in, last);
+    const sx s = st.in("v.s[k]");
+    const auto [dphi, dp] = hamilton_equations(st, p.omega, p.kinetic_force, s);
+    std::vector<sx> values{dphi, dp};
+    if (!last) {
+      values.push_back(p.x_next);
+      values.push_back(p.y_next);
+    }
+    std::vector<std::pair<sx, sx>> seeds{{in.a, st.in("v.da[k]")}, {in.gamma, st.in("v.dgamma[k]")},
+                                         {in.r, st.in("v.dr[k]")}, {in.beta, st.in("v.dbeta[k]")},
+                                         {in.x, st.in("v.dx[k]")}, {in.y, st.in("v.dy[k]")},
+                                         {s, st.in("v.ds[k]")}};
+    if (!last) {
+      seeds.emplace_back(in.C, st.in("v.dcd[k]"));
+      seeds.emplace_back(in.S, st.in("v.dsd[k]"));
+    }
+    const auto d = st.tangents(values, seeds);
+    st.out("df[k]", d[0]);
+    st.out("df[n + k]", d[1]);
+    if (!last) {
+      st.out("v.dx[k + 1]", d[2]);
+      st.out("v.dy[k + 1]", d[3]);
+    }
+    text += last ? block("the tip", "    const int k = n - 1;\n" + st.emit(in_loop))
+                 : loop("int k = 0; k + 1 < n; ++k", st.emit(in_loop));
+  }
+  return text;
+}
+
+// f from the value pass.
+std::string hamilton_step(bool velocities_only, const std::string& target) {
+  loop_step st;
+  const auto [dphi, dp] =
+      hamilton_equations(st, st.in("v.omega[k]"), st.in("v.force[k]"), st.in("v.s[k]"));
+  st.out(target + "[k]", dphi);
+  if (!velocities_only) st.out(target + "[n + k]", dp);
+  return loop("int k = 0; k < n; ++k", st.emit(in_loop));
+}
+
+// μ_k = Σ_{j≥k} m_j, from the tip.
+std::string mass_below_step() {
+  loop_step st;
+  st.out("v.mu[k]", st.in(mass_k) + st.in("(k + 1 < n ? v.mu[k + 1] : 0.0)"));
+  return loop("int k = n - 1; k >= 0; --k", st.emit(in_loop));
+}
+
+// potential += g μ_k l_k (1 − cos φ_k) (from the pivot): V is zero where the chain hangs, as
+// the unrolled kernels' V.
+std::string potential_step() {
+  loop_step st;
+  st.out("potential",
+         st.in("potential") + gravity_moment(st.in(gravity), st.in("v.mu[k]"), st.in(length_k),
+                                             st.constant(1) - st.in("v.c[k]")));
+  return loop("int k = 0; k < n; ++k", st.emit(in_loop));
+}
+
+// twice_t += m_k |v_k|² for the velocity (vx, vy) of bob k.
+std::string kinetic_step(const char* vx, const char* vy) {
+  loop_step st;
+  const sx x = st.in(vx), y = st.in(vy);
+  st.out("twice_t", st.in("twice_t") + st.in(mass_k) * (x * x + y * y));
+  return loop("int k = 0; k < n; ++k", st.emit(in_loop));
+}
+
+// The bob velocities v_k = v_{k−1} + l_k φ̇_k (cos φ_k, −sin φ_k) into v.x, v.y.
+std::string bob_velocity_step() {
+  loop_step st;
+  const sx ldphi = st.in(length_k)*st.in("dphi[k]");
+  st.out("v.x[k]", st.in("(k > 0 ? v.x[k - 1] : 0.0)") + ldphi * st.in("v.c[k]"));
+  st.out("v.y[k]", st.in("(k > 0 ? v.y[k - 1] : 0.0)") - ldphi * st.in("v.s[k]"));
+  return loop("int k = 0; k < n; ++k", st.emit(in_loop));
+}
+
+struct function_text {
+  std::string doc, signature, body;
+};
+
+std::vector<function_text> loop_functions() {
+  const std::string values_call = "  const passes v = cut(n, work);\n";
+  std::vector<function_text> fs;
+  fs.push_back(
+      {"Hamilton's equations f(x) (dim 2n), as the unrolled rhs.",
+       "void rhs(int n, const double* x, const double* params, double* dxdt, "
+       "double* work) noexcept",
+       values_call + "  evaluate(n, x, x + n, params, v);\n" + hamilton_step(false, "dxdt")});
+  fs.push_back({"J(x) u for a direction u (dim 2n): the forward-mode derivative of rhs, O(n).",
+                "void jacobian_vector(int n, const double* x, const double* params, "
+                "const double* u, double* ju, double* work) noexcept",
+                values_call + "  evaluate(n, x, x + n, params, v);\n" +
+                    "  tangent(n, params, v, u, u + n, ju);\n"});
+  fs.push_back({"The Jacobian df/dx, row-major 2n x 2n: 2n Jacobian-vector products, O(n^2).",
+                "void jacobian(int n, const double* x, const double* params, double* jac, "
+                "double* work) noexcept",
+                values_call + "  evaluate(n, x, x + n, params, v);\n" +
+                    "  const int dim = 2 * n;\n"
+                    "  for (int i = 0; i < dim; ++i) v.direction[i] = 0.0;\n"
+                    "  for (int j = 0; j < dim; ++j) {\n"
+                    "    v.direction[j] = 1.0;\n"
+                    "    tangent(n, params, v, v.direction, v.direction + n, v.column);\n"
+                    "    v.direction[j] = 0.0;\n"
+                    "    for (int i = 0; i < dim; ++i) jac[i * dim + j] = v.column[i];\n"
+                    "  }\n"});
+  fs.push_back({"H = T + V with T = 1/2 sum m_k |v_k|^2 from the elimination.",
+                "double hamiltonian(int n, const double* x, const double* params, double* work) "
+                "noexcept",
+                values_call + "  evaluate(n, x, x + n, params, v);\n" +
+                    "  double twice_t = 0.0, potential = 0.0;\n" +
+                    kinetic_step("v.w[k]", "v.y[k]") + potential_step() +
+                    "  return 0.5 * twice_t + potential;\n"});
+  fs.push_back({"phi' = A^-1 p.",
+                "void velocities(int n, const double* phi, const double* p, const double* params, "
+                "double* dphi, double* work) noexcept",
+                values_call + "  evaluate(n, phi, p, params, v);\n" + hamilton_step(true, "dphi")});
+  {
+    loop_step st;
+    const sx px = st.in("px") + st.in(mass_k)*st.in("v.x[k]");
+    const sx py = st.in("py") + st.in(mass_k)*st.in("v.y[k]");
+    st.out("px", px);
+    st.out("py", py);
+    st.out("p[k]", st.in(length_k) * (st.in("v.c[k]") * px - st.in("v.s[k]") * py));
+    fs.push_back(
+        {"p = A phi' = dL/dphi': p_k = l_k n_k . P_k, P_k the momentum of the links "
+         "from k down.",
+         "void momenta(int n, const double* phi, const double* dphi, const double* "
+         "params, double* p, double* work) noexcept",
+         "  const passes v = cut(n, work);\n" + angle_step(false) + bob_velocity_step() +
+             "  double px = 0.0, py = 0.0;\n" +
+             loop("int k = n - 1; k >= 0; --k", st.emit(in_loop))});
+  }
+  fs.push_back({"T = 1/2 sum m_k |v_k|^2.",
+                "double kinetic_energy(int n, const double* phi, const double* dphi, "
+                "const double* params, double* work) noexcept",
+                "  const passes v = cut(n, work);\n" + angle_step(false) + bob_velocity_step() +
+                    "  double twice_t = 0.0;\n" + kinetic_step("v.x[k]", "v.y[k]") +
+                    "  return 0.5 * twice_t;\n"});
+  fs.push_back({"V = g sum mu_k l_k (1 - cos phi_k), zero at the hanging rest position.",
+                "double potential_energy(int n, const double* phi, const double* params, "
+                "double* work) noexcept",
+                "  const passes v = cut(n, work);\n" + angle_step(false) + mass_below_step() +
+                    "  double potential = 0.0;\n" + potential_step() + "  return potential;\n"});
+  fs.push_back({"L = T - V.",
+                "double lagrangian(int n, const double* phi, const double* dphi, const double* "
+                "params, double* work) noexcept",
+                "  return kinetic_energy(n, phi, dphi, params, work) - potential_energy(n, phi, "
+                "params, work);\n"});
+  {
+    loop_step diag;
+    const sx l = diag.in(length_k);
+    diag.out("A[k * n + k]", l * l * diag.in("v.mu[k]"));
+    loop_step off;
+    const sx li = off.in("params[chain_layout::length_index(n, i)]"),
+             lj = off.in("params[chain_layout::length_index(n, j)]");
+    const sx cosine = off.in("v.c[i]") * off.in("v.c[j]") + off.in("v.s[i]") * off.in("v.s[j]");
+    off.out("A[i * n + j]", li * lj * off.in("v.mu[i]") * cosine);
+    fs.push_back({"The mass matrix A_ij = l_i l_j mu_max(i,j) cos(phi_i - phi_j), row-major n x n.",
+                  "void mass_matrix(int n, const double* phi, const double* params, double* A, "
+                  "double* work) noexcept",
+                  "  const passes v = cut(n, work);\n" + angle_step(false) + mass_below_step() +
+                      loop("int k = 0; k < n; ++k", diag.emit(in_loop)) +
+                      "  for (int i = 0; i < n; ++i) {\n    for (int j = 0; j < i; ++j) {\n" +
+                      off.emit("      ") + "      A[j * n + i] = A[i * n + j];\n    }\n  }\n"});
+  }
+  {
+    loop_step st;
+    const sx l = st.in(length_k);
+    st.out("det", st.in("det") * (l * l * st.in("v.d[k]")));
+    fs.push_back(
+        {"det A = prod l_k^2 d_k, the pivots of the elimination (it under- or overflows "
+         "a double for long chains of short links: l^(2n)).",
+         "double det_mass_matrix(int n, const double* phi, const double* params, "
+         "double* work) noexcept",
+         "  const passes v = cut(n, work);\n"
+         "  for (int k = 0; k < n; ++k) v.direction[k] = 0.0;\n"
+         "  evaluate(n, phi, v.direction, params, v);\n"
+         "  double det = 1.0;\n" +
+             loop("int k = 0; k < n; ++k", st.emit(in_loop)) + "  return det;\n"});
+  }
+  {
+    loop_step st;
+    st.out("grad[k]",
+           gravity_moment(st.in(gravity), st.in("v.mu[k]"), st.in(length_k), st.in("v.s[k]")));
+    fs.push_back({"dV/dphi_k = g mu_k l_k sin phi_k.",
+                  "void potential_gradient(int n, const double* phi, const double* params, "
+                  "double* grad, double* work) noexcept",
+                  "  const passes v = cut(n, work);\n" + angle_step(false) + mass_below_step() +
+                      loop("int k = 0; k < n; ++k", st.emit(in_loop))});
+  }
+  {
+    loop_step st;
+    st.out("hess[k * n + k]",
+           gravity_moment(st.in(gravity), st.in("v.mu[k]"), st.in(length_k), st.in("v.c[k]")));
+    fs.push_back({"d2V/dphi^2: diagonal, g mu_k l_k cos phi_k; row-major n x n.",
+                  "void potential_hessian(int n, const double* phi, const double* params, "
+                  "double* hess, double* work) noexcept",
+                  "  const passes v = cut(n, work);\n" + angle_step(false) + mass_below_step() +
+                      "  for (int i = 0; i < n * n; ++i) hess[i] = 0.0;\n" +
+                      loop("int k = 0; k < n; ++k", st.emit(in_loop))});
+  }
+  {
+    loop_step st;
+    const sx phi = st.in("phi[k]"), l = st.in(length_k);
+    st.out("xy[2 * k]", st.in("(k > 0 ? xy[2 * k - 2] : 0.0)") + l * sin(phi));
+    st.out("xy[2 * k + 1]", st.in("(k > 0 ? xy[2 * k - 1] : 0.0)") + l * cos(phi));
+    fs.push_back({"Bob positions [x_1, y_1, ..., x_n, y_n] relative to the pivot (y down).",
+                  "void positions(int n, const double* phi, const double* params, double* xy, "
+                  "double* /*work*/) noexcept",
+                  loop("int k = 0; k < n; ++k", st.emit(in_loop))});
+  }
+  return fs;
+}
+
+// The per-link arrays of the passes, in the order they are cut from the workspace.
+const char* const value_arrays[] = {"s",    "c", "cd",    "sd", "q", "mu", "d",     "r",
+                                    "beta", "a", "gamma", "x",  "y", "w",  "omega", "force"};
+const char* const tangent_arrays[] = {"ds",    "dc", "dcd",    "dsd", "dq", "dr",
+                                      "dbeta", "da", "dgamma", "dx",  "dy"};
+
+std::string passes_struct() {
+  std::string names, cuts;
+  for (const char* a : value_arrays) names += fmt::format("{}*{}", names.empty() ? "" : ", ", a);
+  std::string tnames;
+  for (const char* a : tangent_arrays)
+    tnames += fmt::format("{}*{}", tnames.empty() ? "" : ", ", a);
+  for (const char* a : value_arrays) cuts += fmt::format("  v.{} = work + n * i++;\n", a);
+  for (const char* a : tangent_arrays) cuts += fmt::format("  v.{} = work + n * i++;\n", a);
+  return fmt::format(
+      "// The per-link arrays of the passes (n each), and a direction and a column (2n each) for\n"
+      "// the Jacobian, cut from the caller's workspace.\n"
+      "struct passes {{\n  double {};\n  double {};\n  double *direction, *column;\n}};\n\n"
+      "passes cut(int n, double* work) noexcept {{\n  passes v;\n  int i = 0;\n{}"
+      "  v.direction = work + n * i;\n  v.column = work + n * (i + 2);\n  return v;\n}}\n",
+      names, tnames, cuts);
+}
+
+}  // namespace
+
+chain_sources emit_loop_kernels() {
+  const int arrays = static_cast<int>(std::size(value_arrays) + std::size(tangent_arrays)) + 4;
+  const std::string banner = generated_banner("npend-gen --loop");
+  const auto fs = loop_functions();
+  chain_sources out;
+  out.header = banner + fmt::format(R"(#pragma once
+
+// The planar n-link pendulum of point masses for any n: the functions of chain_<n>.hpp as
+// loops over the links (the articulated-body elimination's steps, one loop per pass), for
+// link counts without unrolled kernels. Layouts as npend::chain_layout's; every function takes
+// the link count n first and a workspace of workspace_size(n) doubles last (none allocates,
+// so a caller keeps one workspace per thread).
+
+#include <npend/chain_kernels.hpp>
+
+namespace npend::generated::chain_loop {{
+
+/// Doubles of workspace the functions need for n links.
+inline constexpr int workspace_size(int n) noexcept {{ return {} * n; }}
+
+)",
+                                    arrays);
+  out.source = banner + fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n\n", loop_stem) +
+               "namespace npend::generated::chain_loop {\n\nnamespace {\n\n" + passes_struct();
+  out.source +=
+      "\n// The value pass at (phi, p): sines, cosines and turns, the elimination from the tip and "
+      "the\n// pass from the pivot (articulated_form.hpp of the generator).\n"
+      "void evaluate(int n, const double* phi, const double* p, const double* params, "
+      "const passes& v) noexcept {\n" +
+      angle_step(true) + turn_step() + elimination_pass() + pivot_pass() + "}\n";
+  out.source +=
+      "\n// The derivative of f along (dphi, dp) into df (dim 2n), from evaluate's values: each "
+      "step's\n// forward-mode derivative in the order of the steps.\n"
+      "void tangent(int n, const double* params, const passes& v, const double* dphi, "
+      "const double* dp, double* df) noexcept {\n" +
+      tangent_pass() + "}\n\n}  // namespace\n";
+  for (const auto& f : fs) {
+    out.header += fmt::format("/// {}\n{};\n\n", f.doc, f.signature);
+    out.source += fmt::format("\n{} {{\n{}}}\n", f.signature, f.body);
+  }
+  out.header +=
+      "/// The loop kernels' entry of the runtime's kernel table.\n"
+      "extern const loop_kernels kernels;\n\n}  // namespace npend::generated::chain_loop\n";
+  out.source += "\nconst loop_kernels kernels = {\n    .workspace_size = &workspace_size,\n";
+  for (const auto& f : fs) {
+    const auto open = f.signature.find('(');
+    const auto start = f.signature.rfind(' ', open) + 1;
+    out.source += fmt::format("    .{0} = &{0},\n", f.signature.substr(start, open - start));
+  }
+  out.source += "};\n\n}  // namespace npend::generated::chain_loop\n";
+  return out;
+}
+
+}  // namespace npend::gen
