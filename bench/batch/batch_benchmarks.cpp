@@ -110,6 +110,11 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "npend_bench_batch: %d links not built\n", n);
       continue;
     }
+    if (npend::generated::find_batch(n)->width != W) {
+      std::fprintf(stderr, "npend_bench_batch: the kernels have %d lanes, this program %d\n",
+                   npend::generated::find_batch(n)->width, W);
+      return 1;
+    }
     cases.push_back(make_case(n));
     const double worst = worst_difference(cases.back());
     if (!(worst <= 1e-13)) {
