@@ -3,9 +3,10 @@
 // The batch kernels (generated batch_<n>.cpp) work on W states at once in structure-of-arrays
 // layout, v[i*W + lane]. W is fixed at compile time by the target ISA: 8 lanes with AVX-512F,
 // 4 with AVX (or AVX2 and FMA), 2 with SSE2 (every x86-64). The sines and cosines come from
-// SLEEF's 1-ulp sincos for that ISA (its maximum error is 1 ulp; tests/test_batch_math.cpp
-// checks it against std::sin/std::cos); the rest of a kernel is +, -, *, / over the lanes in
-// `#pragma omp simd` loops, so every lane's arithmetic is the same whichever slot it sits in.
+// SLEEF's 1-ulp sincos for that ISA (with 2 lanes, the best variant of the CPU at run time;
+// its maximum error is 1 ulp; tests/generated/test_batch_math.cpp checks it against std::sin
+// and std::cos); the rest of a kernel is +, -, *, / over the lanes in `#pragma omp simd`
+// loops, so every lane's arithmetic is the same whichever slot it sits in.
 //
 // Every translation unit of one build sees the same W: the kernels and their callers must be
 // compiled for the same target (the table entry records W, and the runtime checks it).
@@ -47,8 +48,9 @@ constexpr const char* batch_isa() noexcept {
 }
 
 /// s[l] = sin(x[l]), c[l] = cos(x[l]) for the batch_width lanes l (arrays of batch_width,
-/// any alignment), by SLEEF's 1-ulp sincos for batch_isa(). Finite x of any size (SLEEF
-/// reduces the argument exactly); NaN for ±inf or NaN.
+/// any alignment), by SLEEF's 1-ulp sincos for batch_isa() (for "sse2", the best 2-lane
+/// variant of the CPU it runs on). Finite x of any size (SLEEF reduces the argument
+/// exactly); NaN for ±inf or NaN.
 inline void batch_sincos(const double* x, double* s, double* c) noexcept {
 #if defined(__AVX512F__)
   const Sleef___m512d_2 r = Sleef_sincosd8_u10avx512f(_mm512_loadu_pd(x));
@@ -63,7 +65,11 @@ inline void batch_sincos(const double* x, double* s, double* c) noexcept {
   _mm256_storeu_pd(s, r.x);
   _mm256_storeu_pd(c, r.y);
 #else
-  const Sleef___m128d_2 r = Sleef_sincosd2_u10sse2(_mm_loadu_pd(x));
+  // SLEEF's dispatcher: the best 2-lane variant the CPU has (SSE4.1, or AVX2 with FMA on
+  // 128-bit vectors), chosen once at run time. Its plain SSE2 variant, without SSE4.1's
+  // rounding instruction, takes four times as long (44 ns a call against 10 here), longer
+  // than std::sin and std::cos of both lanes. glibc picks its std::sin by the CPU too.
+  const Sleef___m128d_2 r = Sleef_sincosd2_u10(_mm_loadu_pd(x));
   _mm_storeu_pd(s, r.x);
   _mm_storeu_pd(c, r.y);
 #endif
