@@ -25,6 +25,7 @@
 #include "input_parsing.hpp"
 #include "map_tile_queue.hpp"
 #include "npend/analysis/chaos_map.hpp"
+#include "npend/batch_math.hpp"
 #include "npend/integration_error.hpp"
 #include "output_file.hpp"
 #include "plotting.hpp"
@@ -649,6 +650,8 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
   if (o.quantity == "flip") {
     summary["no_flip"] = never;
     summary["no_flip_by_energy"] = forbidden;
+    // The batch lanes the cells ran on (0: cell by cell), and the ISA they were built for.
+    summary["batch"] = {{"isa", batch_isa()}, {"lanes", batch_flip_lanes(run.c)}};
   }
   summary["wall_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
