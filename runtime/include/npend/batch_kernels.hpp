@@ -8,7 +8,9 @@
 namespace npend {
 
 /// The batch kernels of one link count of the point-mass chain. Arrays are
-/// structure-of-arrays over `width` lanes: coordinate i of lane l at [i*width + l].
+/// structure-of-arrays over `width` lanes: coordinate i of lane l at [i*width + l]. A caller
+/// compiled for another target than the kernels has another batch_width: size the arrays by
+/// `width`.
 struct batch_kernels {
   int links;
   int width;  ///< lanes, batch_width of the translation unit that emitted the entry

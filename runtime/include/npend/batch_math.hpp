@@ -22,7 +22,22 @@
 #error "npend's batch kernels need x86-64 (SSE2 or later)"
 #endif
 
+// The definitions below differ with the target ISA, so they sit in an inline namespace named
+// after it: a program whose parts are compiled for different targets (a consumer built with
+// -march=native against a baseline library) then holds two distinct batch_sincos rather than
+// one, picked by the linker, that half of its callers would call with the wrong lane count.
+#if defined(__AVX512F__)
+#define NPEND_BATCH_ISA_NAMESPACE isa_avx512f
+#elif defined(__AVX2__) && defined(__FMA__)
+#define NPEND_BATCH_ISA_NAMESPACE isa_avx2
+#elif defined(__AVX__)
+#define NPEND_BATCH_ISA_NAMESPACE isa_avx
+#else
+#define NPEND_BATCH_ISA_NAMESPACE isa_sse2
+#endif
+
 namespace npend {
+inline namespace NPEND_BATCH_ISA_NAMESPACE {
 
 /// Lanes of a batch kernel: 8 (AVX-512F), 4 (AVX, AVX2) or 2 (SSE2).
 #if defined(__AVX512F__)
@@ -75,4 +90,5 @@ inline void batch_sincos(const double* x, double* s, double* c) noexcept {
 #endif
 }
 
+}  // namespace NPEND_BATCH_ISA_NAMESPACE
 }  // namespace npend
