@@ -26,7 +26,7 @@ function(npend_generated_library target)
       message(FATAL_ERROR "NPEND_LINKS: '${n}' is not a positive link count")
     endif()
     if(n IN_LIST NPEND_COMMITTED_LINKS)
-      foreach(stem chain_${n} physical_${n})
+      foreach(stem chain_${n} physical_${n} batch_${n})
         list(APPEND sources "${PROJECT_SOURCE_DIR}/generated/${stem}.cpp")
         list(APPEND headers "${PROJECT_SOURCE_DIR}/generated/${stem}.hpp")
       endforeach()
@@ -38,23 +38,27 @@ function(npend_generated_library target)
       endif()
       set(out "${NPEND_GENERATED_BUILD_DIR}/chain_${n}")
       set(physical "${NPEND_GENERATED_BUILD_DIR}/physical_${n}")
+      set(batch "${NPEND_GENERATED_BUILD_DIR}/batch_${n}")
       add_custom_command(
-        OUTPUT "${out}.hpp" "${out}.cpp" "${physical}.hpp" "${physical}.cpp"
+        OUTPUT "${out}.hpp" "${out}.cpp" "${physical}.hpp" "${physical}.cpp" "${batch}.hpp"
+               "${batch}.cpp"
         COMMAND npend-gen --links ${n} --out "${NPEND_GENERATED_BUILD_DIR}"
         COMMAND npend-gen --links ${n} --model physical --out "${NPEND_GENERATED_BUILD_DIR}"
         DEPENDS npend-gen
         COMMENT "npend-gen: deriving the ${n}-link chain (point-mass and physical)"
         VERBATIM)
-      list(APPEND sources "${out}.cpp" "${physical}.cpp")
-      list(APPEND headers "${out}.hpp" "${physical}.hpp")
+      list(APPEND sources "${out}.cpp" "${physical}.cpp" "${batch}.cpp")
+      list(APPEND headers "${out}.hpp" "${physical}.hpp" "${batch}.hpp")
       set(generated_in_build TRUE)
     endif()
   endforeach()
 
   set(committed ${NPEND_COMMITTED_LINKS})
   if(links STREQUAL committed)
-    list(APPEND sources "${PROJECT_SOURCE_DIR}/generated/chain_index.cpp")
-    list(APPEND headers "${PROJECT_SOURCE_DIR}/generated/chain_index.hpp")
+    foreach(stem chain_index batch_index)
+      list(APPEND sources "${PROJECT_SOURCE_DIR}/generated/${stem}.cpp")
+      list(APPEND headers "${PROJECT_SOURCE_DIR}/generated/${stem}.hpp")
+    endforeach()
   else()
     if(NOT TARGET npend-gen)
       message(FATAL_ERROR "A link-count list other than the committed one needs the generator "
@@ -62,14 +66,15 @@ function(npend_generated_library target)
     endif()
     _npend_join(list_arg ${links})
     set(index "${NPEND_GENERATED_BUILD_DIR}/index/chain_index")
+    set(batch_index "${NPEND_GENERATED_BUILD_DIR}/index/batch_index")
     add_custom_command(
-      OUTPUT "${index}.hpp" "${index}.cpp"
+      OUTPUT "${index}.hpp" "${index}.cpp" "${batch_index}.hpp" "${batch_index}.cpp"
       COMMAND npend-gen --index ${list_arg} --out "${NPEND_GENERATED_BUILD_DIR}/index"
       DEPENDS npend-gen
       COMMENT "npend-gen: index of link counts ${list_arg}"
       VERBATIM)
-    list(APPEND sources "${index}.cpp")
-    list(APPEND headers "${index}.hpp")
+    list(APPEND sources "${index}.cpp" "${batch_index}.cpp")
+    list(APPEND headers "${index}.hpp" "${batch_index}.hpp")
     set(generated_in_build TRUE)
   endif()
   # The headers to install with the library (cmake/npend_install.cmake).
@@ -95,6 +100,11 @@ function(npend_generated_library target)
     "$<INSTALL_INTERFACE:include>")
   target_compile_features(${target} PUBLIC cxx_std_20)
   set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  # The batch kernels (batch_<n>.cpp): SLEEF's vectorised sincos through the public
+  # <npend/batch_math.hpp>, and their lane loops vectorised by `#pragma omp simd`.
+  pkg_check_modules(SLEEF REQUIRED IMPORTED_TARGET GLOBAL sleef)
+  target_link_libraries(${target} PUBLIC PkgConfig::SLEEF)
+  target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU,Clang>:-fopenmp-simd>)
 endfunction()
 
 # npend_regenerate: rewrite the committed generated/ from the generator (files whose

@@ -416,3 +416,14 @@ const int* built_links(int* count) noexcept {
 }
 
 }  // namespace npend::gen
+
+namespace npend::gen {
+
+// For the other emitters (emit_batch.cpp): the same literals and the same order of nodes.
+std::string constant_literal(const GiNaC::numeric& value) { return literal(value); }
+
+std::vector<int> evaluation_order(const expr_graph& g, const std::vector<sx>& outputs) {
+  return postorder(g, outputs);
+}
+
+}  // namespace npend::gen

@@ -56,4 +56,9 @@ chain_sources emit_index(const std::vector<int>& links);
 std::string chain_stem(int links, link_kind kind = link_kind::point_mass);
 inline constexpr const char* index_stem = "chain_index";
 
+/// A constant as the emitters print it (17 significant digits, or n.0).
+std::string constant_literal(const GiNaC::numeric& value);
+/// The nodes `outputs` depend on, each after its operands: the order the emitters print in.
+std::vector<int> evaluation_order(const expr_graph& g, const std::vector<sx>& outputs);
+
 }  // namespace npend::gen

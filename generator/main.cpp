@@ -12,6 +12,7 @@
 
 #include "chain_functions.hpp"
 #include "chain_model.hpp"
+#include "emit_batch.hpp"
 #include "emit_cpp.hpp"
 #include "latex.hpp"
 #include "loop_kernels.hpp"
@@ -190,6 +191,12 @@ int main(int argc, char** argv) {
       const generated_chain g = generate(n, solver, kind);
       write_if_changed(out_dir, chain_stem(n, kind) + ".hpp", g.sources.header);
       write_if_changed(out_dir, chain_stem(n, kind) + ".cpp", g.sources.source);
+      // The point-mass chain also gets its batch kernels (emit_batch.hpp).
+      if (kind == link_kind::point_mass) {
+        const chain_sources batch = emit_batch(n, function_named(g, "rhs"));
+        write_if_changed(out_dir, batch_stem(n) + ".hpp", batch.header);
+        write_if_changed(out_dir, batch_stem(n) + ".cpp", batch.source);
+      }
     }
     if (!index.empty()) {
       std::sort(index.begin(), index.end());
@@ -197,6 +204,9 @@ int main(int argc, char** argv) {
       const chain_sources idx = emit_index(index);
       write_if_changed(out_dir, std::string(index_stem) + ".hpp", idx.header);
       write_if_changed(out_dir, std::string(index_stem) + ".cpp", idx.source);
+      const chain_sources batch_idx = emit_batch_index(index);
+      write_if_changed(out_dir, std::string(batch_index_stem) + ".hpp", batch_idx.header);
+      write_if_changed(out_dir, std::string(batch_index_stem) + ".cpp", batch_idx.source);
     }
     if (loop) {
       const chain_sources loops = emit_loop_kernels();

@@ -13,6 +13,8 @@ packages=(
   libginac-dev libcln-dev
   # runtime and command line; OpenMP (GCC's libgomp) runs npend map's tiles on every core
   libeigen3-dev libboost-dev libfmt-dev libcli11-dev nlohmann-json3-dev libgomp1
+  # SLEEF: the vectorised 1-ulp sincos of the batch kernels (npend/batch_math.hpp)
+  libsleef-dev
   # time-series analysis: FFTs, k-d trees for neighbour searches, and the plots
   libfftw3-dev libnanoflann-dev gnuplot-nox
   # control: SLICOT's Riccati solver for the LQR design, and the LAPACK it is built on

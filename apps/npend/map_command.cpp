@@ -25,6 +25,7 @@
 #include "input_parsing.hpp"
 #include "map_tile_queue.hpp"
 #include "npend/analysis/chaos_map.hpp"
+#include "npend/batch_math.hpp"
 #include "npend/integration_error.hpp"
 #include "output_file.hpp"
 #include "plotting.hpp"
@@ -419,18 +420,19 @@ long tiles_present(const map_run& run) {
 }
 
 // The values of tile `index`, row-major within the tile; a cell whose integration fails
-// is NaN.
+// is NaN. The tile's cells go to map_cells together, so that a flip map runs them on the
+// batch kernels' lanes (each value the same as map_cell's).
 std::vector<double> compute_tile(const map_run& run, int index) {
   const map_cell_options cell = cell_options(run.o);
   const tile_bounds b = run.layout.bounds(index, run.ax, run.ay);
-  std::vector<double> values;
-  values.reserve(b.cells());
+  std::vector<double> starts;
+  starts.reserve(b.cells() * static_cast<std::size_t>(run.c.state_size()));
   for (int j = b.y0; j < b.y1; ++j)
     for (int i = b.x0; i < b.x1; ++i) {
       const std::vector<double> state = cell_state(run.base, run.ax, run.ay, i, j);
-      values.push_back(map_cell(run.c, state, cell));
+      starts.insert(starts.end(), state.begin(), state.end());
     }
-  return values;
+  return map_cells(run.c, starts, cell);
 }
 
 // A tile file: the run's tag, then the values as float64 in the machine's byte order.
@@ -648,6 +650,8 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
   if (o.quantity == "flip") {
     summary["no_flip"] = never;
     summary["no_flip_by_energy"] = forbidden;
+    // The batch lanes the cells ran on (0: cell by cell), and the ISA they were built for.
+    summary["batch"] = {{"isa", batch_isa()}, {"lanes", batch_flip_lanes(run.c)}};
   }
   summary["wall_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "npend/analysis/chaos_map.hpp"
+#include "npend/batch_math.hpp"
 #include "support/test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -44,6 +45,9 @@ TEST_CASE("npend map: the .npy grid holds the library's flip time of every cell"
   REQUIRE(r.exit_code == 0);
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j["cells"] == 120);
+  // A point-mass chain's flip map runs on the batch lanes.
+  CHECK(j["batch"]["lanes"].get<int>() == npend::batch_width);
+  CHECK(j["batch"]["isa"] == npend::batch_isa());
   const npy m = read_npy(dir / "map.npy");
   CHECK(m.header.find("'shape': (10, 12)") != std::string::npos);
   CHECK(m.header.find("'descr': '<f8'") != std::string::npos);

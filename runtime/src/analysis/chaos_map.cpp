@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <batch_index.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
 #include <cmath>
 #include <limits>
@@ -10,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "npend/batch_kernels.hpp"
 #include "npend/chain_system.hpp"
 #include "npend/integration_error.hpp"
 
@@ -54,28 +56,44 @@ bool energy_forbids_flip(const chain& c, std::span<const double> x0, int link) {
   return c.hamiltonian(x0) < needed;
 }
 
+namespace {
+
+void check_flip_options(const flip_options& o) {
+  if (!(o.dt > 0) || !(o.t_end >= o.dt) || !std::isfinite(o.t_end))
+    throw std::invalid_argument(
+        fmt::format("flip: need 0 < dt <= t_end, got dt = {}, t_end = {}", o.dt, o.t_end));
+}
+
+// The rk4 steps of dt up to t_end.
+long long flip_steps(const flip_options& o) {
+  return static_cast<long long>(std::floor(o.t_end / o.dt + 1e-9));
+}
+
+// Whether an arm (or arm o.link) of the n-link state x is at or past the upright position.
+bool has_flipped(const double* x, std::size_t n, const flip_options& o) {
+  for (std::size_t k = 0; k < n; ++k)
+    if ((o.link == 0 || static_cast<std::size_t>(o.link) == k + 1) &&
+        std::fabs(x[k]) >= std::numbers::pi)
+      return true;
+  return false;
+}
+
+}  // namespace
+
 double flip_time(const chain& c, std::span<const double> x0, const flip_options& o) {
   const auto n = static_cast<std::size_t>(c.links());
   if (x0.size() != 2 * n)
     throw std::invalid_argument(
         fmt::format("flip: the {}-link chain needs a state of {}, got {}", n, 2 * n, x0.size()));
-  if (!(o.dt > 0) || !(o.t_end >= o.dt) || !std::isfinite(o.t_end))
-    throw std::invalid_argument(
-        fmt::format("flip: need 0 < dt <= t_end, got dt = {}, t_end = {}", o.dt, o.t_end));
+  check_flip_options(o);
   const double inf = std::numeric_limits<double>::infinity();
   if (energy_forbids_flip(c, x0, o.link)) return inf;
-  const auto flipped = [&](const std::vector<double>& x) {
-    for (std::size_t k = 0; k < n; ++k)
-      if ((o.link == 0 || static_cast<std::size_t>(o.link) == k + 1) &&
-          std::fabs(x[k]) >= std::numbers::pi)
-        return true;
-    return false;
-  };
+  const auto flipped = [&](const std::vector<double>& x) { return has_flipped(x.data(), n, o); };
   std::vector<double> x(x0.begin(), x0.end());
   if (flipped(x)) return 0;
   boost::numeric::odeint::runge_kutta4<std::vector<double>> stepper;
   const chain_system system(c);
-  const auto steps = static_cast<long long>(std::floor(o.t_end / o.dt + 1e-9));
+  const auto steps = flip_steps(o);
   for (long long k = 1; k <= steps; ++k) {
     stepper.do_step(system, x, static_cast<double>(k - 1) * o.dt, o.dt);
     if (flipped(x)) return static_cast<double>(k) * o.dt;
@@ -86,6 +104,170 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
           static_cast<double>(k) * o.dt);
   }
   return inf;
+}
+
+namespace {
+
+// The batch kernels flip_times runs chain `c` on, or nullptr.
+const batch_kernels* flip_kernels(const chain& c) {
+  if (c.is_physical()) return nullptr;
+  const batch_kernels* k = generated::find_batch(c.links());
+  // The kernels must have been compiled for this translation unit's lane count.
+  return k != nullptr && k->width == batch_width ? k : nullptr;
+}
+
+// rk4 on the batch kernels' W lanes, in structure-of-arrays layout (coordinate i of lane l at
+// [i*W + l]): odeint's runge_kutta4 step, sum for sum, so that each lane computes what
+// flip_time's stepper computes from the same state, but with the kernels' sines.
+class lane_rk4 {
+ public:
+  static constexpr int W = batch_width;
+
+  lane_rk4(const batch_kernels& k, const double* params, int n, double dt)
+      : m_kernels(k),
+        m_params(params),
+        m_size(static_cast<std::size_t>(2 * n * W)),
+        m_x(m_size),
+        m_k1(m_size),
+        m_k2(m_size),
+        m_k3(m_size),
+        m_k4(m_size),
+        m_tmp(m_size),
+        // odeint's coefficients a_ij dt and b_i dt, as it rounds them.
+        m_half(0.5 * dt),
+        m_zero(0.0 * dt),
+        m_full(1.0 * dt),
+        m_sixth((1.0 / 6.0) * dt),
+        m_third((1.0 / 3.0) * dt) {}
+
+  double* state() { return m_x.data(); }
+
+  void step() {
+    const std::size_t size = m_size;
+    double* x = m_x.data();
+    double *k1 = m_k1.data(), *k2 = m_k2.data(), *k3 = m_k3.data(), *k4 = m_k4.data();
+    double* tmp = m_tmp.data();
+    const double half = m_half, zero = m_zero, full = m_full, sixth = m_sixth, third = m_third;
+    m_kernels.rhs_batch(x, m_params, k1);
+#pragma omp simd
+    for (std::size_t i = 0; i < size; ++i) tmp[i] = x[i] + half * k1[i];
+    m_kernels.rhs_batch(tmp, m_params, k2);
+    // odeint keeps the zero coefficients of its Butcher rows (0 · k is not always 0).
+#pragma omp simd
+    for (std::size_t i = 0; i < size; ++i) tmp[i] = x[i] + zero * k1[i] + half * k2[i];
+    m_kernels.rhs_batch(tmp, m_params, k3);
+#pragma omp simd
+    for (std::size_t i = 0; i < size; ++i)
+      tmp[i] = x[i] + zero * k1[i] + zero * k2[i] + full * k3[i];
+    m_kernels.rhs_batch(tmp, m_params, k4);
+#pragma omp simd
+    for (std::size_t i = 0; i < size; ++i)
+      x[i] = x[i] + sixth * k1[i] + third * k2[i] + third * k3[i] + sixth * k4[i];
+  }
+
+ private:
+  const batch_kernels& m_kernels;
+  const double* m_params;
+  std::size_t m_size;
+  std::vector<double> m_x, m_k1, m_k2, m_k3, m_k4, m_tmp;
+  double m_half, m_zero, m_full, m_sixth, m_third;
+};
+
+// The flip times of the starts `queue` (indices of states in `starts`), W at a time: a lane
+// whose cell is done takes the next start; once the queue is empty an idle lane runs a copy
+// of a live lane (its result unused), so that every step computes full lanes.
+void flip_on_lanes(const batch_kernels& k, const chain& c, std::span<const double> starts,
+                   const std::vector<std::size_t>& queue, const flip_options& o,
+                   std::vector<double>& out) {
+  constexpr int W = lane_rk4::W;
+  const auto n = static_cast<std::size_t>(c.links());
+  const std::size_t m = 2 * n;
+  lane_rk4 rk(k, c.packed_parameters().data(), c.links(), o.dt);
+  double* x = rk.state();
+  const long long steps = flip_steps(o);
+  constexpr std::size_t idle = static_cast<std::size_t>(-1);
+  std::array<std::size_t, W> cell{};
+  std::array<long long, W> done_steps{};
+  std::size_t next = 0;
+  const auto load = [&](int l) {
+    cell[static_cast<std::size_t>(l)] = next < queue.size() ? queue[next++] : idle;
+    if (cell[static_cast<std::size_t>(l)] == idle) return;
+    done_steps[static_cast<std::size_t>(l)] = 0;
+    const double* x0 = starts.data() + cell[static_cast<std::size_t>(l)] * m;
+    for (std::size_t i = 0; i < m; ++i) x[i * W + static_cast<std::size_t>(l)] = x0[i];
+  };
+  // An idle lane copies live lane `from`.
+  const auto pad = [&](int l, int from) {
+    for (std::size_t i = 0; i < m; ++i)
+      x[i * W + static_cast<std::size_t>(l)] = x[i * W + static_cast<std::size_t>(from)];
+  };
+  for (int l = 0; l < W; ++l) load(l);
+  double lane_state[2 * chain_layout::max_links];
+  for (;;) {
+    int live = -1;
+    for (int l = 0; l < W && live < 0; ++l)
+      if (cell[static_cast<std::size_t>(l)] != idle) live = l;
+    if (live < 0) return;
+    for (int l = 0; l < W; ++l)
+      if (cell[static_cast<std::size_t>(l)] == idle) pad(l, live);
+    rk.step();
+    for (int l = 0; l < W; ++l) {
+      const auto lu = static_cast<std::size_t>(l);
+      if (cell[lu] == idle) continue;
+      const long long s = ++done_steps[lu];
+      for (std::size_t i = 0; i < n; ++i) lane_state[i] = x[i * W + lu];
+      double value;
+      if (has_flipped(lane_state, n, o))
+        value = static_cast<double>(s) * o.dt;
+      else if (!std::isfinite(lane_state[0]))
+        value = std::numeric_limits<double>::quiet_NaN();
+      else if (s == steps)
+        value = std::numeric_limits<double>::infinity();
+      else
+        continue;
+      out[cell[lu]] = value;
+      load(l);
+    }
+  }
+}
+
+}  // namespace
+
+int batch_flip_lanes(const chain& c) { return flip_kernels(c) != nullptr ? batch_width : 0; }
+
+std::vector<double> flip_times(const chain& c, std::span<const double> starts,
+                               const flip_options& o) {
+  const auto m = static_cast<std::size_t>(c.state_size());
+  if (starts.size() % m != 0)
+    throw std::invalid_argument(
+        fmt::format("flip: the {}-link chain needs states of {} one after another, got {} numbers",
+                    c.links(), m, starts.size()));
+  check_flip_options(o);
+  energy_forbids_flip(c, std::vector<double>(m, 0.0), o.link);  // its checks, even for no cells
+  const std::size_t count = starts.size() / m;
+  std::vector<double> out(count, std::numeric_limits<double>::quiet_NaN());
+  const batch_kernels* k = flip_kernels(c);
+  if (k == nullptr) {
+    for (std::size_t i = 0; i < count; ++i) try {
+        out[i] = flip_time(c, starts.subspan(i * m, m), o);
+      } catch (const integration_error&) {
+        out[i] = std::numeric_limits<double>::quiet_NaN();
+      }
+    return out;
+  }
+  // What flip_time settles without integrating; the rest queue for the lanes.
+  std::vector<std::size_t> queue;
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto x0 = starts.subspan(i * m, m);
+    if (energy_forbids_flip(c, x0, o.link))
+      out[i] = std::numeric_limits<double>::infinity();
+    else if (has_flipped(x0.data(), m / 2, o))
+      out[i] = 0;
+    else
+      queue.push_back(i);
+  }
+  flip_on_lanes(*k, c, starts, queue, o, out);
+  return out;
 }
 
 namespace {
@@ -176,14 +358,34 @@ void map_cell_options::validate(const chain& c) const {
 
 double map_cell(const chain& c, std::span<const double> x0, const map_cell_options& options) {
   try {
-    if (options.quantity == map_quantity::flip)
-      return flip_time(c, x0, {options.t_end, options.dt, options.flip_link});
+    if (options.quantity == map_quantity::flip) {
+      if (x0.size() != static_cast<std::size_t>(c.state_size()))
+        throw std::invalid_argument(
+            fmt::format("flip: the {}-link chain needs a state of {}, got {}", c.links(),
+                        c.state_size(), x0.size()));
+      return flip_times(c, x0, {options.t_end, options.dt, options.flip_link}).front();
+    }
     if (options.quantity == map_quantity::lyapunov)
       return maximal_lyapunov_exponent(c, x0, map_lyapunov_options(options)).exponents.front();
     return indicator_cell(c, x0, options);
   } catch (const integration_error&) {
     return std::numeric_limits<double>::quiet_NaN();
   }
+}
+
+std::vector<double> map_cells(const chain& c, std::span<const double> starts,
+                              const map_cell_options& options) {
+  if (options.quantity == map_quantity::flip)
+    return flip_times(c, starts, {options.t_end, options.dt, options.flip_link});
+  const auto m = static_cast<std::size_t>(c.state_size());
+  if (starts.size() % m != 0)
+    throw std::invalid_argument(
+        fmt::format("{}: the {}-link chain needs states of {} one after another, got {} numbers",
+                    map_quantity_name(options.quantity), c.links(), m, starts.size()));
+  std::vector<double> out(starts.size() / m);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = map_cell(c, starts.subspan(i * m, m), options);
+  return out;
 }
 
 double grid_value(double from, double to, int count, int i) {

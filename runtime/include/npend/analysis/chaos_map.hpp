@@ -6,6 +6,7 @@
 
 #include <span>
 #include <string_view>
+#include <vector>
 
 #include "npend/analysis/chaos_indicators.hpp"
 #include "npend/analysis/lyapunov.hpp"
@@ -32,6 +33,24 @@ struct flip_options {
 /// without integrating). Throws std::invalid_argument for bad options or a non-conservative
 /// chain, npend::integration_error if the state becomes non-finite.
 double flip_time(const chain& c, std::span<const double> x0, const flip_options& options);
+
+/// flip_time of many start states at once: `starts` holds count = starts.size() / 2n states,
+/// one after another (dim count × 2n); returns the count flip times. On a point-mass chain
+/// with batch kernels (batch_flip_lanes > 0) the rk4 steps run on the batch kernels' W lanes
+/// (npend/batch_math.hpp), a lane refilled from the queue of starts as soon as its cell is
+/// done; otherwise flip_time cell by cell. Each value depends on its own start only, never
+/// on its slot or on the other starts. The lanes take the same rk4 steps as flip_time
+/// (odeint's runge_kutta4, the same sums in the same order) with SLEEF's sines and cosines
+/// (within 1 ulp) for std::sin's, so a cell's time equals flip_time's whenever the sines do,
+/// and differs by a step at most on regular cells. Where flip_time would throw
+/// integration_error (the state became non-finite) the value is NaN. Throws
+/// std::invalid_argument as flip_time, and for a size that is not a multiple of 2n.
+std::vector<double> flip_times(const chain& c, std::span<const double> starts,
+                               const flip_options& options);
+
+/// Lanes flip_times computes at once for chain `c`: npend::batch_width on a point-mass chain
+/// whose link count has batch kernels, 0 where it goes cell by cell (physical chains).
+int batch_flip_lanes(const chain& c);
 
 /// What a map shows in each cell.
 enum class map_quantity {
@@ -63,12 +82,18 @@ struct map_cell_options {
   void validate(const chain& c) const;
 };
 
-/// One cell of a map: the flip time (flip_options from `options`), the maximal Lyapunov
+/// One cell of a map: the flip time (flip_times of this one start, so on the batch lanes
+/// where the chain has them, with flip_options from `options`), the maximal Lyapunov
 /// exponent (1/s) of maximal_lyapunov_exponent with rk4 at dt up to t_end, or an indicator
 /// of chaos_indicators (rk4 at dt, to t_end); NaN when the integration fails (an
 /// integration_error). Throws std::invalid_argument as flip_time and
 /// maximal_lyapunov_exponent do.
 double map_cell(const chain& c, std::span<const double> x0, const map_cell_options& options);
+
+/// map_cell of each of count = starts.size() / 2n start states (dim count × 2n), the same
+/// values bit for bit; the flip quantity goes through flip_times, W cells at a time.
+std::vector<double> map_cells(const chain& c, std::span<const double> starts,
+                              const map_cell_options& options);
 
 /// Value i (0 ≤ i < count) of `count` evenly spaced values from `from` to `to`, both
 /// included (`from` alone when count is 1): the axes of a map.

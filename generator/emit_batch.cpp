@@ -1,0 +1,214 @@
+#include "emit_batch.hpp"
+
+#include <fmt/format.h>
+
+#include <map>
+#include <npend/chain_kernels.hpp>
+#include <stdexcept>
+
+namespace npend::gen {
+
+namespace {
+
+std::size_t u(int i) { return static_cast<std::size_t>(i); }
+
+// As emit_cpp.cpp: long expressions become named temporaries.
+constexpr std::size_t max_inline_length = 64;
+
+enum precedence : int { additive = 1, multiplicative = 2, unary = 3, atom = 4 };
+
+struct printed {
+  std::string text;
+  int prec = atom;
+};
+
+std::string wrap(const printed& p, int min_prec) {
+  return p.prec < min_prec ? "(" + p.text + ")" : p.text;
+}
+
+// Coordinate i of lane l in a structure-of-arrays array.
+std::string lane(const char* array, int i) { return fmt::format("{}[{} * W + l]", array, i); }
+
+std::string input_text(int n, const node& in) {
+  switch (in.input) {
+    case input_kind::phi:
+      return lane("x", chain_layout::angle_index(n, in.index));
+    case input_kind::p:
+      return lane("x", chain_layout::momentum_index(n, in.index));
+    case input_kind::mass:
+      return fmt::format("params[{}]", chain_layout::mass_index(n, in.index));
+    case input_kind::length:
+      return fmt::format("params[{}]", chain_layout::length_index(n, in.index));
+    case input_kind::gravity:
+      return fmt::format("params[{}]", chain_layout::gravity_index(n));
+    default:
+      throw std::logic_error("emit_batch: the point-mass rhs reads only phi, p, m, l and g");
+  }
+}
+
+// The angle index of sin(φ_i)/cos(φ_i); anything else is an error.
+int trig_angle(const expr_graph& g, const node& nd) {
+  const node& arg = g.at(nd.lhs);
+  if (arg.kind != op::input || arg.input != input_kind::phi)
+    throw std::logic_error("emit_batch: a sine or cosine of something other than an angle");
+  return arg.index;
+}
+
+// The loop body over lanes: the scalar rhs's straight-line program, with the state and the
+// outputs indexed by lane and the sines and cosines read from the arrays s and c.
+std::string lane_body(int n, const emitted_function& f) {
+  const expr_graph& g = *f.graph;
+  const std::vector<int> order = evaluation_order(g, f.outputs);
+  std::vector<int> uses(u(g.size()), 0);
+  for (const int id : order) {
+    const node& nd = g.at(id);
+    if (nd.lhs >= 0) ++uses[u(nd.lhs)];
+    if (nd.rhs >= 0) ++uses[u(nd.rhs)];
+  }
+  for (const sx out : f.outputs) ++uses[u(out.id)];
+
+  std::string text;
+  std::map<int, printed> done;
+  int temporaries = 0;
+  for (const int id : order) {
+    const node& nd = g.at(id);
+    printed p;
+    auto child = [&](int c) -> const printed& { return done.at(c); };
+    switch (nd.kind) {
+      case op::constant:
+        p = {constant_literal(nd.value), nd.value < 0 ? int{unary} : int{atom}};
+        break;
+      case op::input:
+        p = {input_text(n, nd), atom};
+        break;
+      case op::neg:
+        p = {"-" + wrap(child(nd.lhs), unary), unary};
+        break;
+      case op::add:
+      case op::sub: {
+        const char* sym = nd.kind == op::add ? " + " : " - ";
+        p = {wrap(child(nd.lhs), additive) + sym + wrap(child(nd.rhs), additive + 1), additive};
+        break;
+      }
+      case op::mul:
+      case op::div: {
+        const char* sym = nd.kind == op::mul ? " * " : " / ";
+        p = {wrap(child(nd.lhs), multiplicative) + sym + wrap(child(nd.rhs), multiplicative + 1),
+             multiplicative};
+        break;
+      }
+      case op::sin:
+        p = {lane("s", trig_angle(g, nd)), atom};
+        break;
+      case op::cos:
+        p = {lane("c", trig_angle(g, nd)), atom};
+        break;
+    }
+    const bool leaf =
+        nd.kind == op::constant || nd.kind == op::input || nd.kind == op::sin || nd.kind == op::cos;
+    if (!leaf && (uses[u(id)] > 1 || p.text.size() > max_inline_length)) {
+      const std::string name = fmt::format("t{}", temporaries++);
+      text += fmt::format("    const double {} = {};\n", name, p.text);
+      p = {name, atom};
+    }
+    done[id] = p;
+  }
+  for (std::size_t i = 0; i < f.outputs.size(); ++i)
+    text += fmt::format("    {} = {};\n", lane("dxdt", static_cast<int>(i)),
+                        done.at(f.outputs[i].id).text);
+  return text;
+}
+
+const char* batch_signature =
+    "void rhs_batch(const double* x, const double* params, double* dxdt) noexcept";
+
+}  // namespace
+
+std::string batch_stem(int links) { return fmt::format("batch_{}", links); }
+
+chain_sources emit_batch(int n, const emitted_function& rhs) {
+  if (rhs.layout != argument_layout::state || rhs.returns_scalar || rhs.takes_inputs)
+    throw std::logic_error("emit_batch: expects the point-mass chain's rhs");
+  const std::string stem = batch_stem(n);
+  const std::string banner = generated_banner(fmt::format("npend-gen --links {}", n));
+  chain_sources out;
+  out.header = banner + fmt::format(
+                            "#pragma once\n\n"
+                            "// The batch kernels of the planar {0}-link pendulum (point masses): "
+                            "the rhs of chain_{0}.hpp\n"
+                            "// on W = npend::batch_width states at once, structure-of-arrays: "
+                            "coordinate i of lane l\n"
+                            "// at [i*W + l]. Parameters params = [m_1..m_n, l_1..l_n, g] "
+                            "(dim 2n+1 = {1}), shared by the lanes.\n\n"
+                            "#include <npend/batch_kernels.hpp>\n\n"
+                            "namespace npend::generated::{2} {{\n\n"
+                            "inline constexpr int links = {0};\n\n",
+                            n, chain_layout::param_size(n), stem);
+  out.header += fmt::format(
+      "/// Hamilton's equations on W lanes: x (dim 2n*W = {}*W), dxdt (the same); each lane\n"
+      "/// as chain_{}::rhs, with SLEEF's 1-ulp sines and cosines.\n{};\n\n",
+      chain_layout::state_size(n), n, batch_signature);
+  out.header += fmt::format(
+      "/// This link count's entry of the runtime's batch kernel table.\n"
+      "extern const batch_kernels kernels;\n\n}}  // namespace npend::generated::{}\n",
+      stem);
+
+  out.source = banner + fmt::format("#include \"{}.hpp\"\n\n", stem) +
+               fmt::format("namespace npend::generated::{} {{\n\n", stem);
+  out.source += fmt::format(
+      "{} {{\n"
+      "  constexpr int W = batch_width;\n"
+      "  double s[{} * W], c[{} * W];\n"
+      "  for (int i = 0; i < {}; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);\n"
+      "#pragma omp simd\n"
+      "  for (int l = 0; l < W; ++l) {{\n",
+      batch_signature, n, n, n);
+  out.source += lane_body(n, rhs) + "  }\n}\n";
+  out.source += fmt::format(
+      "\nconst batch_kernels kernels = {{\n    .links = links,\n    .width = batch_width,\n"
+      "    .rhs_batch = &rhs_batch,\n}};\n\n}}  // namespace npend::generated::{}\n",
+      stem);
+  return out;
+}
+
+chain_sources emit_batch_index(const std::vector<int>& links) {
+  std::string list;
+  for (const int n : links) list += (list.empty() ? "" : ",") + std::to_string(n);
+  const std::string banner = generated_banner("npend-gen --index " + list);
+  chain_sources out;
+  out.header = banner + R"(#pragma once
+
+// The table of generated batch kernels (point-mass chains), so that the runtime can look a
+// link count up.
+
+#include <npend/batch_kernels.hpp>
+
+namespace npend::generated {
+
+/// The batch kernels for `links` links, or nullptr when that link count was not built.
+const batch_kernels* find_batch(int links) noexcept;
+
+}  // namespace npend::generated
+)";
+  out.source = banner + fmt::format("#include \"{}.hpp\"\n\n", batch_index_stem);
+  for (const int n : links) out.source += fmt::format("#include \"{}.hpp\"\n", batch_stem(n));
+  out.source +=
+      "\nnamespace npend::generated {\n\nnamespace {\n\nconst batch_kernels* const table[] = {";
+  for (std::size_t i = 0; i < links.size(); ++i)
+    out.source += fmt::format("{}&{}::kernels", i ? ", " : "", batch_stem(links[i]));
+  out.source += R"(};
+
+}  // namespace
+
+const batch_kernels* find_batch(int links) noexcept {
+  for (const batch_kernels* k : table)
+    if (k->links == links) return k;
+  return nullptr;
+}
+
+}  // namespace npend::generated
+)";
+  return out;
+}
+
+}  // namespace npend::gen

@@ -1,0 +1,22 @@
+// The contract between the generated batch kernels and the runtime: the table entry every
+// generated batch_<n>.cpp fills (point-mass chains only), like chain_kernels for the scalar
+// kernels.
+#pragma once
+
+#include "npend/batch_math.hpp"
+
+namespace npend {
+
+/// The batch kernels of one link count of the point-mass chain. Arrays are
+/// structure-of-arrays over `width` lanes: coordinate i of lane l at [i*width + l]. A caller
+/// compiled for another target than the kernels has another batch_width: size the arrays by
+/// `width`.
+struct batch_kernels {
+  int links;
+  int width;  ///< lanes, batch_width of the translation unit that emitted the entry
+  /// Hamilton's equations on `width` states: x_soa and dxdt_soa dim 2n*width, params the
+  /// point-mass layout (dim 2n+1, the same for all lanes).
+  void (*rhs_batch)(const double* x_soa, const double* params, double* dxdt_soa) noexcept;
+};
+
+}  // namespace npend

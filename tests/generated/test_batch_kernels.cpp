@@ -1,0 +1,143 @@
+// The generated batch kernels (batch_<n>.cpp) against the scalar generated rhs: each lane
+// computes what chain_<n>::rhs computes, apart from the roundings of SLEEF's sines and
+// cosines, and a lane's result does not depend on its slot or on the other lanes.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <batch_index.hpp>
+#include <chain_index.hpp>
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace {
+
+constexpr int W = npend::batch_width;
+
+struct problem {
+  int n;
+  std::vector<double> params;  // [m, l, g]
+  std::vector<double> states;  // count states of 2n, one after the other (AoS)
+};
+
+problem random_problem(int n, int count, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> mass(0.2, 5), length(0.2, 3), angle(-7, 7),
+      momentum(-20, 20);
+  problem p{n, {}, {}};
+  for (int i = 0; i < n; ++i) p.params.push_back(mass(rng));
+  for (int i = 0; i < n; ++i) p.params.push_back(length(rng));
+  p.params.push_back(9.81);
+  for (int k = 0; k < count; ++k) {
+    for (int i = 0; i < n; ++i) p.states.push_back(angle(rng));
+    for (int i = 0; i < n; ++i) p.states.push_back(momentum(rng));
+  }
+  return p;
+}
+
+// Batch rhs of W states (AoS in, AoS out), through SoA.
+std::vector<double> batch_rhs(const npend::batch_kernels& k, int n, const double* states,
+                              const double* params) {
+  const int m = 2 * n;
+  std::vector<double> x(static_cast<std::size_t>(m * W)), dx(x.size()), out(x.size());
+  for (int l = 0; l < W; ++l)
+    for (int i = 0; i < m; ++i) x[static_cast<std::size_t>(i * W + l)] = states[l * m + i];
+  k.rhs_batch(x.data(), params, dx.data());
+  for (int l = 0; l < W; ++l)
+    for (int i = 0; i < m; ++i)
+      out[static_cast<std::size_t>(l * m + i)] = dx[static_cast<std::size_t>(i * W + l)];
+  return out;
+}
+
+bool sines_agree(const double* x, int n) {
+  double s[W], c[W], a[W];
+  for (int i = 0; i < n; ++i) {
+    std::fill(a, a + W, x[i]);
+    npend::batch_sincos(a, s, c);
+    if (s[0] != std::sin(x[i]) || c[0] != std::cos(x[i])) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("rhs_batch: agrees with the scalar rhs for 1 to 6 links on random states") {
+  std::mt19937_64 rng(20261125);
+  for (int n = 1; n <= 6; ++n) {
+    CAPTURE(n);
+    const npend::chain_kernels* scalar = npend::generated::find_chain(n);
+    const npend::batch_kernels* batch = npend::generated::find_batch(n);
+    REQUIRE(scalar != nullptr);
+    REQUIRE(batch != nullptr);
+    REQUIRE(batch->links == n);
+    REQUIRE(batch->width == W);
+    const int m = 2 * n;
+    const int groups = 500;
+    const problem p = random_problem(n, groups * W, rng);
+    double worst = 0;
+    int identical = 0, compared = 0, with_equal_sines = 0;
+    for (int gi = 0; gi < groups; ++gi) {
+      const double* states = p.states.data() + gi * W * m;
+      const auto got = batch_rhs(*batch, n, states, p.params.data());
+      for (int l = 0; l < W; ++l) {
+        std::vector<double> want(static_cast<std::size_t>(m));
+        scalar->rhs(states + l * m, p.params.data(), want.data());
+        // Relative to the largest term of each half (rates, then forces).
+        double scale_rates = 0, scale_forces = 0;
+        for (int i = 0; i < n; ++i) {
+          scale_rates = std::max(scale_rates, std::fabs(want[static_cast<std::size_t>(i)]));
+          scale_forces = std::max(scale_forces, std::fabs(want[static_cast<std::size_t>(n + i)]));
+        }
+        bool same = true;
+        for (int i = 0; i < m; ++i) {
+          const double w = want[static_cast<std::size_t>(i)];
+          const double g = got[static_cast<std::size_t>(l * m + i)];
+          const double scale = i < n ? scale_rates : scale_forces;
+          const double rel = std::fabs(g - w) / scale;
+          worst = std::max(worst, rel);
+          same = same && g == w;
+        }
+        ++compared;
+        identical += same;
+        // Where SLEEF's sines and cosines equal std::sin's, the arithmetic is the scalar
+        // kernel's: no reordering, so the same bits (without FMA contraction, which the
+        // compiler may apply differently to scalar and vector code).
+#ifndef __FMA__
+        if (sines_agree(states + l * m, n)) {
+          ++with_equal_sines;
+          CHECK(same);
+        }
+#endif
+      }
+    }
+    MESSAGE("n = " << n << ": worst relative difference " << worst << ", " << identical << " of "
+                   << compared << " states bit-identical, " << with_equal_sines
+                   << " with equal sines");
+    CHECK(worst <= 1e-14);
+  }
+}
+
+TEST_CASE("rhs_batch: a lane's result does not depend on its slot or on the other lanes") {
+  std::mt19937_64 rng(7);
+  for (int n = 1; n <= 6; ++n) {
+    CAPTURE(n);
+    const npend::batch_kernels& batch = *npend::generated::find_batch(n);
+    const int m = 2 * n;
+    const problem p = random_problem(n, 2 * W, rng);
+    const double* probe = p.states.data();  // state 0
+    // The probe in every lane at once: all lanes the same bits.
+    std::vector<double> same_everywhere;
+    for (int l = 0; l < W; ++l) same_everywhere.insert(same_everywhere.end(), probe, probe + m);
+    const auto all = batch_rhs(batch, n, same_everywhere.data(), p.params.data());
+    for (int l = 1; l < W; ++l)
+      for (int i = 0; i < m; ++i)
+        CHECK(all[static_cast<std::size_t>(l * m + i)] == all[static_cast<std::size_t>(i)]);
+    // The probe in slot `slot` among other random states: the bits of lane 0 above.
+    for (int slot = 0; slot < W; ++slot) {
+      std::vector<double> mixed(p.states.begin() + W * m, p.states.end());
+      std::copy(probe, probe + m, mixed.begin() + slot * m);
+      const auto got = batch_rhs(batch, n, mixed.data(), p.params.data());
+      for (int i = 0; i < m; ++i)
+        CHECK(got[static_cast<std::size_t>(slot * m + i)] == all[static_cast<std::size_t>(i)]);
+    }
+  }
+}

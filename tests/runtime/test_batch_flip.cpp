@@ -1,0 +1,234 @@
+// flip_times on the batch kernels' lanes (analysis/chaos_map.hpp) against the scalar
+// flip_time (odeint's rk4 on the scalar kernel with std::sin), and the independence of a
+// cell's value from its lane and from the other cells.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "npend/analysis/chaos_map.hpp"
+#include "npend/batch_math.hpp"
+
+namespace {
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+bool same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+
+// Starts of the equal double pendulum from rest on a grid over (φ1, φ2).
+std::vector<double> grid_starts(int count, double from, double to) {
+  std::vector<double> x;
+  for (int j = 0; j < count; ++j)
+    for (int i = 0; i < count; ++i) {
+      x.push_back(npend::grid_value(from, to, count, i));
+      x.push_back(npend::grid_value(from, to, count, j));
+      x.push_back(0);
+      x.push_back(0);
+    }
+  return x;
+}
+
+// A reference rk4 written out here: odeint's runge_kutta4 step sum for sum on the scalar
+// kernel (std::sin), which also records whether SLEEF's sines and cosines equalled std::sin's
+// at every evaluation along the way.
+struct reference_flip {
+  double time = inf;
+  bool sines_agreed = true;
+};
+
+reference_flip reference_flip_time(const npend::chain& c, std::vector<double> x, double t_end,
+                                   double dt) {
+  const auto& k = c.kernels();
+  const double* params = c.packed_parameters().data();
+  const std::size_t m = x.size(), n = m / 2;
+  reference_flip r;
+  const auto rhs = [&](const std::vector<double>& y, std::vector<double>& f) {
+    for (std::size_t i = 0; i < n; ++i) {
+      double a[npend::batch_width], s[npend::batch_width], co[npend::batch_width];
+      std::fill(a, a + npend::batch_width, y[i]);
+      npend::batch_sincos(a, s, co);
+      if (s[0] != std::sin(y[i]) || co[0] != std::cos(y[i])) r.sines_agreed = false;
+    }
+    k.rhs(y.data(), params, f.data());
+  };
+  const auto flipped = [&] {
+    for (std::size_t i = 0; i < n; ++i)
+      if (std::fabs(x[i]) >= std::numbers::pi) return true;
+    return false;
+  };
+  if (npend::energy_forbids_flip(c, x)) return r;
+  if (flipped()) return {0, true};
+  std::vector<double> k1(m), k2(m), k3(m), k4(m), tmp(m);
+  const double half = 0.5 * dt, zero = 0.0 * dt, full = 1.0 * dt, sixth = (1.0 / 6.0) * dt,
+               third = (1.0 / 3.0) * dt;
+  const auto steps = static_cast<long long>(std::floor(t_end / dt + 1e-9));
+  for (long long s = 1; s <= steps; ++s) {
+    rhs(x, k1);
+    for (std::size_t i = 0; i < m; ++i) tmp[i] = x[i] + half * k1[i];
+    rhs(tmp, k2);
+    for (std::size_t i = 0; i < m; ++i) tmp[i] = x[i] + zero * k1[i] + half * k2[i];
+    rhs(tmp, k3);
+    for (std::size_t i = 0; i < m; ++i) tmp[i] = x[i] + zero * k1[i] + zero * k2[i] + full * k3[i];
+    rhs(tmp, k4);
+    for (std::size_t i = 0; i < m; ++i)
+      x[i] = x[i] + sixth * k1[i] + third * k2[i] + third * k3[i] + sixth * k4[i];
+    if (flipped()) {
+      r.time = static_cast<double>(s) * dt;
+      return r;
+    }
+  }
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("flip_times: runs on the batch lanes for point-mass chains, not for physical ones") {
+  CHECK(npend::batch_flip_lanes(npend::chain(npend::chain_parameters::uniform(2))) ==
+        npend::batch_width);
+  npend::chain_parameters rods = npend::chain_parameters::uniform(2);
+  rods.make_uniform_rods();
+  CHECK(npend::batch_flip_lanes(npend::chain(rods)) == 0);
+}
+
+TEST_CASE("flip_times: within a step of the scalar flip_time, mostly the same value") {
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  const std::vector<double> starts = grid_starts(24, -3.1, 3.1);
+  const npend::flip_options o{5.0, 0.01, 0};
+  const std::vector<double> got = npend::flip_times(c, starts, o);
+  REQUIRE(got.size() == starts.size() / 4);
+  int equal = 0, finite = 0;
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    const std::vector<double> x(starts.begin() + static_cast<long>(4 * i),
+                                starts.begin() + static_cast<long>(4 * i + 4));
+    const double want = npend::flip_time(c, x, o);
+    INFO("start (" << x[0] << ", " << x[1] << "): lanes " << got[i] << ", scalar " << want);
+    // Over 5 s a difference of an ulp in a sine grows by e^(λ t) at most ~1e5: far from
+    // moving a flip by a step, so the times agree to a step everywhere.
+    if (std::isinf(want))
+      CHECK(std::isinf(got[i]));
+    else
+      CHECK(std::fabs(got[i] - want) <= o.dt * (1 + 1e-9));
+    equal += same(got[i], want) ? 1 : 0;
+    finite += std::isfinite(want) ? 1 : 0;
+  }
+  MESSAGE(equal << " of " << got.size() << " cells the same value (" << finite << " flip)");
+  CHECK(finite > 50);
+  CHECK(equal >= static_cast<int>(got.size()) - 2);
+}
+
+TEST_CASE("flip_times: the value of the reference rk4 wherever the sines agree") {
+  // Short runs from near upright, so that many trajectories see only sines that SLEEF and
+  // std::sin round the same way; those must give exactly the reference's time, and the
+  // reference (odeint's sums written out) exactly flip_time's.
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> angle(2.6, 3.1), sign(-1, 1), momentum(-3, 3);
+  std::vector<double> starts;
+  for (int k = 0; k < 400; ++k) {
+    starts.push_back(angle(rng) * (sign(rng) < 0 ? -1 : 1));
+    starts.push_back(angle(rng) * (sign(rng) < 0 ? -1 : 1));
+    starts.push_back(momentum(rng));
+    starts.push_back(momentum(rng));
+  }
+  const npend::flip_options o{1.0, 0.01, 0};
+  const std::vector<double> got = npend::flip_times(c, starts, o);
+  int agreed = 0, flipped = 0;
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    const std::vector<double> x(starts.begin() + static_cast<long>(4 * i),
+                                starts.begin() + static_cast<long>(4 * i + 4));
+    const reference_flip want = reference_flip_time(c, x, o.t_end, o.dt);
+    INFO("start " << i << ": lanes " << got[i] << ", reference " << want.time);
+    CHECK(same(want.time, npend::flip_time(c, x, o)));
+    if (want.sines_agreed) {
+      ++agreed;
+      CHECK(same(got[i], want.time));
+    } else if (std::isfinite(want.time)) {
+      CHECK(std::fabs(got[i] - want.time) <= o.dt * (1 + 1e-9));
+    }
+    flipped += std::isfinite(want.time) && want.time > 0 ? 1 : 0;
+  }
+  MESSAGE(agreed << " of " << got.size() << " trajectories with all sines equal; " << flipped
+                 << " flip after the start");
+  CHECK(agreed >= 20);
+  CHECK(flipped >= 20);
+}
+
+TEST_CASE("flip_times: a cell's value depends on its own start only") {
+  const npend::chain c(npend::chain_parameters::uniform(3));
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> angle(-3, 3), momentum(-2, 2);
+  const int count = 5 * npend::batch_width + 3;
+  std::vector<double> starts;
+  for (int k = 0; k < count; ++k) {
+    for (int i = 0; i < 3; ++i) starts.push_back(angle(rng));
+    for (int i = 0; i < 3; ++i) starts.push_back(k % 4 == 0 ? 0.0 : momentum(rng));
+  }
+  const npend::flip_options o{20.0, 0.01, 0};
+  const std::vector<double> all = npend::flip_times(c, starts, o);
+  // Reversed: every cell in another lane, beside other cells, refilled at other times.
+  std::vector<double> reversed;
+  for (int k = count - 1; k >= 0; --k)
+    reversed.insert(reversed.end(), starts.begin() + 6 * k, starts.begin() + 6 * k + 6);
+  const std::vector<double> back = npend::flip_times(c, reversed, o);
+  int finite = 0, never = 0;
+  for (int k = 0; k < count; ++k) {
+    const auto ku = static_cast<std::size_t>(k);
+    CAPTURE(k);
+    CHECK(same(all[ku], back[static_cast<std::size_t>(count - 1 - k)]));
+    // Alone (the other lanes copies of it), and through map_cell.
+    const std::vector<double> x(starts.begin() + 6 * k, starts.begin() + 6 * k + 6);
+    CHECK(same(all[ku], npend::flip_times(c, x, o).front()));
+    npend::map_cell_options mo;
+    mo.t_end = o.t_end;
+    CHECK(same(all[ku], npend::map_cell(c, x, mo)));
+    finite += std::isfinite(all[ku]) ? 1 : 0;
+    never += std::isinf(all[ku]) ? 1 : 0;
+  }
+  // Both kinds of cell, so that lanes finished at different steps were refilled.
+  CHECK(finite > 5);
+  CHECK(never > 0);
+  npend::map_cell_options mo;
+  mo.t_end = o.t_end;
+  const std::vector<double> cells = npend::map_cells(c, starts, mo);
+  for (std::size_t k = 0; k < cells.size(); ++k) CHECK(same(cells[k], all[k]));
+}
+
+TEST_CASE("flip_times: flip_time's special cells and argument checks") {
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  const npend::flip_options o{10.0, 0.01, 0};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // Forbidden by the energy, past upright at the start, a non-finite state, one that flips.
+  const std::vector<double> starts{0.5, 0.5, 0, 0, 3.5, 0, 0, 0, nan, 0, 0, 0, 2.0, 2.5, 0, 0};
+  const std::vector<double> t = npend::flip_times(c, starts, o);
+  REQUIRE(t.size() == 4);
+  CHECK(std::isinf(t[0]));
+  CHECK(t[1] == 0);
+  CHECK(std::isnan(t[2]));
+  CHECK(t[3] > 0);
+  CHECK(std::isfinite(t[3]));
+  CHECK(std::fabs(t[3] - npend::flip_time(c, std::vector<double>{2.0, 2.5, 0, 0}, o)) <=
+        o.dt * (1 + 1e-9));
+  // Not a flip within a short t_end.
+  CHECK(std::isinf(
+      npend::flip_times(c, std::vector<double>{2.0, 2.5, 0, 0}, {0.05, 0.01, 0}).front()));
+  CHECK(npend::flip_times(c, std::vector<double>{}, o).empty());
+  CHECK_THROWS_AS(npend::flip_times(c, std::vector<double>{1, 2, 3}, o), std::invalid_argument);
+  CHECK_THROWS_AS(npend::flip_times(c, starts, {1.0, 0.0, 0}), std::invalid_argument);
+  CHECK_THROWS_AS(npend::flip_times(c, starts, {1.0, 0.01, 3}), std::invalid_argument);
+  npend::chain_parameters damped = npend::chain_parameters::uniform(2);
+  damped.damping = {0.1, 0.1};
+  CHECK_THROWS_AS(npend::flip_times(npend::chain(damped), starts, o), std::invalid_argument);
+  // A physical chain goes cell by cell through flip_time, with NaN for its integration_error.
+  npend::chain_parameters rods = npend::chain_parameters::uniform(2);
+  rods.make_uniform_rods();
+  const npend::chain rod_chain(rods);
+  const std::vector<double> rod_times = npend::flip_times(rod_chain, starts, o);
+  CHECK(std::isinf(rod_times[0]));
+  CHECK(std::isnan(rod_times[2]));
+  CHECK(rod_times[3] == npend::flip_time(rod_chain, std::vector<double>{2.0, 2.5, 0, 0}, o));
+}
