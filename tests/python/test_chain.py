@@ -131,6 +131,6 @@ def test_bad_input_raises_value_error_with_the_cli_message():
     with pytest.raises(ValueError, match="links must be >= 1"):
         npend.Chain(0)
     with pytest.raises(ValueError, match="NPEND_LINKS"):
-        npend.Chain(max(npend.built_link_counts()) + 1)
+        npend.Chain(max(npend.built_link_counts()) + 1, damping=0.1)
     with pytest.raises(ValueError, match="mass"):
         npend.Chain(2, masses=[1, -1])
