@@ -353,6 +353,19 @@ double det_mass_matrix(int n, const double* phi, const double* params, double* w
   return det;
 }
 
+double log_det_mass_matrix(int n, const double* phi, const double* params, double* work) noexcept {
+  const passes v = cut(n, work);
+  for (int k = 0; k < n; ++k) v.direction[k] = 0.0;
+  evaluate(n, phi, v.direction, params, v);
+  double log_det = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const double t0 = params[chain_layout::length_index(n, k)] * params[chain_layout::length_index(n, k)];
+    const double pivot = v.d[k] * t0;
+    log_det += std::log(pivot);
+  }
+  return log_det;
+}
+
 void potential_gradient(int n, const double* phi, const double* params, double* grad, double* work) noexcept {
   const passes v = cut(n, work);
   for (int k = 0; k < n; ++k) {
@@ -414,6 +427,7 @@ const loop_kernels kernels = {
     .lagrangian = &lagrangian,
     .mass_matrix = &mass_matrix,
     .det_mass_matrix = &det_mass_matrix,
+    .log_det_mass_matrix = &log_det_mass_matrix,
     .potential_gradient = &potential_gradient,
     .potential_hessian = &potential_hessian,
     .positions = &positions,

@@ -47,6 +47,9 @@ void mass_matrix(int n, const double* phi, const double* params, double* A, doub
 /// det A = prod l_k^2 d_k, the pivots of the elimination (it under- or overflows a double for long chains of short links: l^(2n)).
 double det_mass_matrix(int n, const double* phi, const double* params, double* work) noexcept;
 
+/// ln det A = sum ln(l_k^2 d_k): det A without under- or overflow, for long chains.
+double log_det_mass_matrix(int n, const double* phi, const double* params, double* work) noexcept;
+
 /// dV/dphi_k = g mu_k l_k sin phi_k.
 void potential_gradient(int n, const double* phi, const double* params, double* grad, double* work) noexcept;
 

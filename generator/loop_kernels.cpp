@@ -433,6 +433,23 @@ std::vector<function_text> loop_functions() {
   }
   {
     loop_step st;
+    const sx l = st.in(length_k);
+    st.out("const double pivot", l * l * st.in("v.d[k]"));
+    fs.push_back(
+        {"ln det A = sum ln(l_k^2 d_k): det A without under- or overflow, for long "
+         "chains.",
+         "double log_det_mass_matrix(int n, const double* phi, const double* params, "
+         "double* work) noexcept",
+         "  const passes v = cut(n, work);\n"
+         "  for (int k = 0; k < n; ++k) v.direction[k] = 0.0;\n"
+         "  evaluate(n, phi, v.direction, params, v);\n"
+         "  double log_det = 0.0;\n" +
+             loop("int k = 0; k < n; ++k",
+                  st.emit(in_loop) + in_loop + "log_det += std::log(pivot);\n") +
+             "  return log_det;\n"});
+  }
+  {
+    loop_step st;
     st.out("grad[k]",
            gravity_moment(st.in(gravity), st.in("v.mu[k]"), st.in(length_k), st.in("v.s[k]")));
     fs.push_back({"dV/dphi_k = g mu_k l_k sin phi_k.",

@@ -1,19 +1,23 @@
 #include "start_options.hpp"
 
+#include <fmt/format.h>
+
+#include "chain_options.hpp"
 #include "input_parsing.hpp"
 #include "npend/excitation.hpp"
-
-#include <fmt/format.h>
 
 namespace npend::cli {
 
 void start_options::add_to(CLI::App& command) {
   command.add_option("--phi", phi,
-                     "Start angles phi_1,...,phi_n in rad (from the downward vertical)");
-  command.add_option("--p", p,
-                     "Start momenta p_1,...,p_n in kg m^2/s (default: all 0; with --phi)");
-  command.add_option("--dphi", dphi,
-                     "Start angular velocities dphi_1,...,dphi_n in rad/s (instead of --p)");
+                     "Start angles phi_1,...,phi_n in rad (from the downward vertical), or one "
+                     "value for all links");
+  command.add_option(
+      "--p", p,
+      "Start momenta p_1,...,p_n in kg m^2/s, or one value for all (default: all 0; with --phi)");
+  command.add_option(
+      "--dphi", dphi,
+      "Start angular velocities dphi_1,...,dphi_n in rad/s, or one value for all (instead of --p)");
   command.add_option("--energy", energy,
                      "Start with this total energy E in J (instead of --phi), see --excitation");
   command.add_option("--excitation", style,
@@ -49,19 +53,19 @@ std::vector<double> start_options::make_state(const chain& c) const {
         "no start state: give --phi (with --p or --dphi), or --energy E (see --help)");
   if (!p.empty() && !dphi.empty())
     throw input_error("--p and --dphi exclude each other: give momenta or angular velocities");
+  // One value for all links, as for the masses: a 1000-link rope cannot be typed out.
   const std::vector<double> angles =
-      parse_number_list(phi, "--phi", count, fmt::format("phi_1..phi_{}", n));
+      per_link_values(parse_number_list(phi, "--phi"), "--phi", n, "phi");
   if (!dphi.empty()) {
     const std::vector<double> rates =
-        parse_number_list(dphi, "--dphi", count, fmt::format("dphi_1..dphi_{}", n));
+        per_link_values(parse_number_list(dphi, "--dphi"), "--dphi", n, "dphi");
     return c.state_from_velocities(angles, rates);
   }
   std::vector<double> x = angles;
   if (p.empty())
     x.resize(2 * count, 0.0);
   else {
-    const std::vector<double> momenta =
-        parse_number_list(p, "--p", count, fmt::format("p_1..p_{}", n));
+    const std::vector<double> momenta = per_link_values(parse_number_list(p, "--p"), "--p", n, "p");
     x.insert(x.end(), momenta.begin(), momenta.end());
   }
   return x;

@@ -32,7 +32,7 @@ struct lyapunov_command_options {
   cli::start_options start;
   cli::integrator_options integrator;
   std::string transient, renormalise, fraction;
-  std::string ensemble, ensemble_radius, seed, blocks;
+  std::string ensemble, ensemble_radius, seed, blocks, exponents;
   bool maximal = false;
   bool json = false;
   std::string out;
@@ -155,6 +155,17 @@ int run_equations(const lyapunov_command_options& o) {
   const chain c = o.chain.make_chain(cli::model_support::conservative, "npend lyapunov");
   const std::vector<double> x0 = o.start.make_state(c);
   lyapunov_options options = make_options(o);
+  // --exponents K: the K largest (all 2n when not given).
+  std::optional<int> count;
+  if (!o.exponents.empty()) {
+    if (o.maximal) throw cli::input_error("--exponents: give --exponents K or --maximal, not both");
+    if (!o.ensemble.empty())
+      throw cli::input_error(
+          "--exponents: not with --ensemble (an ensemble takes the full "
+          "spectrum or --maximal)");
+    count = static_cast<int>(whole_number(o.exponents, "--exponents", 1, 2.0 * c.links()));
+  }
+  const bool full = !o.maximal && !count;
   std::optional<lyapunov_ensemble_options> ensemble;
   if (!o.ensemble.empty()) {
     ensemble.emplace();
@@ -182,7 +193,9 @@ int run_equations(const lyapunov_command_options& o) {
       e = lyapunov_ensemble(c, x0, options, *ensemble);
       if (!e.stopped) r = e.runs.front();
     } else {
-      r = o.maximal ? maximal_lyapunov_exponent(c, x0, options) : lyapunov_spectrum(c, x0, options);
+      r = o.maximal ? maximal_lyapunov_exponent(c, x0, options)
+          : count   ? largest_lyapunov_exponents(c, x0, options, *count)
+                    : lyapunov_spectrum(c, x0, options);
     }
   } catch (const std::invalid_argument& error) {
     // What the options above cannot see, e.g. a transient that rounds up to --t-end.
@@ -194,7 +207,7 @@ int run_equations(const lyapunov_command_options& o) {
                e.stopped ? fmt::format(" of ensemble member {}", e.runs.size() + 1) : "");
     return control.exit_code();
   }
-  if (files.enabled()) write_files(files, r, c, o.maximal);
+  if (files.enabled()) write_files(files, r, c, r.exponents.size() == 1);
 
   // The reported exponents and their uncertainty.
   const std::vector<double> exponents = ensemble ? e.mean : r.exponents;
@@ -223,7 +236,7 @@ int run_equations(const lyapunov_command_options& o) {
         std::isfinite(errors.front()) ? nlohmann::json(errors.front()) : nlohmann::json();
     j["uncertainty_method"] = ensemble ? "ensemble standard error" : "block standard error";
     j["uncertainty_description"] = label;
-    if (!o.maximal) {
+    if (full) {
       j["sum"] = std::accumulate(exponents.begin(), exponents.end(), 0.0);
       j["pair_sums"] = pair_sums(exponents);
     }
@@ -251,8 +264,10 @@ int run_equations(const lyapunov_command_options& o) {
     return 0;
   }
   fmt::print("{} of the {}-link chain from x0 = [{:.6g}] (E = {:.6g} J)\n",
-             o.maximal ? "Maximal Lyapunov exponent" : "Lyapunov spectrum", c.links(),
-             fmt::join(x0, ", "), c.hamiltonian(x0));
+             o.maximal ? "Maximal Lyapunov exponent"
+             : count   ? fmt::format("The {} largest Lyapunov exponents", *count)
+                       : std::string("Lyapunov spectrum"),
+             c.links(), fmt::join(x0, ", "), c.hamiltonian(x0));
   fmt::print("{}, dt = {} s, averaged over t = {} ... {} s; {}, re-orthonormalised every {} s\n",
              stepper_name(options.integration.stepper), options.integration.dt, r.transient, r.t,
              r.method, r.renormalisation_interval);
@@ -269,7 +284,7 @@ int run_equations(const lyapunov_command_options& o) {
                r.spread[i]);
   if (ensemble)
     fmt::print("\nsingle runs scatter by (standard deviation): [{::.3g}]\n", e.standard_deviation);
-  if (!o.maximal) {
+  if (full) {
     fmt::print("\nsum = {:.3g} (0 for a Hamiltonian flow: div f = 0)\n",
                std::accumulate(exponents.begin(), exponents.end(), 0.0));
     fmt::print("pairs lambda_i + lambda_(2n+1-i) = {::.3g}\n", pair_sums(exponents));
@@ -318,6 +333,7 @@ int run_series(const lyapunov_command_options& o) {
                            "--renormalise-every",
                            "--convergence-fraction",
                            "--maximal",
+                           "--exponents",
                            "--ensemble",
                            "--ensemble-radius",
                            "--seed",
@@ -627,6 +643,9 @@ void add_lyapunov_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--seed", o->seed, "Seed of the ensemble's random starts (default: 1)");
   cmd->add_flag("--maximal", o->maximal,
                 "Only the maximal exponent, from one tangent vector (cheaper)");
+  cmd->add_option("--exponents", o->exponents,
+                  "Only the K largest exponents, from K tangent vectors (for long chains, where "
+                  "all 2n cost O(n) vectors; default: all 2n)");
   cmd->add_option("--input", o->input,
                   "A measured time series: a CSV file (a column per signal, header names, a "
                   "column t or time for the sample times); its maximal exponent by Kantz's "

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdint>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -37,8 +38,14 @@ std::string eigenvalue_pairs(const std::vector<std::complex<double>>& values) {
 }  // namespace
 
 void print_equilibria_table(const chain& c, const std::vector<equilibrium>& eqs) {
-  fmt::print("The {} equilibria of the {}-link chain (p = 0, each angle 0 or pi):\n\n", eqs.size(),
-             c.links());
+  const bool all = c.links() <= max_equilibria_links &&
+                   eqs.size() == (std::size_t{1} << static_cast<unsigned>(c.links()));
+  if (all)
+    fmt::print("The {} equilibria of the {}-link chain (p = 0, each angle 0 or pi):\n\n",
+               eqs.size(), c.links());
+  else
+    fmt::print("{} of the 2^{} equilibria of the {}-link chain (p = 0, each angle 0 or pi):\n\n",
+               eqs.size(), c.links(), c.links());
   fmt::print("{:>4}  {:<{}}  {:>14}  {:<8}  {:>8}  {}\n", "#", "angles", 3 * c.links(),
              "energy (J)", "stable", "unstable", "Jacobian eigenvalues (1/s)");
   for (std::size_t k = 0; k < eqs.size(); ++k) {
@@ -77,16 +84,35 @@ namespace {
 
 struct equilibria_options {
   cli::chain_options chain;
+  std::vector<std::string> at;
   bool json = false;
 };
 
+// The equilibria asked for with --at; without it all 2^n, or for a chain too long to list
+// them the hanging and the standing one.
+std::vector<equilibrium> chosen_equilibria(const chain& c, const std::vector<std::string>& at) {
+  const int n = c.links();
+  std::vector<std::vector<double>> chosen;
+  for (const auto& text : at) chosen.push_back(cli::parse_angle_list(text, "--at", n));
+  if (chosen.empty()) {
+    if (n <= max_equilibria_links) return find_equilibria(c);
+    chosen = {std::vector<double>(static_cast<std::size_t>(n), 0.0),
+              std::vector<double>(static_cast<std::size_t>(n), std::numbers::pi)};
+  }
+  std::vector<equilibrium> out;
+  for (auto& angles : chosen) {
+    try {
+      out.push_back(classify_equilibrium(c, std::move(angles)));
+    } catch (const std::invalid_argument& e) {
+      throw cli::input_error(fmt::format("--at: {}", e.what()));
+    }
+  }
+  return out;
+}
+
 int run_equilibria(const equilibria_options& o) {
   const chain c = o.chain.make_chain(cli::model_support::rigid_links, "npend equilibria");
-  if (c.links() > max_equilibria_links)
-    throw cli::input_error(
-        fmt::format("--links: {} links have 2^{} equilibria; at most {} are supported", c.links(),
-                    c.links(), max_equilibria_links));
-  const auto eqs = find_equilibria(c);
+  const auto eqs = chosen_equilibria(c, o.at);
   if (o.json) {
     nlohmann::json list = nlohmann::json::array();
     for (const auto& e : eqs) {
@@ -115,9 +141,7 @@ int run_modes(const modes_options& o) {
   const chain c = o.chain.make_chain(cli::model_support::rigid_links, "npend modes");
   const int n = c.links();
   std::vector<double> at(static_cast<std::size_t>(n), 0.0);
-  if (!o.at.empty())
-    at = cli::parse_number_list(o.at, "--at", static_cast<std::size_t>(n),
-                                fmt::format("phi_1..phi_{}, each 0 or pi", n));
+  if (!o.at.empty()) at = cli::parse_angle_list(o.at, "--at", n);
   linearisation lin;
   try {
     lin = normal_modes(c, at);
@@ -231,6 +255,10 @@ void add_stability_commands(CLI::App& app, command_list& commands) {
     CLI::App* cmd = app.add_subcommand(
         "equilibria", "All 2^n equilibria with their energy, Jacobian eigenvalues and stability");
     o->chain.add_to(*cmd);
+    cmd->add_option("--at", o->at,
+                    "Only this equilibrium, phi_1,...,phi_n each 0 or pi (one value for all "
+                    "links); repeat for several (default: all 2^n up to 16 links, the hanging "
+                    "and the standing chain beyond)");
     cmd->add_flag("--json", o->json, "Print JSON");
     commands.push_back({cmd, [o] { return run_equilibria(*o); }});
   }
@@ -240,7 +268,8 @@ void add_stability_commands(CLI::App& app, command_list& commands) {
         "modes", "Normal modes of the linearisation M y'' + K y = 0 around an equilibrium");
     o->chain.add_to(*cmd);
     cmd->add_option("--at", o->at,
-                    "The equilibrium phi_1,...,phi_n, each 0 or pi (default: hanging)");
+                    "The equilibrium phi_1,...,phi_n, each 0 or pi (one value for all links; "
+                    "default: hanging)");
     cmd->add_flag("--json", o->json, "Print JSON");
     commands.push_back({cmd, [o] { return run_modes(*o); }});
   }

@@ -299,6 +299,13 @@ double chain::det_mass_matrix(std::span<const double> phi) const {
       phi.data(), m_packed.data());
 }
 
+double chain::log_det_mass_matrix(std::span<const double> phi) const {
+  check_size(phi, m_links, "phi");
+  if (m_loop != nullptr)
+    return m_loop->log_det_mass_matrix(m_links, phi.data(), m_packed.data(), loop_workspace());
+  return std::log(det_mass_matrix(phi));
+}
+
 void chain::potential_gradient(std::span<const double> phi, std::span<double> grad,
                                double t) const {
   check_size(phi, m_links, "phi");

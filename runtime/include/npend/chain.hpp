@@ -95,6 +95,8 @@ class chain {
   /// Mass matrix A(φ), row-major (dim n × n).
   void mass_matrix(std::span<const double> phi, std::span<double> A) const;
   double det_mass_matrix(std::span<const double> phi) const;
+  /// ln det A: for long chains, where det A under- or overflows (l^(2n)).
+  double log_det_mass_matrix(std::span<const double> phi) const;
   /// ∂V/∂φ (dim n) and ∂²V/∂φ² (row-major n × n).
   void potential_gradient(std::span<const double> phi, std::span<double> grad, double t = 0) const;
   void potential_hessian(std::span<const double> phi, std::span<double> hess, double t = 0) const;

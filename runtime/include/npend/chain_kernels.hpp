@@ -136,6 +136,8 @@ struct loop_kernels {
   void (*mass_matrix)(int n, const double* phi, const double* params, double* A,
                       double* work) noexcept;
   double (*det_mass_matrix)(int n, const double* phi, const double* params, double* work) noexcept;
+  double (*log_det_mass_matrix)(int n, const double* phi, const double* params,
+                                double* work) noexcept;
   void (*potential_gradient)(int n, const double* phi, const double* params, double* grad,
                              double* work) noexcept;
   void (*potential_hessian)(int n, const double* phi, const double* params, double* hess,

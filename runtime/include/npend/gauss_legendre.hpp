@@ -4,15 +4,11 @@
 // steppers do not apply). A model of odeint's Stepper concept.
 #pragma once
 
-#include "npend/detail/gauss_legendre_tableau.hpp"
-#include "npend/integration_error.hpp"
-
 #include <Eigen/Dense>
-#include <boost/numeric/odeint/stepper/stepper_categories.hpp>
-#include <boost/numeric/odeint/util/unwrap_reference.hpp>
-
 #include <algorithm>
 #include <array>
+#include <boost/numeric/odeint/stepper/stepper_categories.hpp>
+#include <boost/numeric/odeint/util/unwrap_reference.hpp>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -20,6 +16,9 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "npend/detail/gauss_legendre_tableau.hpp"
+#include "npend/integration_error.hpp"
 
 namespace npend {
 
@@ -151,8 +150,13 @@ class gauss_legendre {
  private:
   static constexpr int s = Stages;
   // Corrections below this fraction of ‖x‖∞ can be round-off noise: evaluating the stage
-  // equations loses a few units in the last place, more for long steps (h‖J‖ ~ 1).
-  static constexpr double round_off_level = 16 * std::numeric_limits<double>::epsilon();
+  // equations loses a few units in the last place, more for long steps (h‖J‖ ~ 1), and the
+  // solve with the Newton matrix adds rounding that grows with its dimension (a 100-link
+  // chain stalled at 4e-15 with dt = 1e-3), hence the factor dim/16 beyond 16 coordinates.
+  static constexpr double round_off_unit = 16 * std::numeric_limits<double>::epsilon();
+  double round_off_level() const {
+    return round_off_unit * std::max(1.0, static_cast<double>(m_dim) / 16.0);
+  }
   // What the factored Newton matrix holds: nothing yet; the Jacobian at the start of an
   // earlier step (stale) or of this one (fresh); the Jacobians at this step's stages (full).
   enum class matrix_state { none, stale, fresh, full };
@@ -303,7 +307,7 @@ class gauss_legendre {
         theta = norm / previous_norm;
         // Converged: the estimated remaining error is far below the rounding of the state.
         if (theta < 1 && theta / (1 - theta) * norm <= m_tolerance * scale) break;
-        if (norm <= round_off_level * scale) {
+        if (norm <= round_off_level() * scale) {
           // At the level of round-off in the stage equations: once the corrections stop
           // shrinking they are noise, which no iteration removes.
           if (theta >= 0.5) break;

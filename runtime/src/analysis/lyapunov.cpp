@@ -78,6 +78,14 @@ class variational_system {
   void operator()(const std::vector<double>& y, std::vector<double>& dydt, double t) const {
     const auto d = static_cast<std::size_t>(m_d);
     m_chain->rhs(std::span(y).first(d), std::span(dydt).first(d), t);
+    if (m_chain->runs_on_loops()) {
+      // J·w column by column in O(n) each, instead of forming J in O(n²).
+      for (Eigen::Index j = 0; j < m_k; ++j)
+        m_chain->jacobian_vector(
+            std::span(y).first(d), std::span(y).subspan(d + static_cast<std::size_t>(j) * d, d),
+            std::span(dydt).subspan(d + static_cast<std::size_t>(j) * d, d), t);
+      return;
+    }
     m_chain->jacobian(std::span(y).first(d), std::span(m_jac->data(), d * d), t);
     Eigen::Map<Eigen::MatrixXd>(dydt.data() + m_d, m_d, m_k).noalias() =
         *m_jac * Eigen::Map<const Eigen::MatrixXd>(y.data() + m_d, m_d, m_k);
@@ -295,6 +303,24 @@ lyapunov_result lyapunov_spectrum(const chain& c, std::span<const double> x0,
   for (int i = 0; i < n; ++i) {
     frame(i, i) = 1;
     frame(n + i, 2 * n - 1 - i) = 1;
+  }
+  return run_benettin(c, x0, options, frame, observer);
+}
+
+lyapunov_result largest_lyapunov_exponents(const chain& c, std::span<const double> x0,
+                                           const lyapunov_options& options, int count,
+                                           const lyapunov_observer& observer) {
+  const int n = c.links();
+  if (count < 1 || count > 2 * n)
+    throw std::invalid_argument(
+        fmt::format("lyapunov: the number of exponents must be 1..{} (2n), got {}", 2 * n, count));
+  // The first `count` columns of lyapunov_spectrum's frame (φ_1..φ_n, p_n..p_1).
+  Eigen::MatrixXd frame = Eigen::MatrixXd::Zero(2 * n, count);
+  for (int j = 0; j < count; ++j) {
+    if (j < n)
+      frame(j, j) = 1;
+    else
+      frame(n + (2 * n - 1 - j), j) = 1;
   }
   return run_benettin(c, x0, options, frame, observer);
 }

@@ -30,7 +30,7 @@ struct temperature_terms {
 };
 
 struct point_values {
-  double root_det = 0, potential = 0;
+  double root_det = 0, potential = 0;  // root_det: √det A / √det A(0) (see reference_log_det)
   std::vector<double> cos;
 };
 
@@ -45,7 +45,7 @@ void accumulate(sums& s, const point_values& p, const temperature_terms& t) {
 
 // The thermodynamics of one rule's sums; `volume` is the weight of each point.
 canonical_state state_from(const sums& s, double volume, double temperature, int links, double k,
-                           double reference) {
+                           double reference, double half_log_det_reference) {
   if (!(s.w > 0))
     throw std::runtime_error(fmt::format(
         "partition function: every weight vanished at T = {} (the temperature is too low for "
@@ -54,7 +54,8 @@ canonical_state state_from(const sums& s, double volume, double temperature, int
   canonical_state out;
   const double n = links, kt = k * temperature;
   out.temperature = temperature;
-  out.log_partition_function = n / 2 * std::log(two_pi * kt) + std::log(volume * s.w);
+  out.log_partition_function =
+      n / 2 * std::log(two_pi * kt) + std::log(volume) + std::log(s.w) + half_log_det_reference;
   out.partition_function = std::exp(out.log_partition_function);
   out.free_energy = -kt * out.log_partition_function;
   const double shift = s.v / s.w;
@@ -66,9 +67,17 @@ canonical_state state_from(const sums& s, double volume, double temperature, int
   return out;
 }
 
+// ½ ln det A at the hanging position: the weights carry √det A relative to it, so that they
+// neither under- nor overflow for long chains (det A ∝ Π l_k², 1e-400 for 100 links of 1 cm);
+// ln Z adds it back.
+double half_log_det_reference(const chain& c) {
+  return 0.5 * c.log_det_mass_matrix(std::vector<double>(static_cast<std::size_t>(c.links()), 0.0));
+}
+
 // Fills p at the angles phi, reusing its storage: called once per point of the rule.
-void evaluate(const chain& c, std::span<const double> phi, point_values& p) {
-  p.root_det = std::sqrt(c.det_mass_matrix(phi));
+void evaluate(const chain& c, std::span<const double> phi, point_values& p,
+              double half_log_det_reference) {
+  p.root_det = std::exp(0.5 * c.log_det_mass_matrix(phi) - half_log_det_reference);
   p.potential = c.potential_energy(phi);
   p.cos.resize(phi.size());
   for (std::size_t i = 0; i < phi.size(); ++i) p.cos[i] = std::cos(phi[i]);
@@ -93,6 +102,7 @@ partition_result trapezoid(const chain& c, std::span<const double> temperatures,
                     "quasi-Monte Carlo rule for this many links",
                     m, n, total, max_evaluations));
   const auto terms = terms_of(temperatures, n, o.boltzmann);
+  const double det_reference = half_log_det_reference(c);
   const sums empty{0, 0, 0, std::vector<double>(static_cast<std::size_t>(n), 0.0)};
   std::vector<sums> full(terms.size(), empty), half = full;
   std::vector<int> index(static_cast<std::size_t>(n), 0);
@@ -108,7 +118,7 @@ partition_result trapezoid(const chain& c, std::span<const double> temperatures,
       phi[i] = -std::numbers::pi + two_pi * index[i] / m;
       on_half_grid = on_half_grid && index[i] % 2 == 0;
     }
-    evaluate(c, phi, p);
+    evaluate(c, phi, p, det_reference);
     for (std::size_t t = 0; t < terms.size(); ++t) {
       accumulate(full[t], p, terms[t]);
       if (on_half_grid) accumulate(half[t], p, terms[t]);
@@ -122,10 +132,10 @@ partition_result trapezoid(const chain& c, std::span<const double> temperatures,
   r.evaluations = count;
   const double volume = std::pow(two_pi / m, n), half_volume = std::pow(2 * two_pi / m, n);
   for (std::size_t t = 0; t < terms.size(); ++t) {
-    canonical_state s =
-        state_from(full[t], volume, temperatures[t], n, o.boltzmann, terms[t].reference);
-    const canonical_state coarse =
-        state_from(half[t], half_volume, temperatures[t], n, o.boltzmann, terms[t].reference);
+    canonical_state s = state_from(full[t], volume, temperatures[t], n, o.boltzmann,
+                                   terms[t].reference, det_reference);
+    const canonical_state coarse = state_from(half[t], half_volume, temperatures[t], n, o.boltzmann,
+                                              terms[t].reference, det_reference);
     s.log_partition_error = std::fabs(s.log_partition_function - coarse.log_partition_function);
     s.free_energy_error = std::fabs(s.free_energy - coarse.free_energy);
     s.mean_energy_error = std::fabs(s.mean_energy - coarse.mean_energy);
@@ -148,6 +158,7 @@ partition_result quasi_monte_carlo(const chain& c, std::span<const double> tempe
         fmt::format("quasi-Monte Carlo: {} points x {} replicas is too many (at most {:.0e})",
                     o.points, o.replicas, max_evaluations));
   const auto terms = terms_of(temperatures, n, o.boltzmann);
+  const double det_reference = half_log_det_reference(c);
   const sums empty{0, 0, 0, std::vector<double>(static_cast<std::size_t>(n), 0.0)};
   std::vector<sums> pooled(terms.size(), empty);
   std::vector<std::vector<canonical_state>> replica_states(terms.size());
@@ -172,7 +183,7 @@ partition_result quasi_monte_carlo(const chain& c, std::span<const double> tempe
         u -= std::floor(u);
         phi[i] = -std::numbers::pi + two_pi * u;
       }
-      evaluate(c, phi, p);
+      evaluate(c, phi, p, det_reference);
       for (std::size_t t = 0; t < terms.size(); ++t) {
         accumulate(own[t], p, terms[t]);
         accumulate(pooled[t], p, terms[t]);
@@ -183,13 +194,13 @@ partition_result quasi_monte_carlo(const chain& c, std::span<const double> tempe
       }
     }
     for (std::size_t t = 0; t < terms.size(); ++t)
-      replica_states[t].push_back(
-          state_from(own[t], volume, temperatures[t], n, o.boltzmann, terms[t].reference));
+      replica_states[t].push_back(state_from(own[t], volume, temperatures[t], n, o.boltzmann,
+                                             terms[t].reference, det_reference));
   }
   r.evaluations = done;
   for (std::size_t t = 0; t < terms.size(); ++t) {
     canonical_state s = state_from(pooled[t], volume / o.replicas, temperatures[t], n, o.boltzmann,
-                                   terms[t].reference);
+                                   terms[t].reference, det_reference);
     std::vector<double> log_z, energy, capacity;
     for (const canonical_state& rs : replica_states[t]) {
       log_z.push_back(rs.log_partition_function);

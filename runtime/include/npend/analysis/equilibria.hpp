@@ -1,10 +1,10 @@
 // The 2ⁿ equilibria of the chain and their linear stability (paper §6.5.1).
 #pragma once
 
-#include "npend/chain.hpp"
-
 #include <complex>
 #include <vector>
+
+#include "npend/chain.hpp"
 
 namespace npend {
 
@@ -27,5 +27,11 @@ inline constexpr int max_equilibria_links = 16;
 /// Jacobian [[0, A⁻¹], [−K, 0]] there. Throws std::invalid_argument for n above
 /// max_equilibria_links.
 std::vector<equilibrium> find_equilibria(const chain& c);
+
+/// One equilibrium with each φ_i ∈ {0, π} (dim n), p = 0: its energy, the Jacobian's
+/// eigenvalues and its stability, as find_equilibria gives them — for long chains, whose 2ⁿ
+/// equilibria cannot all be listed. Throws std::invalid_argument (from normal_modes) for
+/// angles of the wrong count or that are not an equilibrium.
+equilibrium classify_equilibrium(const chain& c, std::vector<double> angles);
 
 }  // namespace npend

@@ -135,6 +135,16 @@ lyapunov_result maximal_lyapunov_exponent(const chain& c, std::span<const double
                                           const lyapunov_options& options,
                                           const lyapunov_observer& observer = {});
 
+/// The `count` largest Lyapunov exponents (1 ≤ count ≤ 2n): Benettin's method with `count`
+/// tangent vectors, the first `count` of lyapunov_spectrum's frame, so that count = 2n is
+/// the full spectrum. For long chains, where the whole spectrum costs O(n) tangent vectors
+/// of dimension 2n: with the explicit steppers each vector costs one Jacobian–vector
+/// product, O(n) on the loop kernels. Same errors as lyapunov_spectrum, and
+/// std::invalid_argument for a count outside 1..2n.
+lyapunov_result largest_lyapunov_exponents(const chain& c, std::span<const double> x0,
+                                           const lyapunov_options& options, int count,
+                                           const lyapunov_observer& observer = {});
+
 /// `count` start states near x0 on its energy surface: the first is x0 itself; each other is
 /// x0 with its angles moved by a random vector of Euclidean length `radius` (rad; a uniformly
 /// random direction from a std::mt19937_64 seeded with `seed`), then moved along ∇H (Newton
