@@ -1,6 +1,7 @@
 #include "chain_implementation.hpp"
 
 #include <chain_index.hpp>
+#include <chain_loop.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -49,6 +50,26 @@ class physical_implementation final : public chain_implementation {
  private:
   const physical_kernels& m_kernels;
   std::vector<double> m_params, m_inputs;
+};
+
+// The loop kernels (any n), with their workspace.
+class loop_implementation final : public chain_implementation {
+ public:
+  explicit loop_implementation(const chain_parameters& p)
+      : m_links(p.links()),
+        m_params(p.packed()),
+        m_work(static_cast<std::size_t>(generated::chain_loop::workspace_size(p.links()))) {}
+  void rhs(const double* x, double* dxdt) override {
+    generated::chain_loop::rhs(m_links, x, m_params.data(), dxdt, m_work.data());
+  }
+  bool has_jacobian() const override { return true; }
+  void jacobian(const double* x, double* jac) override {
+    generated::chain_loop::jacobian(m_links, x, m_params.data(), jac, m_work.data());
+  }
+
+ private:
+  int m_links;
+  std::vector<double> m_params, m_work;
 };
 
 class recursion_implementation final : public chain_implementation {
@@ -124,6 +145,7 @@ std::unique_ptr<chain_implementation> make_implementation(std::string_view name,
     return std::make_unique<physical_implementation>(*kernels, params);
   }
   if (name == "recursion") return std::make_unique<recursion_implementation>(params);
+  if (name == "loop") return std::make_unique<loop_implementation>(params);
   if (name == "eigen") return std::make_unique<eigen_implementation>(params);
   if (name == "physical-recursion")
     return std::make_unique<physical_recursion_implementation>(params);
@@ -134,7 +156,7 @@ std::unique_ptr<chain_implementation> make_implementation(std::string_view name,
   }
   throw std::invalid_argument(
       "make_implementation: unknown implementation '" + std::string(name) +
-      "' (expected generated, recursion, eigen, sympy, physical or physical-recursion)");
+      "' (expected generated, loop, recursion, eigen, sympy, physical or physical-recursion)");
 }
 
 }  // namespace npend::bench

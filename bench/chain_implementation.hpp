@@ -11,7 +11,8 @@
 
 namespace npend::bench {
 
-/// Table order: npend's generated kernels, the hand-written O(n) recursion
+/// Table order: npend's generated kernels, its loop kernels for any n (generated/chain_loop.*),
+/// the hand-written O(n) recursion
 /// (tests/reference/include/reference/chain_recursion.hpp), the hand-written dense Eigen
 /// implementation (tests/reference/include/reference/dense_chain.hpp), SymPy's generated C
 /// (bench/sympy_peer.py) and npend's physical kernels (generated/physical_<n>: the general chain,
@@ -19,8 +20,8 @@ namespace npend::bench {
 /// the same f) and the hand-written O(n) recursion of the physical chain
 /// (tests/reference/include/reference/physical_recursion.hpp), on the same chain: the physical
 /// kernels' lower limit.
-inline constexpr std::array<std::string_view, 6> implementation_names{
-    "generated", "recursion", "eigen", "sympy", "physical", "physical-recursion"};
+inline constexpr std::array<std::string_view, 7> implementation_names{
+    "generated", "loop", "recursion", "eigen", "sympy", "physical", "physical-recursion"};
 
 /// One implementation for one chain (its parameters fixed). Not thread-safe: the
 /// hand-written ones keep a workspace.

@@ -28,6 +28,9 @@ using npend::bench::chain_implementation;
 using npend::bench::state_pool;
 
 constexpr int benchmark_links[] = {2, 3, 4, 5, 6, 8, 10, 20};
+// Chains too long for unrolled kernels: the loop kernels against the hand-written recursion
+// (rhs) and the dense implementation (the Jacobian, at 100 links only: O(n³)).
+constexpr int long_chain_links[] = {100, 1000};
 constexpr std::size_t pool_size = 1024;  // a power of two: the index wraps with a mask
 constexpr double tolerance = 1e-12;      // relative, in the max norm
 
@@ -119,6 +122,22 @@ std::vector<benchmark_case> checked_cases(std::deque<state_pool>& pools, bool& a
       all_agree &= agrees_with_generated(*impl, *reference, pool, std::string(name), n);
       cases.push_back({std::string(name), n, std::move(impl), &pool});
     }
+  }
+  for (const int n : long_chain_links) {
+    const auto params = npend::bench::random_parameters(n, 1000u + static_cast<unsigned>(n));
+    const state_pool& pool = pools.emplace_back(n, pool_size, 2000u + static_cast<unsigned>(n));
+    auto loop = npend::bench::make_implementation("loop", params);
+    auto recursion = npend::bench::make_implementation("recursion", params);
+    const double error = worst_relative_error(*recursion, *loop, kernel::rhs, pool);
+    if (!(error <= 1e-10)) {
+      std::fprintf(stderr, "npend_bench: loop rhs at n = %d differs from the recursion by %.3g\n",
+                   n, error);
+      all_agree = false;
+    }
+    cases.push_back({"loop", n, std::move(loop), &pool});
+    cases.push_back({"recursion", n, std::move(recursion), &pool});
+    if (n <= 100)
+      cases.push_back({"eigen", n, npend::bench::make_implementation("eigen", params), &pool});
   }
   return cases;
 }
