@@ -25,10 +25,12 @@
 #include "input_parsing.hpp"
 #include "map_tile_queue.hpp"
 #include "npend/analysis/chaos_map.hpp"
+#include "npend/analysis/map_grid.hpp"
 #include "npend/batch_math.hpp"
 #include "npend/integration_error.hpp"
 #include "output_file.hpp"
 #include "plotting.hpp"
+#include "section_spec.hpp"
 #include "terminal_run.hpp"
 #ifdef NPEND_WITH_MPI
 #include "map_mpi.hpp"
@@ -42,7 +44,7 @@ namespace fs = std::filesystem;
 
 struct map_command_options {
   cli::chain_options chain;
-  std::string x, y, quantity = "flip", phi, p, out, part;
+  std::string x, y, quantity = "flip", component, phi, p, dphi, out, part;
   double t_end = 100, dt = 0.01;
   int flip_link = 0, gali_order = 0, threads = 0, tile = 16;
   bool resume = false, json = false;
@@ -50,55 +52,33 @@ struct map_command_options {
   bool merge_json = false;
 };
 
-// One axis: count values from `from` to `to`, both ends included, of state coordinate
-// `coordinate` (φ_1..φ_n, then p_1..p_n).
-struct axis {
-  std::string spec, name;
-  int coordinate = 0;
-  double from = 0, to = 0;
-  int count = 0;
-  double value(int i) const { return grid_value(from, to, count, i); }
-};
+using axis = map_axis;
 
+// NAME:FROM:TO:COUNT: count values from `from` to `to`, both ends included, of a start
+// coordinate, the energy or a parameter of the chain (map_grid.hpp).
 axis parse_axis(const std::string& text, const char* option, int links) {
   const auto parts = cli::split_list(text, ':');
   if (parts.size() != 4)
     throw cli::input_error(fmt::format(
         "{}: expected NAME:FROM:TO:COUNT (e.g. phi1:-3.14:3.14:256), got '{}'", option, text));
-  axis a;
-  a.spec = text;
-  a.name = std::string(cli::trim(parts[0]));
-  int index = 0;
-  const auto numbered = [&](const char* prefix) {
-    const std::string p = prefix;
-    if (a.name.rfind(p, 0) != 0 || a.name.size() == p.size()) return false;
-    const std::string digits = a.name.substr(p.size());
-    if (digits.find_first_not_of("0123456789") != std::string::npos) return false;
-    index = std::stoi(digits);
-    return true;
-  };
-  if (numbered("phi") && index >= 1 && index <= links)
-    a.coordinate = index - 1;
-  else if (numbered("p") && index >= 1 && index <= links)
-    a.coordinate = links + index - 1;
-  else
-    throw cli::input_error(fmt::format(
-        "{}: '{}' is not a start coordinate of the {}-link chain (phi1..phi{}, p1..p{})", option,
-        a.name, links, links, links));
-  a.from = cli::parse_number(parts[1], option);
-  a.to = cli::parse_number(parts[2], option);
+  const double from = cli::parse_number(parts[1], option);
+  const double to = cli::parse_number(parts[2], option);
   const double count = cli::parse_number(parts[3], option);
   if (count != std::floor(count) || count < 1 || count > 16384)
     throw cli::input_error(
         fmt::format("{}: the count must be a whole number 1..16384, got {}", option, parts[3]));
-  a.count = static_cast<int>(count);
-  return a;
+  try {
+    return make_map_axis(cli::trim(parts[0]), from, to, static_cast<int>(count), links);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(fmt::format("{}: {}", option, e.what()));
+  }
 }
 
-// The .npy format (version 1.0): a little-endian float64 C-order array of shape (rows, cols).
-std::string npy_header(int rows, int cols) {
-  std::string dict =
-      fmt::format("{{'descr': '<f8', 'fortran_order': False, 'shape': ({}, {}), }}", rows, cols);
+// The .npy format (version 1.0): a C-order array of shape (rows, cols) of `descr` ('<f8':
+// little-endian float64, '|u1': bytes).
+std::string npy_header(int rows, int cols, std::string_view descr = "<f8") {
+  std::string dict = fmt::format("{{'descr': '{}', 'fortran_order': False, 'shape': ({}, {}), }}",
+                                 descr, rows, cols);
   // Magic (6) + version (2) + length (2) + dict + padding + '\n', a multiple of 64 bytes.
   const std::size_t unpadded = 10 + dict.size() + 1;
   dict.append((64 - unpadded % 64) % 64, ' ');
@@ -127,15 +107,6 @@ void write_csv(const fs::path& path, const axis& ax, const axis& ay,
                           std::isnan(v) ? std::string("nan") : fmt::format("{}", v));
     }
   cli::write_file_atomically(path, text);
-}
-
-// The start state of cell (i, j): the base state with the two axes' coordinates set.
-std::vector<double> cell_state(const std::vector<double>& base, const axis& ax, const axis& ay,
-                               int i, int j) {
-  std::vector<double> state = base;
-  state[static_cast<std::size_t>(ax.coordinate)] = ax.value(i);
-  state[static_cast<std::size_t>(ay.coordinate)] = ay.value(j);
-  return state;
 }
 
 // Which tiles a run computes: all of them, or with --part I/N those whose index is I - 1
@@ -190,13 +161,13 @@ std::uint64_t fnv1a(std::string_view text) {
   return hash;
 }
 
-// Everything a run needs, checked: the chain, the axes, the base state, the tiles, and the
-// run's identity, which a resumed run, another part or a merge must share.
+// Everything a run needs, checked: the chain, the grid (its axes and base start), the tiles,
+// and the run's identity, which a resumed run, another part or a merge must share.
 struct map_run {
   map_command_options o;
   chain c;
-  axis ax, ay;
-  std::vector<double> base;
+  map_grid grid;
+  map_cell_options cell;
   tile_layout layout;
   part_share part;
   fs::path dir;
@@ -212,19 +183,24 @@ struct map_run {
 };
 
 // The run's identity: what makes two runs the same map.
-nlohmann::json run_identity(const map_command_options& o, const chain& c, const axis& ax,
-                            const axis& ay, const std::vector<double>& base) {
+nlohmann::json run_identity(const map_command_options& o, const chain& c, const map_grid& grid,
+                            const map_cell_options& cell) {
+  const auto spec = [](const axis& a) {
+    return nlohmann::json{{"name", a.name}, {"from", a.from}, {"to", a.to}, {"count", a.count}};
+  };
   return {{"links", c.links()},
           {"packed_parameters", c.packed_parameters()},
-          {"x", ax.spec},
-          {"y", ay.spec},
+          {"x", spec(grid.x)},
+          {"y", spec(grid.y)},
           {"quantity", o.quantity},
+          {"component", cell.component},
           {"t_end", o.t_end},
           {"dt", o.dt},
           {"flip_link", o.flip_link},
           {"gali_order", o.gali_order},
           {"tile", o.tile},
-          {"base_state", base}};
+          {"base_angles", grid.angles},
+          {grid.velocities ? "base_velocities" : "base_momenta", grid.momenta}};
 }
 
 // The options as typed (the chain file's values filled in), stored in run.json beside the
@@ -243,8 +219,10 @@ constexpr std::pair<const char*, std::string map_command_options::*> map_texts[]
     {"x", &map_command_options::x},
     {"y", &map_command_options::y},
     {"quantity", &map_command_options::quantity},
+    {"component", &map_command_options::component},
     {"phi", &map_command_options::phi},
-    {"p", &map_command_options::p}};
+    {"p", &map_command_options::p},
+    {"dphi", &map_command_options::dphi}};
 
 nlohmann::json options_record(const map_command_options& o) {
   const cli::chain_options chain = o.chain.with_file();
@@ -271,8 +249,8 @@ map_command_options options_from_record(const nlohmann::json& j) {
   return o;
 }
 
-// What each cell computes. Throws input_error for an unknown quantity.
-map_cell_options cell_options(const map_command_options& o) {
+// What each cell computes. Throws input_error for an unknown quantity or component.
+map_cell_options cell_options(const map_command_options& o, int links) {
   map_cell_options cell;
   try {
     cell.quantity = parse_map_quantity(o.quantity);
@@ -283,17 +261,53 @@ map_cell_options cell_options(const map_command_options& o) {
   cell.dt = o.dt;
   cell.flip_link = o.flip_link;
   cell.gali_order = o.gali_order;
+  if (cell.quantity == map_quantity::state)
+    cell.component = static_cast<int>(
+        cli::parse_coordinate(o.component.empty() ? "phi1" : o.component, links, "--component"));
+  else if (!o.component.empty())
+    throw cli::input_error("--component: only with --quantity state");
   return cell;
+}
+
+// map_grid::validate's message with the option it is about: "--x: m2 = -1: ...".
+std::string axis_message(const map_grid& grid, std::string_view what) {
+  constexpr std::string_view both = "x and y: ";
+  if (what.substr(0, both.size()) == both)
+    return fmt::format("--x and --y: {}", what.substr(both.size()));
+  const auto names = [&](const axis& a) {
+    return what.substr(0, a.name.size()) == a.name &&
+           what.find_first_of(": =") == a.name.size();
+  };
+  if (names(grid.x)) return fmt::format("--x: {}", what);
+  if (names(grid.y)) return fmt::format("--y: {}", what);
+  return std::string(what);
+}
+
+// The start every cell shares: --phi, and --p or --dphi (default 0).
+void set_base_start(const map_command_options& o, int n, map_grid& grid) {
+  grid.angles.assign(static_cast<std::size_t>(n), 0.0);
+  grid.momenta.assign(static_cast<std::size_t>(n), 0.0);
+  if (!o.phi.empty()) grid.angles = cli::parse_angle_list(o.phi, "--phi", n);
+  if (!o.p.empty() && !o.dphi.empty())
+    throw cli::input_error("--p and --dphi: give the start's momenta or its velocities, not both");
+  grid.velocities = !o.dphi.empty();
+  if (!o.p.empty())
+    grid.momenta = cli::parse_number_list(o.p, "--p", static_cast<std::size_t>(n),
+                                          fmt::format("p_1..p_{}", n));
+  if (!o.dphi.empty())
+    grid.momenta = cli::parse_number_list(o.dphi, "--dphi", static_cast<std::size_t>(n),
+                                          fmt::format("dphi_1..dphi_{}", n));
 }
 
 // Checks the options and builds the run; touches no file.
 map_run prepare_run(const map_command_options& o) {
   const chain c = o.chain.make_chain(cli::model_support::conservative, "npend map");
   const int n = c.links();
-  const map_cell_options cell = cell_options(o);
-  const axis ax = parse_axis(o.x, "--x", n), ay = parse_axis(o.y, "--y", n);
-  if (ax.coordinate == ay.coordinate)
-    throw cli::input_error(fmt::format("--x and --y: both are {}", ax.name));
+  const map_cell_options cell = cell_options(o, n);
+  map_grid grid;
+  grid.parameters = c.parameters();
+  grid.x = parse_axis(o.x, "--x", n);
+  grid.y = parse_axis(o.y, "--y", n);
   if (!(o.t_end > 0) || !(o.dt > 0) || o.dt > o.t_end)
     throw cli::input_error(
         fmt::format("--t-end and --dt: need 0 < dt <= t-end, got {} and {}", o.dt, o.t_end));
@@ -304,16 +318,7 @@ map_run prepare_run(const map_command_options& o) {
     throw cli::input_error(fmt::format("--tile: 1..1024, got {}", o.tile));
   if (o.threads < 0) throw cli::input_error(fmt::format("--threads: >= 0, got {}", o.threads));
   const part_share part = o.part.empty() ? part_share{} : parse_part(o.part);
-  std::vector<double> base(static_cast<std::size_t>(2 * n), 0.0);
-  if (!o.phi.empty()) {
-    const auto phi = cli::parse_angle_list(o.phi, "--phi", n);
-    std::copy(phi.begin(), phi.end(), base.begin());
-  }
-  if (!o.p.empty()) {
-    const auto p = cli::parse_number_list(o.p, "--p", static_cast<std::size_t>(n),
-                                          fmt::format("p_1..p_{}", n));
-    std::copy(p.begin(), p.end(), base.begin() + n);
-  }
+  set_base_start(o, n, grid);
   // The chain and options a cell can take, checked before any thread starts.
   if (cell.quantity == map_quantity::gali && o.gali_order != 0 &&
       (o.gali_order < 2 || o.gali_order > 2 * n))
@@ -324,12 +329,18 @@ map_run prepare_run(const map_command_options& o) {
   } catch (const std::invalid_argument& e) {
     throw cli::input_error(e.what());
   }
+  try {
+    grid.validate(cell);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(axis_message(grid, e.what()));
+  }
   if (o.out.empty()) throw cli::input_error("--out: the folder for map.npy, map.png, map.json");
-  const tile_layout layout{o.tile, (ax.count + o.tile - 1) / o.tile,
-                           (ay.count + o.tile - 1) / o.tile};
-  nlohmann::json identity = run_identity(o, c, ax, ay, base);
+  const tile_layout layout{o.tile, (grid.x.count + o.tile - 1) / o.tile,
+                           (grid.y.count + o.tile - 1) / o.tile};
+  nlohmann::json identity = run_identity(o, c, grid, cell);
   const std::uint64_t tag = fnv1a(identity.dump());
-  return {o, c, ax, ay, base, layout, part, fs::path(o.out), std::move(identity), tag};
+  return {o,      c,    std::move(grid),      cell, layout, part, fs::path(o.out),
+          std::move(identity), tag};
 }
 
 nlohmann::json run_file_content(const map_run& run) {
@@ -419,20 +430,18 @@ long tiles_present(const map_run& run) {
   return present;
 }
 
-// The values of tile `index`, row-major within the tile; a cell whose integration fails
-// is NaN. The tile's cells go to map_cells together, so that a flip map runs them on the
-// batch kernels' lanes (each value the same as map_cell's).
+// The values of tile `index`, row-major within the tile; a cell the energy rules out or
+// whose integration fails is NaN. The tile's cells go to the library together, so that a flip
+// map runs them on the batch kernels' lanes (each value the same as map_cell's).
 std::vector<double> compute_tile(const map_run& run, int index) {
-  const map_cell_options cell = cell_options(run.o);
-  const tile_bounds b = run.layout.bounds(index, run.ax, run.ay);
-  std::vector<double> starts;
-  starts.reserve(b.cells() * static_cast<std::size_t>(run.c.state_size()));
+  const tile_bounds b = run.layout.bounds(index, run.grid.x, run.grid.y);
+  std::vector<int> columns, rows;
   for (int j = b.y0; j < b.y1; ++j)
     for (int i = b.x0; i < b.x1; ++i) {
-      const std::vector<double> state = cell_state(run.base, run.ax, run.ay, i, j);
-      starts.insert(starts.end(), state.begin(), state.end());
+      columns.push_back(i);
+      rows.push_back(j);
     }
-  return map_cells(run.c, starts, cell);
+  return map_grid_values(run.grid, columns, rows, run.cell);
 }
 
 // A tile file: the run's tag, then the values as float64 in the machine's byte order.
@@ -447,7 +456,7 @@ std::vector<double> read_tile(const map_run& run, int index) {
   std::ifstream in(path, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!in) throw std::runtime_error(fmt::format("tile {} cannot be read", path.string()));
-  std::vector<double> values(run.layout.bounds(index, run.ax, run.ay).cells());
+  std::vector<double> values(run.layout.bounds(index, run.grid.x, run.grid.y).cells());
   const std::size_t expected = sizeof run.tag + values.size() * sizeof(double);
   if (bytes.size() != expected)
     throw std::runtime_error(
@@ -541,13 +550,24 @@ quantity_style style_of(const map_command_options& o) {
       return {"SALI (0: chaotic)" + over + "; below 1e-16 shown as 1e-16", "SALI", true};
     case map_quantity::gali:
       return {"GALI (0: chaotic)" + over + "; below 1e-16 shown as 1e-16", "GALI", true};
+    case map_quantity::state: {
+      const std::string name = o.component.empty() ? "phi1" : o.component;
+      const bool angle = name.rfind("phi", 0) == 0;
+      return {fmt::format("{} at t = {:g} s ({}); red: failed", name, o.t_end,
+                          angle ? "rad, not wrapped" : "kg m^2/s"),
+              fmt::format("{} ({})", name, angle ? "rad" : "kg m^2/s")};
+    }
   }
   return {};
 }
 
+// `mask_header_bytes` > 0: forbidden.npy marks the cells the energy rules out, drawn grey
+// over the map.
 cli::plot_outcome write_png(const fs::path& dir, const map_command_options& o, const axis& ax,
-                            const axis& ay, std::size_t header_bytes, double low, double high) {
-  const quantity_style style = style_of(o);
+                            const axis& ay, std::size_t header_bytes, double low, double high,
+                            std::size_t mask_header_bytes) {
+  quantity_style style = style_of(o);
+  if (mask_header_bytes > 0) style.title += "; grey: ruled out by the energy";
   const bool logarithmic = style.logarithmic;
   const double dx = ax.count > 1 ? (ax.to - ax.from) / (ax.count - 1) : 1;
   const double dy = ay.count > 1 ? (ay.to - ay.from) / (ay.count - 1) : 1;
@@ -563,7 +583,10 @@ cli::plot_outcome write_png(const fs::path& dir, const map_command_options& o, c
       .title = style.title,
       .xlabel = ax.name,
       .ylabel = ay.name,
-      .commands = {"set size ratio -1",
+      // Equal scales where both axes are angles; a square otherwise (energy against a mass).
+      .commands = {ax.kind == map_axis_kind::angle && ay.kind == map_axis_kind::angle
+                       ? "set size ratio -1"
+                       : "set size ratio 1",
                    // viridis, a perceptual colour map, then white for the cells without a value
                    "set palette defined (-0.02 '#d62728', -0.0001 '#d62728', 0 '#440154', "
                    "1 '#3b528b', 2 '#21918c', 3 '#5ec962', 4 '#fde725', 4.0001 'white', "
@@ -584,6 +607,11 @@ cli::plot_outcome write_png(const fs::path& dir, const map_command_options& o, c
        "image", "",
        fmt::format("binary skip={} array=({},{}) format='%float64' dx={} dy={} origin=({},{})",
                    header_bytes, ax.count, ay.count, dx, dy, ax.from, ay.from)});
+  if (mask_header_bytes > 0)
+    panel.curves.push_back(
+        {"forbidden.npy", "(160):(160):(160):($1 > 0 ? 255 : 0)", "rgbalpha", "",
+         fmt::format("binary skip={} array=({},{}) format='%uint8' dx={} dy={} origin=({},{})",
+                     mask_header_bytes, ax.count, ay.count, dx, dy, ax.from, ay.from)});
   return cli::write_plot(dir / "map", {.description = {"npend map: " + panel.title},
                                        .width = 900,
                                        .height = 800,
@@ -596,7 +624,7 @@ cli::plot_outcome write_png(const fs::path& dir, const map_command_options& o, c
 nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
                             std::chrono::steady_clock::time_point started) {
   const map_command_options& o = run.o;
-  const axis &ax = run.ax, &ay = run.ay;
+  const axis &ax = run.grid.x, &ay = run.grid.y;
   // Row-major, row 0 = the first y value.
   std::vector<double> grid(static_cast<std::size_t>(ax.count) * static_cast<std::size_t>(ay.count));
   const auto cell = [&](int i, int j) -> double& {
@@ -614,17 +642,24 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
   cli::write_file_atomically(run.dir / "map.npy", header + bytes_of(grid));
   const bool small = static_cast<long>(ax.count) * ay.count <= max_csv_cells;
   if (small) write_csv(run.dir / "map.csv", ax, ay, grid);
-  long never = 0, nan = 0, forbidden = 0;
+  // NaN: ruled out by the energy (not integrated) or failed; +inf: no flip by t_end.
+  long never = 0, failed = 0, forbidden = 0;
+  std::string mask(grid.size(), '\0');
   for (int j = 0; j < ay.count; ++j)
     for (int i = 0; i < ax.count; ++i) {
       const double v = cell(i, j);
-      if (std::isnan(v)) ++nan;
-      if (std::isinf(v)) {
-        ++never;
-        if (energy_forbids_flip(run.c, cell_state(run.base, ax, ay, i, j), o.flip_link))
-          ++forbidden;
+      if (std::isinf(v)) ++never;
+      if (!std::isnan(v)) continue;
+      if (map_cell_forbidden(run.grid, i, j, run.cell)) {
+        ++forbidden;
+        mask[static_cast<std::size_t>(j) * static_cast<std::size_t>(ax.count) +
+             static_cast<std::size_t>(i)] = 1;
+      } else {
+        ++failed;
       }
     }
+  const std::string mask_header = forbidden > 0 ? npy_header(ay.count, ax.count, "|u1") : "";
+  if (forbidden > 0) cli::write_file_atomically(run.dir / "forbidden.npy", mask_header + mask);
   double low = std::numeric_limits<double>::infinity(), high = -low;
   for (const double v : grid)
     if (std::isfinite(v)) low = std::min(low, v), high = std::max(high, v);
@@ -639,17 +674,19 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
     low = std::isfinite(low) ? low - 1 : 0;
     high = low + 2;
   }
-  const cli::plot_outcome plot = write_png(run.dir, o, ax, ay, header.size(), low, high);
+  const cli::plot_outcome plot =
+      write_png(run.dir, o, ax, ay, header.size(), low, high, mask_header.size());
   if (!plot.rendered) fmt::print(stderr, "npend map: note: {}\n", plot.message);
   nlohmann::json summary = run.identity;
   summary.update(facts);
   summary["x"] = {{"name", ax.name}, {"from", ax.from}, {"to", ax.to}, {"count", ax.count}};
   summary["y"] = {{"name", ay.name}, {"from", ay.from}, {"to", ay.to}, {"count", ay.count}};
   summary["cells"] = ax.count * ay.count;
-  summary["failed"] = nan;
+  summary["integrated"] = ax.count * ay.count - forbidden;
+  summary["forbidden"] = forbidden;
+  summary["failed"] = failed;
   if (o.quantity == "flip") {
     summary["no_flip"] = never;
-    summary["no_flip_by_energy"] = forbidden;
     // The batch lanes the cells ran on (0: cell by cell), and the ISA they were built for.
     summary["batch"] = {{"isa", batch_isa()}, {"lanes", batch_flip_lanes(run.c)}};
   }
@@ -658,8 +695,10 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
   summary["resumed"] = o.resume;
   summary["files"] = {"map.npy", "map.json", "map.gp", "map.png"};
   if (small) summary["files"].push_back("map.csv");
+  if (forbidden > 0) summary["files"].push_back("forbidden.npy");
   cli::write_file_atomically(run.dir / "map.json", summary.dump(2) + "\n");
   std::error_code ec;
+  if (forbidden == 0) fs::remove(run.dir / "forbidden.npy", ec);  // an earlier map's
   fs::remove_all(run.tiles(), ec);
   return summary;
 }
@@ -670,13 +709,15 @@ void print_map_summary(const map_run& run, const nlohmann::json& summary, const 
     std::cout << summary.dump(2) << "\n";
     return;
   }
-  fmt::print("{} map of {} x {} cells ({} x {}) in {:.1f} s {}: {}\n", run.o.quantity, run.ax.count,
-             run.ay.count, run.ax.name, run.ay.name, summary["wall_seconds"].get<double>(), how,
+  fmt::print("{} map of {} x {} cells ({} x {}) in {:.1f} s {}: {}\n", run.o.quantity, run.grid.x.count,
+             run.grid.y.count, run.grid.x.name, run.grid.y.name, summary["wall_seconds"].get<double>(), how,
              (run.dir / "map.npy").string());
+  if (summary["forbidden"].get<long>() > 0)
+    fmt::print("{} cells ruled out by their energy, not integrated (NaN; forbidden.npy)\n",
+               summary["forbidden"].get<long>());
   if (run.o.quantity == "flip")
-    fmt::print("no flip by t = {:g} s: {} cells ({} of them ruled out by their energy)\n",
-               run.o.t_end, summary["no_flip"].get<long>(),
-               summary["no_flip_by_energy"].get<long>());
+    fmt::print("no flip by t = {:g} s: {} cells (+inf)\n", run.o.t_end,
+               summary["no_flip"].get<long>());
   if (summary["failed"].get<long>() > 0)
     fmt::print("{} cells failed to integrate (NaN)\n", summary["failed"].get<long>());
 }
@@ -870,21 +911,29 @@ void add_map_command(CLI::App& app, command_list& commands) {
   auto o = std::make_shared<map_command_options>();
   CLI::App* cmd = app.add_subcommand(
       "map",
-      "A chaos map over a 2-D grid of starts: time to the first flip (Heyl's fractal) or the "
-      "maximal Lyapunov exponent; tiles on every core, across MPI ranks (mpirun) or the jobs of "
+      "A chaos map over a 2-D grid of starts, energies or chain parameters: time to the first "
+      "flip (Heyl's fractal), the maximal Lyapunov exponent, a fast chaos indicator or the "
+      "final state; tiles on every core, across MPI ranks (mpirun) or the jobs of "
       "an array (--part, then npend map merge DIR), resumable; map.npy, map.png, map.json");
   o->chain.add_to(*cmd, false);  // --links is required all the same: run_map_subcommand
   cmd->add_option("--x", o->x,
-                  "NAME:FROM:TO:COUNT, NAME a start coordinate (phi1.., p1..) (required)");
+                  "NAME:FROM:TO:COUNT (required), NAME a start coordinate (phiK, pK, or dphiK with "
+                  "--dphi), energy (J: the start's momenta scaled to it), or a parameter of the "
+                  "chain (mK, lK, g, kK)");
   cmd->add_option("--y", o->y, "NAME:FROM:TO:COUNT for the rows (row 0 = FROM) (required)");
   cmd->add_option("--quantity", o->quantity,
                   "flip (default: the time to the first flip), lyapunov (the maximal exponent), "
-                  "or a fast indicator at --t-end: fli, megno (<Y>), sali, gali (GALI_k)");
+                  "a fast indicator at --t-end: fli, megno (<Y>), sali, gali (GALI_k), or state "
+                  "(a coordinate of the state at --t-end, see --component)");
+  cmd->add_option("--component", o->component,
+                  "state: which coordinate at --t-end, phi1..phiN or p1..pN (default phi1)");
   cmd->add_option("--gali-order", o->gali_order,
                   "gali: k of GALI_k, 2..2n (default 0: n + 1, the least k beyond a torus's "
                   "dimension)");
   cmd->add_option("--phi", o->phi, "The start's other angles (rad; default 0)");
   cmd->add_option("--p", o->p, "The start's other momenta (kg m^2/s; default 0)");
+  cmd->add_option("--dphi", o->dphi,
+                  "The start's velocities instead of momenta (rad/s; p = A(phi) dphi per cell)");
   cmd->add_option("--t-end", o->t_end, "Integration time per cell in s (default 100)");
   cmd->add_option("--dt", o->dt, "rk4's step in s (default 0.01)");
   cmd->add_option("--flip-link", o->flip_link, "flip: only arm K counts (default 0: any arm)");

@@ -12,6 +12,7 @@
 #include "bindings.hpp"
 #include "npend/analysis/autocorrelation.hpp"
 #include "npend/analysis/chaos_map.hpp"
+#include "npend/analysis/map_grid.hpp"
 #include "npend/analysis/delay_embedding.hpp"
 #include "npend/analysis/equilibria.hpp"
 #include "npend/analysis/normal_modes.hpp"
@@ -147,14 +148,17 @@ std::vector<double> cells_in_parallel(const chain& c, const state_batch& starts,
   return out;
 }
 
-map_cell_options cell_options(const std::string& quantity, double t_end, double dt, int flip_link,
-                              int gali_order) {
+map_cell_options cell_options(const chain& c, const std::string& quantity, double t_end,
+                              double dt, int flip_link, int gali_order,
+                              const std::string& component) {
   map_cell_options o;
   o.gali_order = gali_order;
   o.quantity = parse_map_quantity(quantity);
   o.t_end = t_end;
   o.dt = dt;
   o.flip_link = flip_link;
+  if (o.quantity == map_quantity::state)
+    o.component = static_cast<int>(cli::parse_coordinate(component, c.links(), "component"));
   return o;
 }
 
@@ -167,9 +171,10 @@ void check_finite(const state_batch& b) {
 }
 
 py::array_t<double> map_cells(const chain& c, const py::handle& x, const std::string& quantity,
-                              double t_end, double dt, int flip_link, int gali_order, int threads) {
+                              double t_end, double dt, int flip_link, int gali_order,
+                              const std::string& component, int threads) {
   const state_batch b = to_states(x, c.state_size(), "x");
-  const auto o = cell_options(quantity, t_end, dt, flip_link, gali_order);
+  const auto o = cell_options(c, quantity, t_end, dt, flip_link, gali_order, component);
   o.validate(c);
   check_finite(b);
   python_interrupt interrupt;
@@ -180,45 +185,67 @@ py::array_t<double> map_cells(const chain& c, const py::handle& x, const std::st
   return to_numpy(std::move(values), shape);
 }
 
-struct map_axis {
-  std::size_t coordinate;
-  double from, to;
-  int count;
-};
-
 map_axis axis_from(const py::tuple& spec, int links, const char* what) {
   if (spec.size() != 4)
     throw std::invalid_argument(
         fmt::format("{}: expected (name, from, to, count), e.g. ('phi1', -3.14, 3.14, 256)", what));
-  map_axis a{cli::parse_coordinate(spec[0].cast<std::string>(), links, what),
-             spec[1].cast<double>(), spec[2].cast<double>(), spec[3].cast<int>()};
-  if (a.count < 1) throw std::invalid_argument(fmt::format("{}: the count must be >= 1", what));
-  return a;
+  try {
+    return make_map_axis(spec[0].cast<std::string>(), spec[1].cast<double>(),
+                         spec[2].cast<double>(), spec[3].cast<int>(), links);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(fmt::format("{}: {}", what, e.what()));
+  }
+}
+
+// The grid's cells on `threads` threads, in chunks of whole rows (cells of one chain
+// together, so that a flip map fills the batch lanes), as npend map computes its tiles.
+std::vector<double> grid_in_parallel(const map_grid& grid, const map_cell_options& o, int threads,
+                                     python_interrupt& interrupt) {
+  const int team = threads > 0 ? threads : omp_get_max_threads();
+  const auto cols = static_cast<std::size_t>(grid.x.count);
+  std::vector<double> out(cols * static_cast<std::size_t>(grid.y.count),
+                          std::numeric_limits<double>::quiet_NaN());
+  py::gil_scoped_release no_gil;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(team)
+  for (int row = 0; row < grid.y.count; ++row) {
+    if (interrupt.stop_requested()) continue;
+    std::vector<int> columns(cols), rows(cols, row);
+    for (std::size_t i = 0; i < cols; ++i) columns[i] = static_cast<int>(i);
+    const auto values = map_grid_values(grid, columns, rows, o);
+    std::copy(values.begin(), values.end(),
+              out.begin() + static_cast<long>(static_cast<std::size_t>(row) * cols));
+  }
+  return out;
 }
 
 py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
                         const std::string& quantity, double t_end, double dt, int flip_link,
-                        int gali_order, const py::object& x0, int threads) {
-  const auto d = static_cast<std::size_t>(c.state_size());
-  const map_axis ax = axis_from(x_axis, c.links(), "x");
-  const map_axis ay = axis_from(y_axis, c.links(), "y");
-  if (ax.coordinate == ay.coordinate)
-    throw std::invalid_argument("x and y must be different coordinates");
+                        int gali_order, const std::string& component, const py::object& x0,
+                        const py::object& velocities, int threads) {
+  const auto n = static_cast<std::size_t>(c.links());
+  map_grid grid;
+  grid.parameters = c.parameters();
+  grid.x = axis_from(x_axis, c.links(), "x");
+  grid.y = axis_from(y_axis, c.links(), "y");
   const std::vector<double> base =
-      x0.is_none() ? std::vector<double>(d, 0.0) : to_vector(x0, d, "x0");
-  const auto cols = static_cast<std::size_t>(ax.count), rows = static_cast<std::size_t>(ay.count);
-  std::vector<double> starts(rows * cols * d);
-  for (std::size_t j = 0; j < rows; ++j)
-    for (std::size_t i = 0; i < cols; ++i) {
-      double* s = starts.data() + (j * cols + i) * d;
-      std::copy(base.begin(), base.end(), s);
-      s[ax.coordinate] = grid_value(ax.from, ax.to, ax.count, static_cast<int>(i));
-      s[ay.coordinate] = grid_value(ay.from, ay.to, ay.count, static_cast<int>(j));
-    }
-  auto array = to_numpy(std::move(starts),
-                        {static_cast<py::ssize_t>(rows * cols), static_cast<py::ssize_t>(d)});
-  auto values = map_cells(c, array, quantity, t_end, dt, flip_link, gali_order, threads);
-  return values.reshape({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
+      x0.is_none() ? std::vector<double>(2 * n, 0.0) : to_vector(x0, 2 * n, "x0");
+  grid.angles.assign(base.begin(), base.begin() + static_cast<long>(n));
+  grid.momenta.assign(base.begin() + static_cast<long>(n), base.end());
+  if (!velocities.is_none()) {
+    if (!x0.is_none() && std::any_of(grid.momenta.begin(), grid.momenta.end(),
+                                     [](double p) { return p != 0; }))
+      throw std::invalid_argument(
+          "velocities: give the start's momenta (in x0) or its velocities, not both");
+    grid.momenta = to_vector(velocities, n, "velocities");
+    grid.velocities = true;
+  }
+  const auto o = cell_options(c, quantity, t_end, dt, flip_link, gali_order, component);
+  grid.validate(o);
+  python_interrupt interrupt;
+  auto values = grid_in_parallel(grid, o, threads, interrupt);
+  interrupt.raise_if_interrupted();
+  return to_numpy(std::move(values),
+                  {static_cast<py::ssize_t>(grid.y.count), static_cast<py::ssize_t>(grid.x.count)});
 }
 
 }  // namespace
@@ -255,21 +282,27 @@ k), mass_matrix, stiffness_matrix; modes in ascending omega^2.)");
 void bind_maps(py::module_& m) {
   m.def("map_cells", &map_cells, py::arg("chain"), py::arg("x"), py::kw_only(),
         py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
-        py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("threads") = 0,
+        py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("component") = "phi1",
+        py::arg("threads") = 0,
         R"(One map value per start state (x of shape (2n,) or (k, 2n)), computed on `threads`
 cores (0: all) as `npend map` computes its cells: quantity "flip" (time to the first flip of
-an arm, or arm flip_link; +inf if none by t_end or the energy forbids it), "lyapunov" (the
-maximal exponent, rk4 at dt to t_end), or the indicators of chaos_indicators at t_end:
-"fli", "megno" (<Y>), "sali", "gali" (GALI_k, k = gali_order, 0: n + 1). NaN for a cell
+an arm, or arm flip_link; +inf if none by t_end, NaN where the energy rules a flip out),
+"lyapunov" (the maximal exponent, rk4 at dt to t_end), the indicators of chaos_indicators at
+t_end: "fli", "megno" (<Y>), "sali", "gali" (GALI_k, k = gali_order, 0: n + 1), or "state"
+(coordinate `component`, phi1..phin or p1..pn, at t_end; angles not wrapped). NaN for a cell
 whose integration failed.)");
   m.def("map", &map, py::arg("chain"), py::arg("x"), py::arg("y"), py::kw_only(),
         py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
-        py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("x0") = py::none(),
-        py::arg("threads") = 0,
-        R"(A chaos map over a grid of start states, as `npend map`: x and y are
-(name, from, to, count) with name phi1..phin or p1..pn, count values from `from` to `to`
-both included; the other coordinates come from x0 (default 0). Returns an array of shape
-(y count, x count), row 0 the first y value: the same numbers as npend map's map.npy.)");
+        py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("component") = "phi1",
+        py::arg("x0") = py::none(), py::arg("velocities") = py::none(), py::arg("threads") = 0,
+        R"(A chaos map over a grid, as `npend map`: x and y are (name, from, to, count), count
+values from `from` to `to` both included, with name a start coordinate (phi1..phin, p1..pn,
+or dphi1..dphin when `velocities` gives the start's velocities), "energy" (the start's
+momenta scaled to that energy in J), or a parameter of the chain (m1..mn, l1..ln, g,
+k1..kn). The rest of the start comes from x0 (default 0) or, with velocities (n values),
+from x0's angles and those velocities. Returns an array of shape (y count, x count), row 0
+the first y value, NaN where the energy rules a cell out: the same numbers as npend map's
+map.npy.)");
 }
 
 }  // namespace npend::python

@@ -3,6 +3,7 @@
 // the same bytes as an uninterrupted one.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -53,17 +54,34 @@ TEST_CASE("npend map: the .npy grid holds the library's flip time of every cell"
   CHECK(m.header.find("'descr': '<f8'") != std::string::npos);
   REQUIRE(m.values.size() == 120);
   const npend::chain c(npend::chain_parameters::uniform(2));
-  long never = 0;
+  long never = 0, forbidden = 0;
+  const npy mask = read_npy(dir / "forbidden.npy");
+  CHECK(mask.header.find("'descr': '|u1'") != std::string::npos);
+  const std::string mask_bytes = npend::test::read_text((dir / "forbidden.npy").string());
   for (int row = 0; row < 10; ++row)
     for (int col = 0; col < 12; ++col) {
-      const std::vector<double> x{-3 + 6.0 * col / 11, -2.5 + 5.5 * row / 9, 0, 0};
-      const double expected = npend::flip_time(c, x, {10.0, 0.01, 0});
+      const double a = -3 + 6.0 * col / 11, b = -2.5 + 5.5 * row / 9;
+      const std::vector<double> x{a, b, 0, 0};
+      // From rest the energy rules a flip out where 2 cos a + cos b > 1: NaN, not integrated.
+      const bool ruled_out = 2 * std::cos(a) + std::cos(b) > 1;
       const double got = m.values[static_cast<std::size_t>(row * 12 + col)];
       INFO("row " << row << ", column " << col);
-      CHECK((got == expected || (std::isinf(got) && std::isinf(expected))));
+      if (ruled_out) {
+        CHECK(std::isnan(got));
+      } else {
+        const double expected = npend::flip_time(c, x, {10.0, 0.01, 0});
+        CHECK((got == expected || (std::isinf(got) && std::isinf(expected))));
+      }
+      CHECK(mask_bytes[mask_bytes.size() - 120 + static_cast<std::size_t>(row * 12 + col)] ==
+            (ruled_out ? 1 : 0));
       never += std::isinf(got) ? 1 : 0;
+      forbidden += ruled_out ? 1 : 0;
     }
+  CHECK(forbidden > 0);
   CHECK(j["no_flip"] == never);
+  CHECK(j["forbidden"] == forbidden);
+  CHECK(j["integrated"] == 120 - forbidden);
+  CHECK(j["failed"] == 0);
   // A grid this small also gets map.csv: x, y, value in the .npy's order, values exact.
   std::istringstream csv(npend::test::read_text((dir / "map.csv").string()));
   std::string line;
@@ -72,7 +90,10 @@ TEST_CASE("npend map: the .npy grid holds the library's flip time of every cell"
   for (std::size_t k = 0; k < m.values.size(); ++k) {
     REQUIRE(std::getline(csv, line));
     const std::string value = line.substr(line.rfind(',') + 1);
-    CHECK(std::stod(value) == m.values[k]);
+    if (std::isnan(m.values[k]))
+      CHECK(value == "nan");
+    else
+      CHECK(std::stod(value) == m.values[k]);
   }
   CHECK(fs::exists(dir / "map.png"));
   CHECK(fs::exists(dir / "map.json"));
@@ -108,6 +129,57 @@ TEST_CASE("npend map: the fast indicators, every cell the library's") {
               .exit_code == 0);
   CHECK(npend::test::read_text((dir / "gali" / "map.npy").string()) ==
         npend::test::read_text((dir / "gali3" / "map.npy").string()));
+}
+
+TEST_CASE("npend map: energy, mass and length axes start each cell as the closed form says") {
+  // The hanging double pendulum pushed with p = s (l1, l2) has the kinetic energy ½ pᵀA⁻¹p,
+  // which for l1 = l2 = 1 and m1 = 1 is s² / (2 m2); so the energy axis must start each cell at
+  // s = √(2 m2 E), and the final p2 is then map_cell's on that chain.
+  const fs::path dir(npend::test::temporary_directory("cli-map-axes"));
+  const auto r = run_npend(
+      "map --links 2 --x energy:0:40:5 --y m2:0.5:2:3 --quantity state --component p2 "
+      "--t-end 3 --json --out " +
+      (dir / "em").string());
+  REQUIRE(r.exit_code == 0);
+  const npy m = read_npy(dir / "em" / "map.npy");
+  REQUIRE(m.values.size() == 15);
+  npend::map_cell_options o;
+  o.quantity = npend::map_quantity::state;
+  o.component = 3;
+  o.t_end = 3;
+  for (int row = 0; row < 3; ++row)
+    for (int col = 0; col < 5; ++col) {
+      const double m2 = npend::grid_value(0.5, 2, 3, row), e = npend::grid_value(0, 40, 5, col);
+      auto p = npend::chain_parameters::uniform(2);
+      p.masses[1] = m2;
+      const double s = std::sqrt(2 * m2 * e);
+      INFO("row " << row << ", column " << col);
+      CHECK(m.values[static_cast<std::size_t>(row * 5 + col)] ==
+            doctest::Approx(npend::map_cell(npend::chain(p), std::vector<double>{0, 0, s, s}, o))
+                .epsilon(1e-12));
+    }
+  // Angles of energy V = g (2 (1 - cos 1) + (1 - cos 1)) ≈ 13.53 J: energies below it have no
+  // start, those cells are NaN and counted as ruled out.
+  const auto r2 = run_npend(
+      "map --links 2 --phi 1,1 --x energy:0:40:5 --y l2:0.5:1.5:3 --quantity state --t-end 1 "
+      "--json --out " +
+      (dir / "el").string());
+  REQUIRE(r2.exit_code == 0);
+  const auto j = nlohmann::json::parse(r2.out);
+  const npy el = read_npy(dir / "el" / "map.npy");
+  long below = 0;
+  for (int row = 0; row < 3; ++row)
+    for (int col = 0; col < 5; ++col) {
+      const double l2 = npend::grid_value(0.5, 1.5, 3, row), e = npend::grid_value(0, 40, 5, col);
+      const double v = 9.81 * (2 * (1 - std::cos(1.0)) + l2 * (1 - std::cos(1.0)));
+      INFO("row " << row << ", column " << col);
+      CHECK(std::isnan(el.values[static_cast<std::size_t>(row * 5 + col)]) == (e < v));
+      below += e < v ? 1 : 0;
+    }
+  CHECK(below > 0);
+  CHECK(j["forbidden"] == below);
+  CHECK(fs::exists(dir / "el" / "forbidden.npy"));
+  CHECK(fs::exists(dir / "el" / "map.png"));
 }
 
 TEST_CASE("npend map: one thread or two, the same bytes") {

@@ -67,7 +67,7 @@ TEST_CASE("npend map under mpirun: bad input ends every rank, with one message")
   const auto axis =
       mpirun(2, "map --links 2 --x theta1:0:1:4 --y phi2:0:1:4 --out " + (dir / "m").string());
   CHECK(axis.exit_code == 2);
-  const std::string refused = "'theta1' is not a start coordinate";
+  const std::string refused = "'theta1' is not an axis of the 2-link chain";
   CHECK(axis.err.find(refused) != std::string::npos);
   CHECK(axis.err.find(refused) == axis.err.rfind(refused));
 }

@@ -22,15 +22,42 @@ def test_map_equals_npend_map(tmp_path):
     assert np.array_equal(m, one_thread, equal_nan=True)
 
 
-def test_cells_the_energy_forbids_never_flip():
-    # Equal double pendulum from rest: no flip is possible where 3 cos phi1 + cos phi2 > 2.
+def test_cells_the_energy_forbids_are_nan():
+    # Equal double pendulum from rest: no flip is possible where 2 cos phi1 + cos phi2 > 1
+    # (H = g (3 - 2 cos phi1 - cos phi2) below the 2 g m l an upright outer arm needs).
     c = npend.Chain(2)
     phi = np.linspace(-3, 3, 9)
     starts = np.array([[a, b, 0, 0] for b in phi for a in phi])
     times = npend.map_cells(c, starts, t_end=20)
-    forbidden = 3 * np.cos(starts[:, 0]) + np.cos(starts[:, 1]) > 2
-    assert forbidden.any() and np.all(np.isinf(times[forbidden]))
+    forbidden = 2 * np.cos(starts[:, 0]) + np.cos(starts[:, 1]) > 1
+    assert forbidden.any() and np.array_equal(np.isnan(times), forbidden)
     assert np.isfinite(times[~forbidden]).any()
+
+
+def test_energy_and_mass_axes(tmp_path):
+    # From the hanging double pendulum (l = 1, m1 = 1) the momenta p = s (1, 1) carry the
+    # kinetic energy s^2 / (2 m2), so the energy axis must start each cell at s = sqrt(2 m2 E).
+    c = npend.Chain(2)
+    x_axis, y_axis = ("energy", 0, 30, 6), ("m2", 0.5, 2, 4)
+    m = npend.map(c, x_axis, y_axis, quantity="state", component="p1", t_end=2, threads=2)
+    for row, m2 in enumerate(np.linspace(0.5, 2, 4)):
+        for col, energy in enumerate(np.linspace(0, 30, 6)):
+            s = math.sqrt(2 * m2 * energy)
+            want = npend.map_cells(npend.Chain(2, masses=[1, m2]), [0, 0, s, s],
+                                   quantity="state", component="p1", t_end=2)
+            assert m[row, col] == pytest.approx(float(want), rel=1e-12, abs=1e-12)
+    run_npend("map", "--links", 2, "--x", "energy:0:30:6", "--y", "m2:0.5:2:4", "--quantity",
+              "state", "--component", "p1", "--t-end", 2, "--out", tmp_path / "m")
+    assert np.array_equal(m, np.load(tmp_path / "m" / "map.npy"), equal_nan=True)
+
+
+def test_state_cells_are_the_simulated_final_state():
+    c = npend.Chain(3, masses=[1, 2, 1.5])
+    x0 = [0.4, -0.3, 0.2, 0.1, 0, -0.2]
+    t, X = npend.simulate(c, x0, t_end=3, dt=0.01, stepper="rk4")
+    for k, name in enumerate(["phi1", "phi2", "phi3", "p1", "p2", "p3"]):
+        value = npend.map_cells(c, x0, quantity="state", component=name, t_end=3, dt=0.01)
+        assert value == pytest.approx(X[-1, k], rel=1e-10, abs=1e-12)
 
 
 def test_lyapunov_map_cells_are_maximal_exponents():
@@ -48,7 +75,7 @@ def test_bad_map_input():
         npend.map_cells(c, [0, 0, 0, 0], quantity="colour")
     with pytest.raises(ValueError, match="phi7"):
         npend.map(c, ("phi7", 0, 1, 2), ("phi1", 0, 1, 2))
-    with pytest.raises(ValueError, match="different"):
+    with pytest.raises(ValueError, match="both are phi1"):
         npend.map(c, ("phi1", 0, 1, 2), ("phi1", 0, 1, 2))
     with pytest.raises(ValueError, match="non-finite"):
         npend.map_cells(c, [[0, math.nan, 0, 0]])

@@ -272,9 +272,10 @@ std::vector<double> flip_times(const chain& c, std::span<const double> starts,
 
 namespace {
 
-constexpr std::array all_map_quantities{map_quantity::flip, map_quantity::lyapunov,
-                                        map_quantity::fli,  map_quantity::megno,
-                                        map_quantity::sali, map_quantity::gali};
+constexpr std::array all_map_quantities{map_quantity::flip,  map_quantity::lyapunov,
+                                        map_quantity::fli,   map_quantity::megno,
+                                        map_quantity::sali,  map_quantity::gali,
+                                        map_quantity::state};
 
 }  // namespace
 
@@ -292,6 +293,8 @@ std::string_view map_quantity_name(map_quantity quantity) {
       return "sali";
     case map_quantity::gali:
       return "gali";
+    case map_quantity::state:
+      return "state";
   }
   return "?";
 }
@@ -300,7 +303,8 @@ map_quantity parse_map_quantity(std::string_view name) {
   for (const auto q : all_map_quantities)
     if (name == map_quantity_name(q)) return q;
   throw std::invalid_argument(
-      fmt::format("quantity: one of flip, lyapunov, fli, megno, sali, gali, got '{}'", name));
+      fmt::format("quantity: one of flip, lyapunov, fli, megno, sali, gali, state, got '{}'",
+                  name));
 }
 
 namespace {
@@ -334,6 +338,32 @@ double indicator_cell(const chain& c, std::span<const double> x0, const map_cell
   }
 }
 
+// Coordinate o.component of the state at t_end: rk4 steps of dt (the last one shortened to
+// land on t_end), as the other quantities integrate.
+double final_coordinate(const chain& c, std::span<const double> x0, const map_cell_options& o) {
+  std::vector<double> x(x0.begin(), x0.end());
+  boost::numeric::odeint::runge_kutta4<std::vector<double>> stepper;
+  const chain_system system(c);
+  const auto steps = static_cast<long long>(std::floor(o.t_end / o.dt + 1e-9));
+  for (long long k = 1; k <= steps; ++k)
+    stepper.do_step(system, x, static_cast<double>(k - 1) * o.dt, o.dt);
+  const double rest = o.t_end - static_cast<double>(steps) * o.dt;
+  if (rest > 1e-9 * o.dt) stepper.do_step(system, x, static_cast<double>(steps) * o.dt, rest);
+  for (const double v : x)
+    if (!std::isfinite(v))
+      throw integration_error("state: the state became non-finite; try a smaller dt", o.t_end);
+  return x[static_cast<std::size_t>(o.component)];
+}
+
+// A flip map's value: the flip time, NaN where the energy rules a flip out.
+void mark_forbidden(const chain& c, std::span<const double> starts, int link,
+                    std::vector<double>& times) {
+  const auto m = static_cast<std::size_t>(c.state_size());
+  for (std::size_t i = 0; i < times.size(); ++i)
+    if (energy_forbids_flip(c, starts.subspan(i * m, m), link))
+      times[i] = std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace
 
 void map_cell_options::validate(const chain& c) const {
@@ -353,6 +383,11 @@ void map_cell_options::validate(const chain& c) const {
       throw std::invalid_argument(fmt::format(
           "gali: the order k of GALI_k must be 2..{} (2n) for the {}-link chain, got {}",
           c.state_size(), c.links(), gali_order));
+  } else if (quantity == map_quantity::state) {
+    if (component < 0 || component >= c.state_size())
+      throw std::invalid_argument(
+          fmt::format("state: the component must be 0..{} (2n - 1) for the {}-link chain, got {}",
+                      c.state_size() - 1, c.links(), component));
   }
 }
 
@@ -363,7 +398,11 @@ double map_cell(const chain& c, std::span<const double> x0, const map_cell_optio
         throw std::invalid_argument(
             fmt::format("flip: the {}-link chain needs a state of {}, got {}", c.links(),
                         c.state_size(), x0.size()));
-      return flip_times(c, x0, {options.t_end, options.dt, options.flip_link}).front();
+      return map_cells(c, x0, options).front();
+    }
+    if (options.quantity == map_quantity::state) {
+      options.validate(c);
+      return final_coordinate(c, x0, options);
     }
     if (options.quantity == map_quantity::lyapunov)
       return maximal_lyapunov_exponent(c, x0, map_lyapunov_options(options)).exponents.front();
@@ -375,8 +414,11 @@ double map_cell(const chain& c, std::span<const double> x0, const map_cell_optio
 
 std::vector<double> map_cells(const chain& c, std::span<const double> starts,
                               const map_cell_options& options) {
-  if (options.quantity == map_quantity::flip)
-    return flip_times(c, starts, {options.t_end, options.dt, options.flip_link});
+  if (options.quantity == map_quantity::flip) {
+    auto times = flip_times(c, starts, {options.t_end, options.dt, options.flip_link});
+    mark_forbidden(c, starts, options.flip_link, times);
+    return times;
+  }
   const auto m = static_cast<std::size_t>(c.state_size());
   if (starts.size() % m != 0)
     throw std::invalid_argument(

@@ -60,8 +60,9 @@ enum class map_quantity {
   megno,     ///< MEGNO ⟨Y⟩ at t_end
   sali,      ///< SALI at t_end
   gali,      ///< GALI_k at t_end, k = map_cell_options::gali_order
+  state,     ///< one coordinate of the state at t_end, map_cell_options::component
 };
-/// "flip", "lyapunov", "fli", "megno", "sali" or "gali".
+/// "flip", "lyapunov", "fli", "megno", "sali", "gali" or "state".
 std::string_view map_quantity_name(map_quantity quantity);
 /// The quantity called `name`; throws std::invalid_argument naming the valid names.
 map_quantity parse_map_quantity(std::string_view name);
@@ -74,6 +75,8 @@ struct map_cell_options {
   /// gali: k of GALI_k, 2..2n; 0 means n + 1, the least k beyond the dimension n of a
   /// torus, where regular cells fall as a power of t and chaotic ones exponentially.
   int gali_order = 0;
+  /// state: which coordinate of the final state, 0..2n-1 ([φ, p]; angles not wrapped).
+  int component = 0;
 
   /// Throws std::invalid_argument naming the problem with these options for chain `c` (as
   /// map_cell would on its first cell): dt or t_end, an arm that does not exist, a chain a
@@ -84,10 +87,12 @@ struct map_cell_options {
 
 /// One cell of a map: the flip time (flip_times of this one start, so on the batch lanes
 /// where the chain has them, with flip_options from `options`), the maximal Lyapunov
-/// exponent (1/s) of maximal_lyapunov_exponent with rk4 at dt up to t_end, or an indicator
-/// of chaos_indicators (rk4 at dt, to t_end); NaN when the integration fails (an
-/// integration_error). Throws std::invalid_argument as flip_time and
-/// maximal_lyapunov_exponent do.
+/// exponent (1/s) of maximal_lyapunov_exponent with rk4 at dt up to t_end, an indicator
+/// of chaos_indicators (rk4 at dt, to t_end), or a coordinate of the state at t_end (rk4 at
+/// dt); NaN when the integration fails (an integration_error) and, for a flip map, where the
+/// energy rules a flip out (energy_forbids_flip: a map marks those cells apart from the
+/// +inf of cells that were integrated to t_end without flipping). Throws
+/// std::invalid_argument as flip_time and maximal_lyapunov_exponent do.
 double map_cell(const chain& c, std::span<const double> x0, const map_cell_options& options);
 
 /// map_cell of each of count = starts.size() / 2n start states (dim count × 2n), the same
