@@ -10,6 +10,7 @@
 #include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -275,6 +276,34 @@ TEST_CASE("gauss_legendre: converges to the same stage values whatever the Newto
   CHECK(static_cast<double>(s.newton_iterations) / static_cast<double>(s.steps) < 4);
   CHECK(s.factorizations < s.steps / 10);
   CHECK(b.statistics().factorizations == 100);
+}
+
+TEST_CASE("gauss_legendre: a long chain keeps its Newton matrix over many steps (O(d^2) steps)") {
+  // 40 links (d = 80): factoring the 240 x 240 Newton matrix costs as much as ~80 iterations,
+  // so an old matrix is kept while it contracts at all well. The stages are the same as with
+  // a matrix factored afresh at every step; only the work differs.
+  const chain c(npend::chain_parameters::uniform(40, 1.0 / 40, 1.0 / 40));
+  const auto system = npend::make_implicit_system(c);
+  std::vector<double> reused(80, 0.0);
+  std::fill(reused.begin(), reused.begin() + 40, 0.5);
+  std::vector<double> fresh = reused;
+  const double energy = c.hamiltonian(reused);
+  gauss_legendre6 a, b;
+  const double dt = 1e-3;
+  constexpr int steps = 150;
+  for (int k = 0; k < steps; ++k) {
+    a.do_step(system, reused, k * dt, dt);
+    b.reset();
+    b.do_step(system, fresh, k * dt, dt);
+  }
+  INFO("difference ", npend::test::relative_error(reused, fresh));
+  CHECK(npend::test::relative_error(reused, fresh) < 1e-12);
+  CHECK(std::fabs(c.hamiltonian(reused) - energy) < 1e-13 * energy);
+  const auto& s = a.statistics();
+  INFO("factorizations ", s.factorizations, ", iterations ", s.newton_iterations);
+  CHECK(s.factorizations <= steps / 10);
+  CHECK(static_cast<double>(s.newton_iterations) / steps < 20);
+  CHECK(b.statistics().factorizations == steps);
 }
 
 TEST_CASE("gauss_legendre: odeint's integrate_const and integrate_n_steps drive it") {

