@@ -52,9 +52,11 @@ py::array_t<double> rows_array(const std::vector<std::vector<double>>& rows, std
 }
 
 py::dict lyapunov(const chain& c, const py::handle& x0_in, double t_end, double dt,
-                  const std::string& stepper, bool maximal, double renormalise_every,
-                  double transient, std::size_t blocks) {
+                  const std::string& stepper, bool maximal, int exponents,
+                  double renormalise_every, double transient, std::size_t blocks) {
   const auto x0 = start_state(c, x0_in);
+  if (maximal && exponents != 0)
+    throw std::invalid_argument("maximal and exponents: ask for the largest exponent or for K");
   lyapunov_options o;
   o.integration = integration_from(t_end, dt, stepper, 0, 1e-10, 1e-10);
   o.renormalisation_interval = renormalise_every;
@@ -65,7 +67,9 @@ py::dict lyapunov(const chain& c, const py::handle& x0_in, double t_end, double 
   lyapunov_result r;
   {
     py::gil_scoped_release no_gil;
-    r = maximal ? maximal_lyapunov_exponent(c, x0, o) : lyapunov_spectrum(c, x0, o);
+    r = maximal          ? maximal_lyapunov_exponent(c, x0, o)
+        : exponents != 0 ? largest_lyapunov_exponents(c, x0, o, exponents)
+                         : lyapunov_spectrum(c, x0, o);
   }
   interrupt.raise_if_interrupted();
   py::dict d;
@@ -167,10 +171,12 @@ use abs_tol and rel_tol. Raises ValueError for bad input, RuntimeError when the 
 cannot go on, KeyboardInterrupt on Ctrl-C.)");
   m.def("lyapunov", &lyapunov, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
         py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("maximal") = false,
-        py::arg("renormalise_every") = 0.1, py::arg("transient") = 0.0, py::arg("blocks") = 10,
+        py::arg("exponents") = 0, py::arg("renormalise_every") = 0.1,
+        py::arg("transient") = 0.0, py::arg("blocks") = 10,
         R"(Lyapunov exponents of the trajectory from x0 by Benettin's method, as
-`npend lyapunov` computes them: the full spectrum of 2n exponents (descending), or with
-maximal=True the largest alone.
+`npend lyapunov` computes them: the full spectrum of 2n exponents (descending), with
+maximal=True the largest alone, or with exponents=K the K largest (`--exponents K`: K
+tangent vectors, O(n) each on a long chain's loop kernels).
 
 Returns a dict: exponents (1/s), sum, pair_sums (lambda_i + lambda_(2n+1-i), 0 for a
 Hamiltonian flow), standard_error (from the blocks), spread, history_t and history (the

@@ -56,6 +56,16 @@ def test_lyapunov_equals_npend_lyapunov_and_pairs_up():
     assert r["history"].shape == (len(r["history_t"]), 4)
     m = npend.lyapunov(c, x0, 20.0, dt=0.005, maximal=True)
     assert m["exponents"].shape == (1,)
+    # The K largest: npend lyapunov --exponents K, and with rk4 the first K of the spectrum's
+    # frame (Gram-Schmidt leaves the first vectors alone), so the spectrum's first K.
+    k = npend.lyapunov(c, x0, 20.0, dt=0.005, stepper="rk4", exponents=2)
+    ref = npend_json("lyapunov", "--links", 2, "--phi", "2,1.5", "--t-end", 20, "--dt", 0.005,
+                     "--stepper", "rk4", "--exponents", 2)
+    assert np.array_equal(k["exponents"], ref["exponents"])
+    full = npend.lyapunov(c, x0, 20.0, dt=0.005, stepper="rk4")
+    assert k["exponents"] == pytest.approx(full["exponents"][:2], rel=1e-6, abs=1e-9)
+    with pytest.raises(ValueError, match="maximal and exponents"):
+        npend.lyapunov(c, x0, 1.0, maximal=True, exponents=2)
 
 
 def test_poincare_equals_npend_poincare_and_lies_on_the_section():
