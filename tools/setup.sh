@@ -21,8 +21,9 @@ packages=(
   libslicot-dev liblapack-dev
   # tests
   doctest-dev
-  # benchmarks (bench/run) and their checks in the tests: Google Benchmark, the SymPy peer
-  libbenchmark-dev python3-sympy
+  # benchmarks (bench/run) and their checks in the tests: Google Benchmark, the SymPy peer,
+  # SciPy's solve_ivp as the flip map's peer
+  libbenchmark-dev python3-sympy python3-scipy
   # the Python module (pybind11 on Debian's python3 and numpy), its pytest suite and the
   # example's plots
   python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib

@@ -664,9 +664,9 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
   for (const double v : grid)
     if (std::isfinite(v)) low = std::min(low, v), high = std::max(high, v);
   const bool indicator_to_zero = o.quantity == "sali" || o.quantity == "gali";
-  if (o.quantity == "flip") {
+  if (o.quantity == "flip") {  // dt..t_end on a log scale (a decade when t_end is one step)
     low = o.dt;
-    high = o.t_end;
+    high = o.t_end > o.dt ? o.t_end : 10 * o.dt;
   } else if (indicator_to_zero) {  // a log scale: from 1e-16 (or the least value) up
     low = std::max(low, 1e-16);
     if (!(high > low)) high = low * 10;

@@ -182,6 +182,18 @@ TEST_CASE("npend map: energy, mass and length axes start each cell as the closed
   CHECK(fs::exists(dir / "el" / "map.png"));
 }
 
+TEST_CASE("npend map: a map of one step, every cell ruled out, still draws its PNG") {
+  // t-end = dt leaves the flip times' colour range dt..t-end empty; gnuplot refuses that.
+  const fs::path dir(npend::test::temporary_directory("cli-map-one-step"));
+  const auto r = run_npend("map --links 2 --x phi1:0:0.1:2 --y phi2:0:0.1:2 --t-end 0.01 --json "
+                           "--out " +
+                           (dir / "m").string());
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.err.find("gnuplot failed") == std::string::npos);
+  CHECK(nlohmann::json::parse(r.out)["forbidden"] == 4);
+  CHECK(fs::exists(dir / "m" / "map.png"));
+}
+
 TEST_CASE("npend map: one thread or two, the same bytes") {
   const fs::path dir(npend::test::temporary_directory("cli-map-threads"));
   REQUIRE(run_npend(grid + " --threads 1 --out " + (dir / "one").string()).exit_code == 0);
