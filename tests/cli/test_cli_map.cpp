@@ -194,6 +194,18 @@ TEST_CASE("npend map: a map of one step, every cell ruled out, still draws its P
   CHECK(fs::exists(dir / "m" / "map.png"));
 }
 
+TEST_CASE("npend map: beyond 1024 cells a side map.png draws a subsample, map.npy keeps all") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-subsample"));
+  const auto r = run_npend("map --links 2 --x phi1:-3:3:1100 --y phi2:-3:3:3 --t-end 0.01 --out " +
+                           (dir / "m").string());
+  REQUIRE(r.exit_code == 0);
+  CHECK(read_npy(dir / "m" / "map.npy").values.size() == 3300);
+  const std::string script = npend::test::read_text((dir / "m" / "map.gp").string());
+  CHECK(script.find("every 2:2") != std::string::npos);
+  CHECK(script.find("1 cell in 2 x 2") != std::string::npos);
+  CHECK(fs::exists(dir / "m" / "map.png"));
+}
+
 TEST_CASE("npend map: one thread or two, the same bytes") {
   const fs::path dir(npend::test::temporary_directory("cli-map-threads"));
   REQUIRE(run_npend(grid + " --threads 1 --out " + (dir / "one").string()).exit_code == 0);
