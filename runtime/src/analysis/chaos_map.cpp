@@ -355,12 +355,13 @@ double final_coordinate(const chain& c, std::span<const double> x0, const map_ce
   return x[static_cast<std::size_t>(o.component)];
 }
 
-// A flip map's value: the flip time, NaN where the energy rules a flip out.
+// A flip map's value: the flip time, NaN where the energy rules a flip out. flip_times
+// gives those cells +inf, so only its +inf cells need the energy looked at again.
 void mark_forbidden(const chain& c, std::span<const double> starts, int link,
                     std::vector<double>& times) {
   const auto m = static_cast<std::size_t>(c.state_size());
   for (std::size_t i = 0; i < times.size(); ++i)
-    if (energy_forbids_flip(c, starts.subspan(i * m, m), link))
+    if (std::isinf(times[i]) && energy_forbids_flip(c, starts.subspan(i * m, m), link))
       times[i] = std::numeric_limits<double>::quiet_NaN();
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <map>
 #include <stdexcept>
@@ -71,14 +72,24 @@ bool uniform_rods(const chain_parameters& p) {
   return rods.com == p.com && rods.inertia == p.inertia;
 }
 
-chain_parameters cell_parameters(const map_grid& grid, int i, int j) {
-  chain_parameters p = grid.parameters;
-  if (!grid.x.is_parameter() && !grid.y.is_parameter()) return p;
+struct axis_value {
+  const map_axis& axis;
+  double value;
+};
+
+// The base chain with the parameter axes among `values` set; uniform rods stay uniform rods.
+chain_parameters parameters_with(const chain_parameters& base,
+                                 std::initializer_list<axis_value> values) {
+  chain_parameters p = base;
   const bool rods = uniform_rods(p);
-  apply_parameter(p, grid.x, grid.x.value(i));
-  apply_parameter(p, grid.y, grid.y.value(j));
+  for (const auto& [axis, value] : values) apply_parameter(p, axis, value);
   if (rods) p.make_uniform_rods();
   return p;
+}
+
+chain_parameters cell_parameters(const map_grid& grid, int i, int j) {
+  if (!grid.x.is_parameter() && !grid.y.is_parameter()) return grid.parameters;
+  return parameters_with(grid.parameters, {{grid.x, grid.x.value(i)}, {grid.y, grid.y.value(j)}});
 }
 
 // The start's coordinate axes: angle, momentum or velocity `a.link` set to v.
@@ -128,10 +139,7 @@ void check_axis_chain(const map_grid& grid, const map_axis& a, const map_cell_op
   // Each end of the axis on the base chain: masses, lengths, g and springs act on the chain
   // one at a time, so two axes' ends each valid give valid corners.
   for (const int end : {0, a.count - 1}) {
-    chain_parameters p = grid.parameters;
-    const bool rods = uniform_rods(p);
-    apply_parameter(p, a, a.value(end));
-    if (rods) p.make_uniform_rods();
+    const chain_parameters p = parameters_with(grid.parameters, {{a, a.value(end)}});
     try {
       p.validate();
       options.validate(chain(p));
