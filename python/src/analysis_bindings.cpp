@@ -122,30 +122,40 @@ py::dict modes(const chain& c, const py::object& angles_in) {
   return d;
 }
 
-// The cells' values over `threads` OpenMP threads (0: all cores), in chunks of cells that
-// map_cells computes together (a flip map on the batch kernels' lanes); each cell's value
-// depends on its start alone, so the result does not depend on the thread count. Threads
-// other than the caller's only read the interrupt flag; the caller's thread polls Python's
-// signal handlers.
-std::vector<double> cells_in_parallel(const chain& c, const state_batch& starts,
-                                      const map_cell_options& o, int threads,
-                                      python_interrupt& interrupt) {
-  const int team = threads > 0 ? threads : omp_get_max_threads();
-  // Enough chunks to balance the threads, each enough cells to fill the lanes.
-  const std::size_t chunk =
-      std::clamp<std::size_t>(starts.count / (4 * static_cast<std::size_t>(team)), 8, 64);
-  std::vector<double> out(starts.count, std::numeric_limits<double>::quiet_NaN());
-  const auto chunks = static_cast<long>((starts.count + chunk - 1) / chunk);
+// `total` values over `threads` OpenMP threads (0: all cores), computed `chunk` at a time by
+// compute(first, count) (a chunk's cells go to the library together, so that a flip map fills
+// the batch kernels' lanes); each cell's value depends on its start alone, so the result does
+// not depend on the thread count. Threads other than the caller's only read the interrupt
+// flag; the caller's thread polls Python's signal handlers.
+template <class Compute>
+std::vector<double> values_in_parallel(std::size_t total, std::size_t chunk, int team,
+                                       python_interrupt& interrupt, const Compute& compute) {
+  std::vector<double> out(total, std::numeric_limits<double>::quiet_NaN());
+  const auto chunks = static_cast<long>((total + chunk - 1) / chunk);
   py::gil_scoped_release no_gil;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(team)
   for (long k = 0; k < chunks; ++k) {
     if (interrupt.stop_requested()) continue;
     const std::size_t first = static_cast<std::size_t>(k) * chunk;
-    const std::size_t count = std::min(chunk, starts.count - first);
-    const auto values = map_cells(c, {starts.row(first), count * starts.width}, o);
+    const std::vector<double> values = compute(first, std::min(chunk, total - first));
     std::copy(values.begin(), values.end(), out.begin() + static_cast<long>(first));
   }
   return out;
+}
+
+int team_size(int threads) { return threads > 0 ? threads : omp_get_max_threads(); }
+
+std::vector<double> cells_in_parallel(const chain& c, const state_batch& starts,
+                                      const map_cell_options& o, int threads,
+                                      python_interrupt& interrupt) {
+  const int team = team_size(threads);
+  // Enough chunks to balance the threads, each enough cells to fill the lanes.
+  const std::size_t chunk =
+      std::clamp<std::size_t>(starts.count / (4 * static_cast<std::size_t>(team)), 8, 64);
+  return values_in_parallel(starts.count, chunk, team, interrupt,
+                            [&](std::size_t first, std::size_t count) {
+                              return map_cells(c, {starts.row(first), count * starts.width}, o);
+                            });
 }
 
 map_cell_options cell_options(const chain& c, const std::string& quantity, double t_end,
@@ -197,25 +207,18 @@ map_axis axis_from(const py::tuple& spec, int links, const char* what) {
   }
 }
 
-// The grid's cells on `threads` threads, in chunks of whole rows (cells of one chain
-// together, so that a flip map fills the batch lanes), as npend map computes its tiles.
+// The grid's cells row by row (the cells of one chain together, as npend map's tiles).
 std::vector<double> grid_in_parallel(const map_grid& grid, const map_cell_options& o, int threads,
                                      python_interrupt& interrupt) {
-  const int team = threads > 0 ? threads : omp_get_max_threads();
   const auto cols = static_cast<std::size_t>(grid.x.count);
-  std::vector<double> out(cols * static_cast<std::size_t>(grid.y.count),
-                          std::numeric_limits<double>::quiet_NaN());
-  py::gil_scoped_release no_gil;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(team)
-  for (int row = 0; row < grid.y.count; ++row) {
-    if (interrupt.stop_requested()) continue;
-    std::vector<int> columns(cols), rows(cols, row);
-    for (std::size_t i = 0; i < cols; ++i) columns[i] = static_cast<int>(i);
-    const auto values = map_grid_values(grid, columns, rows, o);
-    std::copy(values.begin(), values.end(),
-              out.begin() + static_cast<long>(static_cast<std::size_t>(row) * cols));
-  }
-  return out;
+  return values_in_parallel(cols * static_cast<std::size_t>(grid.y.count), cols,
+                            team_size(threads), interrupt, [&](std::size_t first, std::size_t) {
+                              const int row = static_cast<int>(first / cols);
+                              std::vector<int> columns(cols), rows(cols, row);
+                              for (std::size_t i = 0; i < cols; ++i)
+                                columns[i] = static_cast<int>(i);
+                              return map_grid_values(grid, columns, rows, o);
+                            });
 }
 
 py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
