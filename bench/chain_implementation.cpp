@@ -58,7 +58,7 @@ class loop_implementation final : public chain_implementation {
   explicit loop_implementation(const chain_parameters& p)
       : m_links(p.links()),
         m_params(p.packed()),
-        m_work(static_cast<std::size_t>(generated::chain_loop::workspace_size(p.links()))) {}
+        m_work(generated::chain_loop::jacobian_workspace_size(p.links())) {}
   void rhs(const double* x, double* dxdt) override {
     generated::chain_loop::rhs(m_links, x, m_params.data(), dxdt, m_work.data());
   }

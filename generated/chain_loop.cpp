@@ -212,12 +212,237 @@ void jacobian(int n, const double* x, const double* params, double* jac, double*
   const passes v = cut(n, work);
   evaluate(n, x, x + n, params, v);
   const int dim = 2 * n;
-  for (int i = 0; i < dim; ++i) v.direction[i] = 0.0;
+  double* const rows = work + workspace_size(n);
+  double* const dx = rows + 6 * n * n;
+  double* const dy = dx + dim;
+  {  // the tip
+    const int k = n - 1;
+    double* const dr = rows + 6 * n * (k);
+    double* const dgamma = dr + n;
+    double* const da = dgamma + n;
+    double* const dbeta = da + dim;
+    const double t0 = 1.0 / params[chain_layout::mass_index(n, k)] * (1.0 / params[chain_layout::length_index(n, k)]);
+    const double c0 = t0;
+    for (int j = 0; j < n; ++j) {
+      dr[j] = 0.0;
+      dgamma[j] = 0.0;
+    }
+    for (int j = 0; j < dim; ++j) {
+      da[j] = 0.0;
+      dbeta[j] = 0.0;
+    }
+    da[n + k] += c0;
+  }
+  for (int k = n - 2; k >= 0; --k) {
+    double* const dr = rows + 6 * n * (k);
+    double* const dgamma = dr + n;
+    double* const da = dgamma + n;
+    double* const dbeta = da + dim;
+    const double* const dr1 = rows + 6 * n * (k + 1);
+    const double* const dgamma1 = dr1 + n;
+    const double* const da1 = dgamma1 + n;
+    const double* const dbeta1 = da1 + dim;
+    const double t0 = v.sd[k] * v.sd[k];
+    const double t1 = params[chain_layout::mass_index(n, k)] + v.r[k + 1] * t0;
+    const double t2 = 1.0 / t1;
+    const double t3 = params[chain_layout::mass_index(n, k)] * (params[chain_layout::mass_index(n, k)] + v.r[k + 1]);
+    const double t4 = t0 * t2 / t1;
+    const double t5 = v.cd[k] * v.sd[k];
+    const double t6 = v.r[k + 1] * t5;
+    const double t7 = v.q[k] - v.cd[k] * v.q[k + 1] - v.sd[k] * v.beta[k + 1];
+    const double t8 = t7 * t4;
+    const double t9 = t2 * t7;
+    const double t10 = v.sd[k] * t2;
+    const double t11 = -t10;
+    const double t12 = v.cd[k] - t6 * t10;
+    const double t13 = -(v.c[k] * v.c[k + 1]) - v.s[k] * v.s[k + 1];
+    const double t14 = t2 * (v.r[k + 1] * (v.sd[k] + v.sd[k])) / t1;
+    const double t15 = t3 * t14;
+    const double t16 = v.c[k] * v.s[k + 1] - v.s[k] * v.c[k + 1];
+    const double t17 = v.sd[k] * v.r[k + 1];
+    const double t18 = t2 * t17;
+    const double t19 = v.cd[k] * v.r[k + 1];
+    const double t20 = t2 * t19 - t6 * t14;
+    const double t21 = -(t7 * t14) - v.beta[k + 1] * t2;
+    const double t22 = v.q[k + 1] * t2;
+    const double t23 = v.beta[k + 1] + (t9 * t17 - t6 * t22);
+    const double t24 = t6 * t21 + t9 * t19 - v.q[k + 1];
+    const double t25 = v.s[k] * v.s[k + 1] + v.c[k] * v.c[k + 1];
+    const double t26 = v.s[k] * v.c[k + 1] - v.c[k] * v.s[k + 1];
+    const double t27 = 1.0 / params[chain_layout::length_index(n, k)];
+    const double t28 = 1.0 / params[chain_layout::length_index(n, k + 1)];
+    const double t29 = v.cd[k] * t2;
+    const double c0 = params[chain_layout::mass_index(n, k)] * t2 - t3 * t4;
+    const double c1 = t2 * t5 - t6 * t4;
+    const double c2 = -t8;
+    const double c3 = t5 * t9 - t6 * t8;
+    const double c4 = t11;
+    const double c5 = t12;
+    const double c6 = t11;
+    const double c7 = t12;
+    const double c8 = -(t13 * t15);
+    const double c9 = t16 * t18 + t13 * t20;
+    const double c10 = t13 * t21 - t16 * t22;
+    const double c11 = t16 * t23 + t13 * t24;
+    const double c12 = -(t15 * t25);
+    const double c13 = t18 * t26 + t20 * t25;
+    const double c14 = t21 * t25 - t22 * t26;
+    const double c15 = t23 * t26 + t24 * t25;
+    const double c16 = t2 * t27;
+    const double c17 = t2 * t6 * t27;
+    const double c18 = -(t28 * t29);
+    const double c19 = t28 * (-(t6 * t29) - v.sd[k]);
+    for (int j = 0; j < n; ++j) {
+      const double e0 = dr1[j], e1 = dbeta1[j];
+      dr[j] = c0 * e0;
+      dgamma[j] = c1 * e0;
+      da[j] = c2 * e0 + c4 * e1;
+      dbeta[j] = c3 * e0 + c5 * e1;
+    }
+    for (int j = n; j < dim; ++j) {
+      const double e0 = dbeta1[j];
+      da[j] = c6 * e0;
+      dbeta[j] = c7 * e0;
+    }
+    dr[k] += c8;
+    dgamma[k] += c9;
+    da[k] += c10;
+    dbeta[k] += c11;
+    dr[k + 1] += c12;
+    dgamma[k + 1] += c13;
+    da[k + 1] += c14;
+    dbeta[k + 1] += c15;
+    da[n + k] += c16;
+    dbeta[n + k] += c17;
+    da[n + k + 1] += c18;
+    dbeta[n + k + 1] += c19;
+  }
   for (int j = 0; j < dim; ++j) {
-    v.direction[j] = 1.0;
-    tangent(n, params, v, v.direction, v.direction + n, v.column);
-    v.direction[j] = 0.0;
-    for (int i = 0; i < dim; ++i) jac[i * dim + j] = v.column[i];
+    dx[j] = 0.0;
+    dy[j] = 0.0;
+  }
+  for (int k = 0; k + 1 < n; ++k) {
+    const double* const dr = rows + 6 * n * (k);
+    const double* const dgamma = dr + n;
+    const double* const da = dgamma + n;
+    const double* const dbeta = da + dim;
+    double* const f = jac + k * dim;
+    double* const g = jac + (n + k) * dim;
+    const double t0 = 1.0 / params[chain_layout::length_index(n, k)];
+    const double t1 = v.beta[k] + v.r[k] * v.y[k];
+    const double t2 = -t1;
+    const double t3 = v.a[k] - v.gamma[k] * v.y[k];
+    const double t4 = t3 - v.x[k];
+    const double t5 = v.x[k] - t3;
+    const double t6 = -t0;
+    const double t7 = -(v.gamma[k] * t0);
+    const double t8 = v.gamma[k] * t1 - v.r[k] * t4;
+    const double t9 = -(v.gamma[k] * v.cd[k]) - v.sd[k];
+    const double t10 = v.cd[k] - v.gamma[k] * v.sd[k];
+    const double t11 = params[chain_layout::length_index(n, k)] * (v.mu[k] * params[chain_layout::gravity_index(n)]);
+    const double t12 = v.c[k] * v.s[k + 1] - v.s[k] * v.c[k + 1];
+    const double t13 = -(v.c[k] * v.c[k + 1]) - v.s[k] * v.s[k + 1];
+    const double t14 = v.s[k] * v.c[k + 1] - v.c[k] * v.s[k + 1];
+    const double t15 = v.s[k] * v.s[k + 1] + v.c[k] * v.c[k + 1];
+    const double c0 = t0;
+    const double c1 = t2;
+    const double c2 = v.cd[k];
+    const double c3 = v.sd[k];
+    const double c4 = -(v.y[k] * t0);
+    const double c5 = v.y[k] * t1;
+    const double c6 = -(v.y[k] * v.cd[k]);
+    const double c7 = -(v.y[k] * v.sd[k]);
+    const double c8 = -(v.y[k] * t4);
+    const double c9 = t5;
+    const double c10 = t6;
+    const double c11 = t1;
+    const double c12 = t7;
+    const double c13 = t8;
+    const double c14 = t9;
+    const double c15 = t10;
+    const double c16 = t0;
+    const double c17 = t2;
+    const double c18 = v.cd[k];
+    const double c19 = v.sd[k];
+    const double c20 = t5;
+    const double c21 = t6;
+    const double c22 = t1;
+    const double c23 = t7;
+    const double c24 = t8;
+    const double c25 = t9;
+    const double c26 = t10;
+    const double c27 = -(v.c[k] * t11);
+    const double c28 = t3 * t12 - v.y[k] * t13;
+    const double c29 = v.y[k] * t12 + t3 * t13;
+    const double c30 = t3 * t14 - v.y[k] * t15;
+    const double c31 = v.y[k] * t14 + t3 * t15;
+    for (int j = 0; j < n; ++j) {
+      const double e0 = da[j], e1 = dgamma[j], e2 = dr[j], e3 = dbeta[j], e4 = dx[j], e5 = dy[j];
+      f[j] = c0 * e0 + c4 * e1 + c10 * e4 + c12 * e5;
+      g[j] = c1 * e0 + c5 * e1 + c8 * e2 + c9 * e3 + c11 * e4 + c13 * e5;
+      dx[j] = c2 * e0 + c6 * e1 + c14 * e5;
+      dy[j] = c3 * e0 + c7 * e1 + c15 * e5;
+    }
+    for (int j = n; j < dim; ++j) {
+      const double e0 = da[j], e1 = dbeta[j], e2 = dx[j], e3 = dy[j];
+      f[j] = c16 * e0 + c21 * e2 + c23 * e3;
+      g[j] = c17 * e0 + c20 * e1 + c22 * e2 + c24 * e3;
+      dx[j] = c18 * e0 + c25 * e3;
+      dy[j] = c19 * e0 + c26 * e3;
+    }
+    g[k] += c27;
+    dx[k] += c28;
+    dy[k] += c29;
+    dx[k + 1] += c30;
+    dy[k + 1] += c31;
+  }
+  {  // the tip
+    const int k = n - 1;
+    const double* const dr = rows + 6 * n * (k);
+    const double* const dgamma = dr + n;
+    const double* const da = dgamma + n;
+    const double* const dbeta = da + dim;
+    double* const f = jac + k * dim;
+    double* const g = jac + (n + k) * dim;
+    const double t0 = 1.0 / params[chain_layout::length_index(n, k)];
+    const double t1 = v.beta[k] + v.r[k] * v.y[k];
+    const double t2 = -t1;
+    const double t3 = v.a[k] - v.gamma[k] * v.y[k];
+    const double t4 = t3 - v.x[k];
+    const double t5 = v.x[k] - t3;
+    const double t6 = -t0;
+    const double t7 = -(v.gamma[k] * t0);
+    const double t8 = v.gamma[k] * t1 - v.r[k] * t4;
+    const double t9 = params[chain_layout::length_index(n, k)] * (v.mu[k] * params[chain_layout::gravity_index(n)]);
+    const double c0 = t0;
+    const double c1 = t2;
+    const double c2 = -(v.y[k] * t0);
+    const double c3 = v.y[k] * t1;
+    const double c4 = -(v.y[k] * t4);
+    const double c5 = t5;
+    const double c6 = t6;
+    const double c7 = t1;
+    const double c8 = t7;
+    const double c9 = t8;
+    const double c10 = t0;
+    const double c11 = t2;
+    const double c12 = t5;
+    const double c13 = t6;
+    const double c14 = t1;
+    const double c15 = t7;
+    const double c16 = t8;
+    const double c17 = -(v.c[k] * t9);
+    for (int j = 0; j < n; ++j) {
+      const double e0 = da[j], e1 = dgamma[j], e2 = dr[j], e3 = dbeta[j], e4 = dx[j], e5 = dy[j];
+      f[j] = c0 * e0 + c2 * e1 + c6 * e4 + c8 * e5;
+      g[j] = c1 * e0 + c3 * e1 + c4 * e2 + c5 * e3 + c7 * e4 + c9 * e5;
+    }
+    for (int j = n; j < dim; ++j) {
+      const double e0 = da[j], e1 = dbeta[j], e2 = dx[j], e3 = dy[j];
+      f[j] = c10 * e0 + c13 * e2 + c15 * e3;
+      g[j] = c11 * e0 + c12 * e1 + c14 * e2 + c16 * e3;
+    }
+    g[k] += c17;
   }
 }
 
@@ -416,6 +641,7 @@ void positions(int n, const double* phi, const double* params, double* xy, doubl
 
 const loop_kernels kernels = {
     .workspace_size = &workspace_size,
+    .jacobian_workspace_size = &jacobian_workspace_size,
     .rhs = &rhs,
     .jacobian_vector = &jacobian_vector,
     .jacobian = &jacobian,

@@ -14,13 +14,20 @@ namespace npend::generated::chain_loop {
 /// Doubles of workspace the functions need for n links.
 inline constexpr int workspace_size(int n) noexcept { return 31 * n; }
 
+/// Doubles of workspace the Jacobian needs: workspace_size(n) and the tangent rows of every
+/// link (O(n^2), as the Jacobian itself).
+inline constexpr std::size_t jacobian_workspace_size(int n) noexcept {
+  const auto links = static_cast<std::size_t>(n);
+  return static_cast<std::size_t>(workspace_size(n)) + 6 * links * links + 4 * links;
+}
+
 /// Hamilton's equations f(x) (dim 2n), as the unrolled rhs.
 void rhs(int n, const double* x, const double* params, double* dxdt, double* work) noexcept;
 
 /// J(x) u for a direction u (dim 2n): the forward-mode derivative of rhs, O(n).
 void jacobian_vector(int n, const double* x, const double* params, const double* u, double* ju, double* work) noexcept;
 
-/// The Jacobian df/dx, row-major 2n x 2n: 2n Jacobian-vector products, O(n^2).
+/// The Jacobian df/dx, row-major 2n x 2n, in O(n^2): the forward mode along all 2n directions at once. Its workspace is jacobian_workspace_size(n) doubles.
 void jacobian(int n, const double* x, const double* params, double* jac, double* work) noexcept;
 
 /// H = T + V with T = 1/2 sum m_k |v_k|^2 from the elimination.

@@ -41,6 +41,12 @@ class loop_step {
     return out;
   }
 
+  // d value / d input for each value (0 where a value does not depend on the input).
+  std::vector<sx> partials(const std::vector<sx>& values, sx input) {
+    return directional_derivative(*m_graph, values, input);
+  }
+  bool is_zero(sx value) const { return m_graph->is_constant(value, 0); }
+
   // The step's statements. Where an output is assigned to a name the step also reads (a
   // running sum), every output is computed before any is assigned.
   std::string emit(const std::string& indent) const {
@@ -283,6 +289,183 @@ std::string tangent_pass() {
   return text;
 }
 
+// One link's step of the vector forward mode (the Jacobian: all 2n directions at once). Along
+// every direction, an output's tangent is the same linear combination of the input tangents,
+// with the step's partial derivatives as coefficients: those are computed once per link (as
+// outputs of the step's graph), and the loops over the directions are multiply-adds over rows
+// of tangents, with no divisions or libm calls, which the compiler vectorises. Where the step
+// reads a quantity that depends on one angle or momentum only (a turn, q_k), its direct
+// contribution is a seed added at that one direction.
+class vector_step {
+ public:
+  /// A value node of the step and the row (a pointer of the emitted code) holding its tangent.
+  using row = std::pair<sx, std::string>;
+
+  explicit vector_step(loop_step& st) : m_st(st) {}
+
+  /// for j in [from, to): output rows[j] = Σ ∂output/∂input · input rows[j].
+  void directions(const std::string& from, const std::string& to, const std::vector<row>& outputs,
+                  const std::vector<row>& inputs) {
+    std::string reads, writes;
+    for (std::size_t i = 0; i < inputs.size(); ++i)
+      reads += fmt::format("{}e{} = {}[j]", i == 0 ? "const double " : ", ", i, inputs[i].second);
+    std::vector<sx> values;
+    for (const auto& [value, name] : outputs) values.push_back(value);
+    std::vector<std::string> sums(outputs.size());
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+      const std::vector<sx> d = m_st.partials(values, inputs[i].first);
+      for (std::size_t o = 0; o < outputs.size(); ++o) {
+        if (m_st.is_zero(d[o])) continue;
+        sums[o] += fmt::format("{}{} * e{}", sums[o].empty() ? "" : " + ", scalar(d[o]), i);
+      }
+    }
+    for (std::size_t o = 0; o < outputs.size(); ++o)
+      writes += fmt::format("      {}[j] = {};\n", outputs[o].second,
+                            sums[o].empty() ? "0.0" : sums[o]);
+    if (!reads.empty()) reads = "      " + reads + ";\n";
+    m_loops += fmt::format("    for (int j = {}; j < {}; ++j) {{\n{}{}    }}\n", from, to, reads,
+                           writes);
+  }
+
+  /// The outputs' direct dependence on one direction: Σ ∂output/∂input · seed over the
+  /// (input, seed) pairs, added to the output rows at `direction`.
+  void seed(const std::string& direction, const std::vector<row>& outputs,
+            const std::vector<std::pair<sx, sx>>& seeds) {
+    std::vector<sx> values;
+    for (const auto& [value, name] : outputs) values.push_back(value);
+    const std::vector<sx> d = m_st.tangents(values, seeds);
+    for (std::size_t o = 0; o < outputs.size(); ++o)
+      if (!m_st.is_zero(d[o]))
+        m_seeds += fmt::format("    {}[{}] += {};\n", outputs[o].second, direction, scalar(d[o]));
+  }
+
+  /// The coefficients, then the loops over the directions, then the seeds.
+  std::string emit() const { return m_st.emit(in_loop_body) + m_loops + m_seeds; }
+
+ private:
+  static constexpr const char* in_loop_body = "    ";
+  // A coefficient as a named scalar of the link's step.
+  std::string scalar(sx value) {
+    const std::string name = fmt::format("c{}", m_count++);
+    m_st.out("const double " + name, value);
+    return name;
+  }
+  loop_step& m_st;
+  std::string m_loops, m_seeds;
+  int m_count = 0;
+};
+
+// Throws unless none of `values` depends on any of `inputs`: the Jacobian's momentum
+// directions leave out the rows of quantities that depend on the angles only.
+void require_independent(loop_step& st, const std::vector<sx>& values,
+                         const std::vector<sx>& inputs, const char* what) {
+  for (const sx input : inputs)
+    for (const sx d : st.partials(values, input))
+      if (!st.is_zero(d)) throw std::logic_error(std::string("loop Jacobian: ") + what);
+}
+
+// ∂C/∂φ and ∂S/∂φ of the turn between rods k and k + 1, for φ_k (`first`) or φ_{k+1}.
+std::pair<sx, sx> turn_derivative(loop_step& st, bool first) {
+  const sx s = st.in("v.s[k]"), c = st.in("v.c[k]"), s1 = st.in("v.s[k + 1]"),
+           c1 = st.in("v.c[k + 1]");
+  const rod_turn t = turn_between(s, c, s1, c1);
+  const auto d = first ? st.tangents({t.C, t.S}, {{s, c}, {c, -s}})
+                       : st.tangents({t.C, t.S}, {{s1, c1}, {c1, -s1}});
+  return {d[0], d[1]};
+}
+
+// ∂q/∂p = 1/l for the link whose length `length` names.
+sx momentum_derivative(loop_step& st, const std::string& length) {
+  const sx p = st.in("p_unused"), q = p * (st.constant(1) / st.in(length));
+  return st.tangents({q}, {{p, st.constant(1)}})[0];
+}
+
+// The rows of link k's tangents in the Jacobian's workspace: r_k and γ_k over the n angle
+// directions (they do not depend on the momenta), a_k and β_k over all 2n.
+std::string link_rows(const std::string& k, const std::string& suffix, bool constant) {
+  const char* type = constant ? "const double* const" : "double* const";
+  return fmt::format(
+      "    {0} dr{1} = rows + 6 * n * ({2});\n    {0} dgamma{1} = dr{1} + n;\n"
+      "    {0} da{1} = dgamma{1} + n;\n    {0} dbeta{1} = da{1} + dim;\n",
+      type, suffix, k);
+}
+
+// The elimination from the tip, along all directions: rows of r_k, γ_k, a_k, β_k.
+std::string jacobian_backward() {
+  std::string text;
+  {
+    loop_step tip;
+    vector_step vs(tip);
+    const sx q = tip.in("v.q[k]");
+    const elimination_step t = eliminate_tip(tip.in(mass_k), q);
+    require_independent(tip, {t.r, t.gamma}, {q}, "r and gamma of the tip depend on p");
+    vs.directions("0", "n", {{t.r, "dr"}, {t.gamma, "dgamma"}}, {});
+    vs.directions("0", "dim", {{t.a, "da"}, {t.beta, "dbeta"}}, {});
+    vs.seed("n + k", {{t.a, "da"}, {t.beta, "dbeta"}}, {{q, momentum_derivative(tip, length_k)}});
+    text += block("the tip", "    const int k = n - 1;\n" + link_rows("k", "", false) + vs.emit());
+  }
+  loop_step st;
+  vector_step vs(st);
+  const elimination_inputs in = read_elimination(st);
+  const elimination_step e = eliminate(in);
+  require_independent(st, {e.r, e.gamma}, {in.q, in.q_next, in.beta_next},
+                      "r and gamma depend on p");
+  const std::vector<vector_step::row> angle_out{
+      {e.r, "dr"}, {e.gamma, "dgamma"}, {e.a, "da"}, {e.beta, "dbeta"}};
+  const std::vector<vector_step::row> momentum_out{{e.a, "da"}, {e.beta, "dbeta"}};
+  vs.directions("0", "n", angle_out, {{in.r_next, "dr1"}, {in.beta_next, "dbeta1"}});
+  vs.directions("n", "dim", momentum_out, {{in.beta_next, "dbeta1"}});
+  for (const bool first : {true, false}) {
+    const auto [dC, dS] = turn_derivative(st, first);
+    vs.seed(first ? "k" : "k + 1", angle_out, {{in.C, dC}, {in.S, dS}});
+  }
+  vs.seed("n + k", momentum_out, {{in.q, momentum_derivative(st, length_k)}});
+  vs.seed("n + k + 1", momentum_out,
+          {{in.q_next, momentum_derivative(st, "params[chain_layout::length_index(n, k + 1)]")}});
+  text += loop("int k = n - 2; k >= 0; --k",
+               link_rows("k", "", false) + link_rows("k + 1", "1", true) + vs.emit());
+  return text;
+}
+
+// The pass from the pivot, along all directions: rows k (φ̇_k) and n + k (ṗ_k) of the
+// Jacobian, and the running rows of the suspension's velocity (x, y).
+std::string jacobian_forward() {
+  std::string text = "  for (int j = 0; j < dim; ++j) {\n    dx[j] = 0.0;\n    dy[j] = 0.0;\n  }\n";
+  for (const bool last : {false, true}) {
+    loop_step st;
+    vector_step vs(st);
+    const pivot_inputs in = read_pivot(st, last);
+    const pivot_step p = step_from_pivot(in, last);
+    const sx s = st.in("v.s[k]"), c = st.in("v.c[k]");
+    const auto [dphi, dp] = hamilton_equations(st, p.omega, p.kinetic_force, s);
+    std::vector<vector_step::row> out{{dphi, "f"}, {dp, "g"}};
+    if (!last) {
+      out.emplace_back(p.x_next, "dx");
+      out.emplace_back(p.y_next, "dy");
+    }
+    vs.directions("0", "n", out,
+                  {{in.a, "da"}, {in.gamma, "dgamma"}, {in.r, "dr"}, {in.beta, "dbeta"},
+                   {in.x, "dx"}, {in.y, "dy"}});
+    vs.directions("n", "dim", out, {{in.a, "da"}, {in.beta, "dbeta"}, {in.x, "dx"}, {in.y, "dy"}});
+    if (last) {
+      vs.seed("k", out, {{s, c}});
+    } else {
+      for (const bool first : {true, false}) {
+        const auto [dC, dS] = turn_derivative(st, first);
+        std::vector<std::pair<sx, sx>> seeds{{in.C, dC}, {in.S, dS}};
+        if (first) seeds.emplace_back(s, c);
+        vs.seed(first ? "k" : "k + 1", out, seeds);
+      }
+    }
+    const std::string rows = link_rows("k", "", true) +
+                             "    double* const f = jac + k * dim;\n"
+                             "    double* const g = jac + (n + k) * dim;\n";
+    text += last ? block("the tip", "    const int k = n - 1;\n" + rows + vs.emit())
+                 : loop("int k = 0; k + 1 < n; ++k", rows + vs.emit());
+  }
+  return text;
+}
+
 // f from the value pass.
 std::string hamilton_step(bool velocities_only, const std::string& target) {
   loop_step st;
@@ -344,18 +527,16 @@ std::vector<function_text> loop_functions() {
                 "const double* u, double* ju, double* work) noexcept",
                 values_call + "  evaluate(n, x, x + n, params, v);\n" +
                     "  tangent(n, params, v, u, u + n, ju);\n"});
-  fs.push_back({"The Jacobian df/dx, row-major 2n x 2n: 2n Jacobian-vector products, O(n^2).",
+  fs.push_back({"The Jacobian df/dx, row-major 2n x 2n, in O(n^2): the forward mode along all 2n "
+                "directions at once. Its workspace is jacobian_workspace_size(n) doubles.",
                 "void jacobian(int n, const double* x, const double* params, double* jac, "
                 "double* work) noexcept",
                 values_call + "  evaluate(n, x, x + n, params, v);\n" +
                     "  const int dim = 2 * n;\n"
-                    "  for (int i = 0; i < dim; ++i) v.direction[i] = 0.0;\n"
-                    "  for (int j = 0; j < dim; ++j) {\n"
-                    "    v.direction[j] = 1.0;\n"
-                    "    tangent(n, params, v, v.direction, v.direction + n, v.column);\n"
-                    "    v.direction[j] = 0.0;\n"
-                    "    for (int i = 0; i < dim; ++i) jac[i * dim + j] = v.column[i];\n"
-                    "  }\n"});
+                    "  double* const rows = work + workspace_size(n);\n"
+                    "  double* const dx = rows + 6 * n * n;\n"
+                    "  double* const dy = dx + dim;\n" +
+                    jacobian_backward() + jacobian_forward()});
   fs.push_back({"H = T + V with T = 1/2 sum m_k |v_k|^2 from the elimination.",
                 "double hamiltonian(int n, const double* x, const double* params, double* work) "
                 "noexcept",
@@ -527,6 +708,13 @@ namespace npend::generated::chain_loop {{
 /// Doubles of workspace the functions need for n links.
 inline constexpr int workspace_size(int n) noexcept {{ return {} * n; }}
 
+/// Doubles of workspace the Jacobian needs: workspace_size(n) and the tangent rows of every
+/// link (O(n^2), as the Jacobian itself).
+inline constexpr std::size_t jacobian_workspace_size(int n) noexcept {{
+  const auto links = static_cast<std::size_t>(n);
+  return static_cast<std::size_t>(workspace_size(n)) + 6 * links * links + 4 * links;
+}}
+
 )",
                                     arrays);
   out.source = banner + fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n\n", loop_stem) +
@@ -550,7 +738,9 @@ inline constexpr int workspace_size(int n) noexcept {{ return {} * n; }}
   out.header +=
       "/// The loop kernels' entry of the runtime's kernel table.\n"
       "extern const loop_kernels kernels;\n\n}  // namespace npend::generated::chain_loop\n";
-  out.source += "\nconst loop_kernels kernels = {\n    .workspace_size = &workspace_size,\n";
+  out.source +=
+      "\nconst loop_kernels kernels = {\n    .workspace_size = &workspace_size,\n"
+      "    .jacobian_workspace_size = &jacobian_workspace_size,\n";
   for (const auto& f : fs) {
     const auto open = f.signature.find('(');
     const auto start = f.signature.rfind(' ', open) + 1;

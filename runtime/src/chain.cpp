@@ -82,9 +82,10 @@ const physical_kernels& chain::physical_table() const {
   return *m_physical_kernels;
 }
 
-double* chain::loop_workspace() const {
+double* chain::loop_workspace(bool jacobian) const {
   thread_local std::vector<double> work;
-  const auto size = static_cast<std::size_t>(m_loop->workspace_size(m_links));
+  const std::size_t size = jacobian ? m_loop->jacobian_workspace_size(m_links)
+                                    : static_cast<std::size_t>(m_loop->workspace_size(m_links));
   if (work.size() < size) work.resize(size);
   return work.data();
 }
@@ -129,7 +130,7 @@ void chain::evaluate_rhs(const double* x, double t, double* dxdt) const noexcept
 
 void chain::evaluate_jacobian(const double* x, double t, double* jac) const noexcept {
   if (m_loop != nullptr)
-    return m_loop->jacobian(m_links, x, m_packed.data(), jac, loop_workspace());
+    return m_loop->jacobian(m_links, x, m_packed.data(), jac, loop_workspace(true));
   if (!m_physical) return m_kernels->jacobian(x, m_packed.data(), jac);
   input_buffer w;
   fill_inputs(t, w.data());

@@ -23,8 +23,13 @@ namespace loops = npend::generated::chain_loop;
 
 namespace {
 
+// Exactly the sizes the header promises, so that the sanitized build catches a kernel that
+// reads or writes past them.
 std::vector<double> workspace(int n) {
   return std::vector<double>(static_cast<std::size_t>(loops::workspace_size(n)));
+}
+std::vector<double> jacobian_workspace(int n) {
+  return std::vector<double>(loops::jacobian_workspace_size(n));
 }
 
 // The worst relative error of each loop kernel against the unrolled one of n links.
@@ -51,7 +56,8 @@ void compare_with_unrolled(int n, std::mt19937_64& rng, kernel_errors& e) {
   loops::rhs(n, x.data(), params.data(), a.data(), work.data());
   k.rhs(x.data(), params.data(), b.data());
   compare(dim, e.rhs);
-  loops::jacobian(n, x.data(), params.data(), a.data(), work.data());
+  auto jacobian_work = jacobian_workspace(n);
+  loops::jacobian(n, x.data(), params.data(), a.data(), jacobian_work.data());
   k.jacobian(x.data(), params.data(), b.data());
   compare(dim * dim, e.jacobian);
   e.hamiltonian = std::max(e.hamiltonian,

@@ -129,8 +129,9 @@ class chain {
   chain_parameters m_params;
   std::vector<double> m_packed;
   std::vector<double> m_physical_packed;  ///< the physical layout, also for point-mass chains
-  // The workspace of the loop kernels, one per thread (a chain is shared by threads).
-  double* loop_workspace() const;
+  // The workspace of the loop kernels, one per thread (a chain is shared by threads); the
+  // Jacobian's is O(n²), the others' O(n).
+  double* loop_workspace(bool jacobian = false) const;
 
   const chain_kernels* m_kernels = nullptr;
   const physical_kernels* m_physical_kernels = nullptr;

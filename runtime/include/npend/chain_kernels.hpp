@@ -8,6 +8,8 @@
 // generated code) for that reason.
 #pragma once
 
+#include <cstddef>
+
 namespace npend {
 
 /// Where the coordinates and parameters of an n-link chain sit in the flat arrays the
@@ -114,10 +116,11 @@ struct physical_kernels {
 
 /// The loop kernels (generated/chain_loop.*): the point-mass chain's functions for any link
 /// count n, as loops over the links, for the counts without unrolled kernels. Each takes n
-/// first and a workspace of workspace_size(n) doubles last; the functions are those of
-/// chain_kernels, plus J(x)·u in O(n).
+/// first and a workspace of workspace_size(n) doubles last (jacobian_workspace_size(n) for
+/// the Jacobian); the functions are those of chain_kernels, plus J(x)·u in O(n).
 struct loop_kernels {
   int (*workspace_size)(int n) noexcept;
+  std::size_t (*jacobian_workspace_size)(int n) noexcept;
   void (*rhs)(int n, const double* x, const double* params, double* dxdt, double* work) noexcept;
   void (*jacobian_vector)(int n, const double* x, const double* params, const double* u, double* ju,
                           double* work) noexcept;
