@@ -2,6 +2,7 @@
 #include "chain_loop.hpp"
 
 #include <cmath>
+#include <npend/batch_math.hpp>
 
 namespace npend::generated::chain_loop {
 
@@ -50,60 +51,107 @@ passes cut(int n, double* work) noexcept {
   return v;
 }
 
-// The value pass at (phi, p): sines, cosines and turns, the elimination from the tip and the
-// pass from the pivot (articulated_form.hpp of the generator).
-void evaluate(int n, const double* phi, const double* p, const double* params, const passes& v) noexcept {
-  for (int k = 0; k < n; ++k) {
-    const double t0 = std::sin(phi[k]);
-    const double t1 = std::cos(phi[k]);
-    v.s[k] = t0;
-    v.c[k] = t1;
-    v.q[k] = 1.0 / params[chain_layout::length_index(n, k)] * p[k];
+// s_k, c_k of every phi_k by SLEEF's vectorised sincos (1 ulp, <npend/batch_math.hpp>), batch_width
+// angles at a time, the last partial batch through a padded copy: the libm calls, one at a time,
+// took most of the right-hand side's time.
+void sines_and_cosines(int n, const double* phi, const passes& v) noexcept {
+  int k = 0;
+  for (; k + batch_width <= n; k += batch_width) batch_sincos(phi + k, v.s + k, v.c + k);
+  if (k == n) return;
+  double x[batch_width] = {}, s[batch_width], c[batch_width];
+  for (int i = 0; k + i < n; ++i) x[i] = phi[k + i];
+  batch_sincos(x, s, c);
+  for (int i = 0; k + i < n; ++i) {
+    v.s[k + i] = s[i];
+    v.c[k + i] = c[i];
   }
-  for (int k = 0; k + 1 < n; ++k) {
-    v.cd[k] = v.s[k + 1] * v.s[k] + v.c[k + 1] * v.c[k];
-    v.sd[k] = v.s[k + 1] * v.c[k] - v.c[k + 1] * v.s[k];
-  }
+}
+
+// The elimination from the tip at (phi, p) (articulated_form.hpp of the generator).
+void eliminate_from_tip(int n, const double* phi, const double* p, const double* params, const passes& v) noexcept {
+  sines_and_cosines(n, phi, v);
+  double s1, c1, q1, mu1, r1, beta1;
   {  // the tip
     const int k = n - 1;
+    const double t0 = 1.0 / params[chain_layout::length_index(n, k)] * p[k];
+    v.q[k] = t0;
     v.mu[k] = params[chain_layout::mass_index(n, k)];
     v.d[k] = params[chain_layout::mass_index(n, k)];
     v.r[k] = params[chain_layout::mass_index(n, k)];
     v.gamma[k] = 0.0;
-    v.a[k] = v.q[k] * (1.0 / params[chain_layout::mass_index(n, k)]);
+    v.a[k] = t0 * (1.0 / params[chain_layout::mass_index(n, k)]);
     v.beta[k] = 0.0;
+    s1 = v.s[k];
+    c1 = v.c[k];
+    q1 = t0;
+    mu1 = params[chain_layout::mass_index(n, k)];
+    r1 = params[chain_layout::mass_index(n, k)];
+    beta1 = 0.0;
   }
   for (int k = n - 2; k >= 0; --k) {
-    const double t0 = params[chain_layout::mass_index(n, k)] + v.r[k + 1] * (v.sd[k] * v.sd[k]);
-    const double t1 = 1.0 / t0;
-    const double t2 = params[chain_layout::mass_index(n, k)] * (params[chain_layout::mass_index(n, k)] + v.r[k + 1]);
-    const double t3 = v.r[k + 1] * (v.cd[k] * v.sd[k]);
-    const double t4 = t1 * (v.q[k] - v.cd[k] * v.q[k + 1] - v.sd[k] * v.beta[k + 1]);
-    v.mu[k] = params[chain_layout::mass_index(n, k)] + v.mu[k + 1];
-    v.d[k] = t0;
-    v.r[k] = t1 * t2;
-    v.gamma[k] = t1 * t3;
-    v.a[k] = t4;
-    v.beta[k] = t3 * t4 + (v.cd[k] * v.beta[k + 1] - v.sd[k] * v.q[k + 1]);
+    const double t0 = 1.0 / params[chain_layout::length_index(n, k)] * p[k];
+    const double t1 = v.s[k] * s1 + v.c[k] * c1;
+    const double t2 = v.c[k] * s1 - v.s[k] * c1;
+    const double t3 = params[chain_layout::mass_index(n, k)] + mu1;
+    const double t4 = params[chain_layout::mass_index(n, k)] + r1 * (t2 * t2);
+    const double t5 = 1.0 / t4;
+    const double t6 = params[chain_layout::mass_index(n, k)] * (params[chain_layout::mass_index(n, k)] + r1);
+    const double t7 = t5 * t6;
+    const double t8 = r1 * (t1 * t2);
+    const double t9 = t5 * (t0 - t1 * q1 - t2 * beta1);
+    const double t10 = t8 * t9 + (t1 * beta1 - t2 * q1);
+    v.q[k] = t0;
+    v.cd[k] = t1;
+    v.sd[k] = t2;
+    v.mu[k] = t3;
+    v.d[k] = t4;
+    v.r[k] = t7;
+    v.gamma[k] = t5 * t8;
+    v.a[k] = t9;
+    v.beta[k] = t10;
+    const double out9 = v.s[k];
+    const double out10 = v.c[k];
+    const double out11 = t0;
+    const double out12 = t3;
+    const double out13 = t7;
+    const double out14 = t10;
+    s1 = out9;
+    c1 = out10;
+    q1 = out11;
+    mu1 = out12;
+    r1 = out13;
+    beta1 = out14;
   }
+}
+
+// The value pass at (phi, p): the elimination and the pass from the pivot.
+void evaluate(int n, const double* phi, const double* p, const double* params, const passes& v) noexcept {
+  eliminate_from_tip(n, phi, p, params, v);
+  double vx = 0.0, vy = 0.0;
   v.x[0] = 0.0;
   v.y[0] = 0.0;
   for (int k = 0; k + 1 < n; ++k) {
-    const double t0 = v.a[k] - v.gamma[k] * v.y[k];
-    const double t1 = t0 - v.x[k];
+    const double t0 = v.a[k] - v.gamma[k] * vy;
+    const double t1 = t0 - vx;
+    const double t2 = v.cd[k] * t0 - vy * v.sd[k];
+    const double t3 = vy * v.cd[k] + v.sd[k] * t0;
     v.w[k] = t0;
     v.omega[k] = t1;
-    v.force[k] = -(t1 * (v.beta[k] + v.r[k] * v.y[k]));
-    v.x[k + 1] = v.cd[k] * t0 - v.y[k] * v.sd[k];
-    v.y[k + 1] = v.y[k] * v.cd[k] + v.sd[k] * t0;
+    v.force[k] = -(t1 * (v.beta[k] + v.r[k] * vy));
+    v.x[k + 1] = t2;
+    v.y[k + 1] = t3;
+    const double out5 = t2;
+    const double out6 = t3;
+    vx = out5;
+    vy = out6;
   }
   {  // the tip
     const int k = n - 1;
-    const double t0 = v.a[k] - v.gamma[k] * v.y[k];
-    const double t1 = t0 - v.x[k];
+    const double t0 = v.a[k] - v.gamma[k] * vy;
+    const double t1 = t0 - vx;
     v.w[k] = t0;
     v.omega[k] = t1;
-    v.force[k] = -(t1 * (v.beta[k] + v.r[k] * v.y[k]));
+    v.force[k] = -(t1 * (v.beta[k] + v.r[k] * vy));
   }
 }
 
@@ -194,11 +242,25 @@ void tangent(int n, const double* params, const passes& v, const double* dphi, c
 
 void rhs(int n, const double* x, const double* params, double* dxdt, double* work) noexcept {
   const passes v = cut(n, work);
-  evaluate(n, x, x + n, params, v);
-  for (int k = 0; k < n; ++k) {
-    const double t0 = params[chain_layout::length_index(n, k)] * (v.mu[k] * params[chain_layout::gravity_index(n)]);
-    dxdt[k] = v.omega[k] * (1.0 / params[chain_layout::length_index(n, k)]);
-    dxdt[n + k] = v.force[k] - v.s[k] * t0;
+  eliminate_from_tip(n, x, x + n, params, v);
+  double vx = 0.0, vy = 0.0;
+  for (int k = 0; k + 1 < n; ++k) {
+    const double t0 = v.a[k] - v.gamma[k] * vy;
+    const double t1 = t0 - vx;
+    const double t2 = params[chain_layout::length_index(n, k)] * (v.mu[k] * params[chain_layout::gravity_index(n)]);
+    dxdt[k] = t1 * (1.0 / params[chain_layout::length_index(n, k)]);
+    dxdt[n + k] = -(t1 * (v.beta[k] + v.r[k] * vy)) - v.s[k] * t2;
+    const double out2 = v.cd[k] * t0 - vy * v.sd[k];
+    const double out3 = vy * v.cd[k] + v.sd[k] * t0;
+    vx = out2;
+    vy = out3;
+  }
+  {  // the tip
+    const int k = n - 1;
+    const double t0 = v.a[k] - v.gamma[k] * vy - vx;
+    const double t1 = params[chain_layout::length_index(n, k)] * (v.mu[k] * params[chain_layout::gravity_index(n)]);
+    dxdt[k] = t0 * (1.0 / params[chain_layout::length_index(n, k)]);
+    dxdt[n + k] = -(t0 * (v.beta[k] + v.r[k] * vy)) - v.s[k] * t1;
   }
 }
 
@@ -452,11 +514,13 @@ double hamiltonian(int n, const double* x, const double* params, double* work) n
   double twice_t = 0.0, potential = 0.0;
   for (int k = 0; k < n; ++k) {
     const double t0 = (v.y[k] * v.y[k] + v.w[k] * v.w[k]) * params[chain_layout::mass_index(n, k)];
-    twice_t = t0 + twice_t;
+    const double out0 = t0 + twice_t;
+    twice_t = out0;
   }
   for (int k = 0; k < n; ++k) {
     const double t0 = params[chain_layout::length_index(n, k)] * (v.mu[k] * params[chain_layout::gravity_index(n)]);
-    potential = (1.0 - v.c[k]) * t0 + potential;
+    const double out0 = (1.0 - v.c[k]) * t0 + potential;
+    potential = out0;
   }
   return 0.5 * twice_t + potential;
 }
@@ -471,12 +535,7 @@ void velocities(int n, const double* phi, const double* p, const double* params,
 
 void momenta(int n, const double* phi, const double* dphi, const double* params, double* p, double* work) noexcept {
   const passes v = cut(n, work);
-  for (int k = 0; k < n; ++k) {
-    const double t0 = std::sin(phi[k]);
-    const double t1 = std::cos(phi[k]);
-    v.s[k] = t0;
-    v.c[k] = t1;
-  }
+  sines_and_cosines(n, phi, v);
   for (int k = 0; k < n; ++k) {
     const double t0 = dphi[k] * params[chain_layout::length_index(n, k)];
     v.x[k] = t0 * v.c[k] + (k > 0 ? v.x[k - 1] : 0.0);
@@ -489,21 +548,15 @@ void momenta(int n, const double* phi, const double* dphi, const double* params,
     const double t2 = (t0 * v.c[k] - t1 * v.s[k]) * params[chain_layout::length_index(n, k)];
     const double out0 = t0;
     const double out1 = t1;
-    const double out2 = t2;
+    p[k] = t2;
     px = out0;
     py = out1;
-    p[k] = out2;
   }
 }
 
 double kinetic_energy(int n, const double* phi, const double* dphi, const double* params, double* work) noexcept {
   const passes v = cut(n, work);
-  for (int k = 0; k < n; ++k) {
-    const double t0 = std::sin(phi[k]);
-    const double t1 = std::cos(phi[k]);
-    v.s[k] = t0;
-    v.c[k] = t1;
-  }
+  sines_and_cosines(n, phi, v);
   for (int k = 0; k < n; ++k) {
     const double t0 = dphi[k] * params[chain_layout::length_index(n, k)];
     v.x[k] = t0 * v.c[k] + (k > 0 ? v.x[k - 1] : 0.0);
@@ -512,19 +565,15 @@ double kinetic_energy(int n, const double* phi, const double* dphi, const double
   double twice_t = 0.0;
   for (int k = 0; k < n; ++k) {
     const double t0 = (v.y[k] * v.y[k] + v.x[k] * v.x[k]) * params[chain_layout::mass_index(n, k)];
-    twice_t = t0 + twice_t;
+    const double out0 = t0 + twice_t;
+    twice_t = out0;
   }
   return 0.5 * twice_t;
 }
 
 double potential_energy(int n, const double* phi, const double* params, double* work) noexcept {
   const passes v = cut(n, work);
-  for (int k = 0; k < n; ++k) {
-    const double t0 = std::sin(phi[k]);
-    const double t1 = std::cos(phi[k]);
-    v.s[k] = t0;
-    v.c[k] = t1;
-  }
+  sines_and_cosines(n, phi, v);
   for (int k = n - 1; k >= 0; --k) {
     const double t0 = (k + 1 < n ? v.mu[k + 1] : 0.0) + params[chain_layout::mass_index(n, k)];
     v.mu[k] = t0;
@@ -532,7 +581,8 @@ double potential_energy(int n, const double* phi, const double* params, double* 
   double potential = 0.0;
   for (int k = 0; k < n; ++k) {
     const double t0 = params[chain_layout::length_index(n, k)] * (v.mu[k] * params[chain_layout::gravity_index(n)]);
-    potential = (1.0 - v.c[k]) * t0 + potential;
+    const double out0 = (1.0 - v.c[k]) * t0 + potential;
+    potential = out0;
   }
   return potential;
 }
@@ -543,12 +593,7 @@ double lagrangian(int n, const double* phi, const double* dphi, const double* pa
 
 void mass_matrix(int n, const double* phi, const double* params, double* A, double* work) noexcept {
   const passes v = cut(n, work);
-  for (int k = 0; k < n; ++k) {
-    const double t0 = std::sin(phi[k]);
-    const double t1 = std::cos(phi[k]);
-    v.s[k] = t0;
-    v.c[k] = t1;
-  }
+  sines_and_cosines(n, phi, v);
   for (int k = n - 1; k >= 0; --k) {
     const double t0 = (k + 1 < n ? v.mu[k + 1] : 0.0) + params[chain_layout::mass_index(n, k)];
     v.mu[k] = t0;
@@ -573,7 +618,8 @@ double det_mass_matrix(int n, const double* phi, const double* params, double* w
   double det = 1.0;
   for (int k = 0; k < n; ++k) {
     const double t0 = params[chain_layout::length_index(n, k)] * params[chain_layout::length_index(n, k)];
-    det = v.d[k] * t0 * det;
+    const double out0 = v.d[k] * t0 * det;
+    det = out0;
   }
   return det;
 }
@@ -593,12 +639,7 @@ double log_det_mass_matrix(int n, const double* phi, const double* params, doubl
 
 void potential_gradient(int n, const double* phi, const double* params, double* grad, double* work) noexcept {
   const passes v = cut(n, work);
-  for (int k = 0; k < n; ++k) {
-    const double t0 = std::sin(phi[k]);
-    const double t1 = std::cos(phi[k]);
-    v.s[k] = t0;
-    v.c[k] = t1;
-  }
+  sines_and_cosines(n, phi, v);
   for (int k = n - 1; k >= 0; --k) {
     const double t0 = (k + 1 < n ? v.mu[k + 1] : 0.0) + params[chain_layout::mass_index(n, k)];
     v.mu[k] = t0;
@@ -611,12 +652,7 @@ void potential_gradient(int n, const double* phi, const double* params, double* 
 
 void potential_hessian(int n, const double* phi, const double* params, double* hess, double* work) noexcept {
   const passes v = cut(n, work);
-  for (int k = 0; k < n; ++k) {
-    const double t0 = std::sin(phi[k]);
-    const double t1 = std::cos(phi[k]);
-    v.s[k] = t0;
-    v.c[k] = t1;
-  }
+  sines_and_cosines(n, phi, v);
   for (int k = n - 1; k >= 0; --k) {
     const double t0 = (k + 1 < n ? v.mu[k + 1] : 0.0) + params[chain_layout::mass_index(n, k)];
     v.mu[k] = t0;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <memory>
 #include <stdexcept>
 #include <utility>
@@ -47,28 +48,26 @@ class loop_step {
   }
   bool is_zero(sx value) const { return m_graph->is_constant(value, 0); }
 
-  // The step's statements. Where an output is assigned to a name the step also reads (a
-  // running sum), every output is computed before any is assigned.
+  // The step's statements. An output assigned to a name the step also reads (a value carried
+  // to the next link) is assigned last, after every output has been computed from the old
+  // value.
   std::string emit(const std::string& indent) const {
     const auto leaf = [&](const node& nd) -> std::string {
       if (nd.input != input_kind::local) throw std::logic_error("loop step: a non-local input");
       return m_inputs.at(static_cast<std::size_t>(nd.index));
     };
     const emitted_statements st = emit_statements(*m_graph, m_outputs, leaf, indent);
-    std::string text = st.text;
-    bool reads_target = false;
-    for (const auto& target : m_targets)
-      for (const auto& input : m_inputs) reads_target = reads_target || target == input;
-    if (reads_target && m_outputs.size() > 1) {
-      for (std::size_t i = 0; i < m_outputs.size(); ++i)
-        text += fmt::format("{}const double out{} = {};\n", indent, i, st.outputs[i]);
-      for (std::size_t i = 0; i < m_outputs.size(); ++i)
-        text += fmt::format("{}{} = out{};\n", indent, m_targets[i], i);
-      return text;
+    std::string text = st.text, carried;
+    for (std::size_t i = 0; i < m_outputs.size(); ++i) {
+      const bool read = std::find(m_inputs.begin(), m_inputs.end(), m_targets[i]) != m_inputs.end();
+      if (!read) {
+        text += fmt::format("{}{} = {};\n", indent, m_targets[i], st.outputs[i]);
+        continue;
+      }
+      text += fmt::format("{}const double out{} = {};\n", indent, i, st.outputs[i]);
+      carried += fmt::format("{}{} = out{};\n", indent, m_targets[i], i);
     }
-    for (std::size_t i = 0; i < m_outputs.size(); ++i)
-      text += fmt::format("{}{} = {};\n", indent, m_targets[i], st.outputs[i]);
-    return text;
+    return text + carried;
   }
 
  private:
@@ -94,27 +93,10 @@ std::string block(const std::string& comment, const std::string& body) {
 }
 const char* const in_loop = "    ";
 
-// s_k, c_k of φ_k, and q_k = p_k / l_k when `with_momentum`.
-std::string angle_step(bool with_momentum) {
-  loop_step st;
-  const sx phi = st.in("phi[k]");
-  st.out("v.s[k]", sin(phi));
-  st.out("v.c[k]", cos(phi));
-  if (with_momentum) st.out("v.q[k]", st.in("p[k]") * (st.constant(1) / st.in(length_k)));
-  return loop("int k = 0; k < n; ++k", st.emit(in_loop));
-}
+// s_k, c_k of every φ_k (the generated sines_and_cosines).
+std::string angle_step() { return "  sines_and_cosines(n, phi, v);\n"; }
 
-// The turns C_k, S_k between neighbouring rods.
-std::string turn_step() {
-  loop_step st;
-  const rod_turn t =
-      turn_between(st.in("v.s[k]"), st.in("v.c[k]"), st.in("v.s[k + 1]"), st.in("v.c[k + 1]"));
-  st.out("v.cd[k]", t.C);
-  st.out("v.sd[k]", t.S);
-  return loop("int k = 0; k + 1 < n; ++k", st.emit(in_loop));
-}
-
-// The inputs of link k's elimination step, as the value and the tangent step read them.
+// The inputs of link k's elimination step, as the tangent step reads them.
 struct elimination_inputs {
   sx mass, C, S, q, q_next, r_next, beta_next;
 };
@@ -126,42 +108,69 @@ elimination_step eliminate(const elimination_inputs& e) {
   return eliminate_link(e.mass, e.C, e.S, e.q, e.q_next, e.r_next, e.beta_next);
 }
 
-// The elimination from the tip: μ_k, d_k, r_k, γ_k, a_k, β_k.
-std::string elimination_pass() {
-  loop_step tip;
-  const sx m = tip.in(mass_k);
-  const elimination_step t = eliminate_tip(m, tip.in("v.q[k]"));
-  tip.out("v.mu[k]", m);
-  tip.out("v.d[k]", t.d);
-  tip.out("v.r[k]", t.r);
-  tip.out("v.gamma[k]", t.gamma);
-  tip.out("v.a[k]", t.a);
-  tip.out("v.beta[k]", t.beta);
+// Link k's sine and cosine (from sines_and_cosines) and q_k = p_k / l_k, stored.
+struct link_angle {
+  sx s, c, q;
+};
+link_angle read_angle(loop_step& st) {
+  const link_angle a{st.in("v.s[k]"), st.in("v.c[k]"),
+                     st.in("p[k]") * (st.constant(1) / st.in(length_k))};
+  st.out("v.q[k]", a.q);
+  return a;
+}
 
-  loop_step st;
-  const elimination_inputs in = read_elimination(st);
-  const elimination_step e = eliminate(in);
-  st.out("v.mu[k]", in.mass + st.in("v.mu[k + 1]"));
+// Stores link k's elimination (and μ_k) and carries what link k − 1 reads in locals.
+void store_elimination(loop_step& st, const link_angle& a, sx mu, const elimination_step& e) {
+  st.out("v.mu[k]", mu);
   st.out("v.d[k]", e.d);
   st.out("v.r[k]", e.r);
   st.out("v.gamma[k]", e.gamma);
   st.out("v.a[k]", e.a);
   st.out("v.beta[k]", e.beta);
-  return block("the tip", "    const int k = n - 1;\n" + tip.emit(in_loop)) +
-         loop("int k = n - 2; k >= 0; --k", st.emit(in_loop));
+  st.out("s1", a.s);
+  st.out("c1", a.c);
+  st.out("q1", a.q);
+  st.out("mu1", mu);
+  st.out("r1", e.r);
+  st.out("beta1", e.beta);
 }
 
-// The inputs of link k's step from the pivot.
+// The elimination from the tip: μ_k, d_k, r_k, γ_k, a_k, β_k, with each link's q_k and turn
+// C_k, S_k in the same pass. What link k reads of link k + 1 comes from registers (the locals
+// s1 .. beta1), not from a store just made, which would lengthen the pass's chain of
+// divisions.
+std::string elimination_pass() {
+  std::string text = angle_step() + "  double s1, c1, q1, mu1, r1, beta1;\n";
+  loop_step tip;
+  const link_angle ta = read_angle(tip);
+  const sx m = tip.in(mass_k);
+  store_elimination(tip, ta, m, eliminate_tip(m, ta.q));
+  text += block("the tip", "    const int k = n - 1;\n" + tip.emit(in_loop));
+
+  loop_step st;
+  const link_angle a = read_angle(st);
+  const rod_turn t = turn_between(a.s, a.c, st.in("s1"), st.in("c1"));
+  st.out("v.cd[k]", t.C);
+  st.out("v.sd[k]", t.S);
+  const sx mass = st.in(mass_k);
+  const elimination_step e =
+      eliminate_link(mass, t.C, t.S, a.q, st.in("q1"), st.in("r1"), st.in("beta1"));
+  store_elimination(st, a, mass + st.in("mu1"), e);
+  return text + loop("int k = n - 2; k >= 0; --k", st.emit(in_loop));
+}
+
+// The inputs of link k's step from the pivot; the suspension's velocity (x, y) comes from
+// the locals `vx`, `vy` when `running` (the passes), else from v.x, v.y (the tangent).
 struct pivot_inputs {
   sx a, gamma, r, beta, x, y, C, S;
 };
-pivot_inputs read_pivot(loop_step& st, bool last) {
+pivot_inputs read_pivot(loop_step& st, bool last, bool running = false) {
   pivot_inputs p{st.in("v.a[k]"),
                  st.in("v.gamma[k]"),
                  st.in("v.r[k]"),
                  st.in("v.beta[k]"),
-                 st.in("v.x[k]"),
-                 st.in("v.y[k]"),
+                 st.in(running ? "vx" : "v.x[k]"),
+                 st.in(running ? "vy" : "v.y[k]"),
                  {},
                  {}};
   if (!last) {
@@ -175,26 +184,6 @@ pivot_step step_from_pivot(const pivot_inputs& p, bool last) {
               : pivot_link(p.a, p.gamma, p.r, p.beta, p.x, p.y, p.C, p.S);
 }
 
-// The pass from the pivot: w_k, ω_k, the kinetic part of ṗ_k and the next suspension's
-// velocity (x_{k+1}, y_{k+1}).
-std::string pivot_pass() {
-  std::string text = "  v.x[0] = 0.0;\n  v.y[0] = 0.0;\n";
-  for (const bool last : {false, true}) {
-    loop_step st;
-    const pivot_step p = step_from_pivot(read_pivot(st, last), last);
-    st.out("v.w[k]", p.w);
-    st.out("v.omega[k]", p.omega);
-    st.out("v.force[k]", p.kinetic_force);
-    if (!last) {
-      st.out("v.x[k + 1]", p.x_next);
-      st.out("v.y[k + 1]", p.y_next);
-    }
-    text += last ? block("the tip", "    const int k = n - 1;\n" + st.emit(in_loop))
-                 : loop("int k = 0; k + 1 < n; ++k", st.emit(in_loop));
-  }
-  return text;
-}
-
 // f_k = φ̇_k = ω_k / l_k and f_{n+k} = ṗ_k = −ω_k U_k − g μ_k l_k sin φ_k from the passes'
 // ω, kinetic force and sine (nodes of `st`).
 std::pair<sx, sx> hamilton_equations(loop_step& st, sx omega, sx kinetic_force, sx s) {
@@ -202,6 +191,38 @@ std::pair<sx, sx> hamilton_equations(loop_step& st, sx omega, sx kinetic_force, 
   const sx dphi = omega * (st.constant(1) / l);
   const sx dp = kinetic_force - gravity_moment(st.in(gravity), st.in("v.mu[k]"), l, s);
   return {dphi, dp};
+}
+
+// The pass from the pivot, the suspension's velocity (x, y) carried in locals (vx, vy). With `f`
+// empty: w_k, ω_k, the kinetic part of ṗ_k and (x_k, y_k) stored for the later passes; else
+// only Hamilton's equations, into f (rhs needs nothing else, and stores nothing else).
+std::string pivot_pass(const std::string& f = "") {
+  std::string text = "  double vx = 0.0, vy = 0.0;\n";
+  if (f.empty()) text += "  v.x[0] = 0.0;\n  v.y[0] = 0.0;\n";
+  for (const bool last : {false, true}) {
+    loop_step st;
+    const pivot_step p = step_from_pivot(read_pivot(st, last, true), last);
+    if (f.empty()) {
+      st.out("v.w[k]", p.w);
+      st.out("v.omega[k]", p.omega);
+      st.out("v.force[k]", p.kinetic_force);
+    } else {
+      const auto [dphi, dp] = hamilton_equations(st, p.omega, p.kinetic_force, st.in("v.s[k]"));
+      st.out(f + "[k]", dphi);
+      st.out(f + "[n + k]", dp);
+    }
+    if (!last) {
+      if (f.empty()) {
+        st.out("v.x[k + 1]", p.x_next);
+        st.out("v.y[k + 1]", p.y_next);
+      }
+      st.out("vx", p.x_next);
+      st.out("vy", p.y_next);
+    }
+    text += last ? block("the tip", "    const int k = n - 1;\n" + st.emit(in_loop))
+                 : loop("int k = 0; k + 1 < n; ++k", st.emit(in_loop));
+  }
+  return text;
 }
 
 // The tangent pass: along the direction (dphi, dp), the derivative of every step in turn.
@@ -521,7 +542,7 @@ std::vector<function_text> loop_functions() {
       {"Hamilton's equations f(x) (dim 2n), as the unrolled rhs.",
        "void rhs(int n, const double* x, const double* params, double* dxdt, "
        "double* work) noexcept",
-       values_call + "  evaluate(n, x, x + n, params, v);\n" + hamilton_step(false, "dxdt")});
+       values_call + "  eliminate_from_tip(n, x, x + n, params, v);\n" + pivot_pass("dxdt")});
   fs.push_back({"J(x) u for a direction u (dim 2n): the forward-mode derivative of rhs, O(n).",
                 "void jacobian_vector(int n, const double* x, const double* params, "
                 "const double* u, double* ju, double* work) noexcept",
@@ -560,20 +581,20 @@ std::vector<function_text> loop_functions() {
          "from k down.",
          "void momenta(int n, const double* phi, const double* dphi, const double* "
          "params, double* p, double* work) noexcept",
-         "  const passes v = cut(n, work);\n" + angle_step(false) + bob_velocity_step() +
+         "  const passes v = cut(n, work);\n" + angle_step() + bob_velocity_step() +
              "  double px = 0.0, py = 0.0;\n" +
              loop("int k = n - 1; k >= 0; --k", st.emit(in_loop))});
   }
   fs.push_back({"T = 1/2 sum m_k |v_k|^2.",
                 "double kinetic_energy(int n, const double* phi, const double* dphi, "
                 "const double* params, double* work) noexcept",
-                "  const passes v = cut(n, work);\n" + angle_step(false) + bob_velocity_step() +
+                "  const passes v = cut(n, work);\n" + angle_step() + bob_velocity_step() +
                     "  double twice_t = 0.0;\n" + kinetic_step("v.x[k]", "v.y[k]") +
                     "  return 0.5 * twice_t;\n"});
   fs.push_back({"V = g sum mu_k l_k (1 - cos phi_k), zero at the hanging rest position.",
                 "double potential_energy(int n, const double* phi, const double* params, "
                 "double* work) noexcept",
-                "  const passes v = cut(n, work);\n" + angle_step(false) + mass_below_step() +
+                "  const passes v = cut(n, work);\n" + angle_step() + mass_below_step() +
                     "  double potential = 0.0;\n" + potential_step() + "  return potential;\n"});
   fs.push_back({"L = T - V.",
                 "double lagrangian(int n, const double* phi, const double* dphi, const double* "
@@ -592,7 +613,7 @@ std::vector<function_text> loop_functions() {
     fs.push_back({"The mass matrix A_ij = l_i l_j mu_max(i,j) cos(phi_i - phi_j), row-major n x n.",
                   "void mass_matrix(int n, const double* phi, const double* params, double* A, "
                   "double* work) noexcept",
-                  "  const passes v = cut(n, work);\n" + angle_step(false) + mass_below_step() +
+                  "  const passes v = cut(n, work);\n" + angle_step() + mass_below_step() +
                       loop("int k = 0; k < n; ++k", diag.emit(in_loop)) +
                       "  for (int i = 0; i < n; ++i) {\n    for (int j = 0; j < i; ++j) {\n" +
                       off.emit("      ") + "      A[j * n + i] = A[i * n + j];\n    }\n  }\n"});
@@ -636,7 +657,7 @@ std::vector<function_text> loop_functions() {
     fs.push_back({"dV/dphi_k = g mu_k l_k sin phi_k.",
                   "void potential_gradient(int n, const double* phi, const double* params, "
                   "double* grad, double* work) noexcept",
-                  "  const passes v = cut(n, work);\n" + angle_step(false) + mass_below_step() +
+                  "  const passes v = cut(n, work);\n" + angle_step() + mass_below_step() +
                       loop("int k = 0; k < n; ++k", st.emit(in_loop))});
   }
   {
@@ -646,7 +667,7 @@ std::vector<function_text> loop_functions() {
     fs.push_back({"d2V/dphi^2: diagonal, g mu_k l_k cos phi_k; row-major n x n.",
                   "void potential_hessian(int n, const double* phi, const double* params, "
                   "double* hess, double* work) noexcept",
-                  "  const passes v = cut(n, work);\n" + angle_step(false) + mass_below_step() +
+                  "  const passes v = cut(n, work);\n" + angle_step() + mass_below_step() +
                       "  for (int i = 0; i < n * n; ++i) hess[i] = 0.0;\n" +
                       loop("int k = 0; k < n; ++k", st.emit(in_loop))});
   }
@@ -717,14 +738,37 @@ inline constexpr std::size_t jacobian_workspace_size(int n) noexcept {{
 
 )",
                                     arrays);
-  out.source = banner + fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n\n", loop_stem) +
+  out.source = banner +
+               fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n#include <npend/batch_math.hpp>\n\n",
+                           loop_stem) +
                "namespace npend::generated::chain_loop {\n\nnamespace {\n\n" + passes_struct();
   out.source +=
-      "\n// The value pass at (phi, p): sines, cosines and turns, the elimination from the tip and "
-      "the\n// pass from the pivot (articulated_form.hpp of the generator).\n"
-      "void evaluate(int n, const double* phi, const double* p, const double* params, "
+      "\n// s_k, c_k of every phi_k by SLEEF's vectorised sincos (1 ulp, <npend/batch_math.hpp>), "
+      "batch_width\n// angles at a time, the last partial batch through a padded copy: the "
+      "libm calls, one at a time,\n// took most of the right-hand side's time.\n"
+      "void sines_and_cosines(int n, const double* phi, const passes& v) noexcept {\n"
+      "  int k = 0;\n"
+      "  for (; k + batch_width <= n; k += batch_width) batch_sincos(phi + k, v.s + k, v.c + k);\n"
+      "  if (k == n) return;\n"
+      "  double x[batch_width] = {}, s[batch_width], c[batch_width];\n"
+      "  for (int i = 0; k + i < n; ++i) x[i] = phi[k + i];\n"
+      "  batch_sincos(x, s, c);\n"
+      "  for (int i = 0; k + i < n; ++i) {\n"
+      "    v.s[k + i] = s[i];\n"
+      "    v.c[k + i] = c[i];\n"
+      "  }\n"
+      "}\n";
+  out.source +=
+      "\n// The elimination from the tip at (phi, p) (articulated_form.hpp of the generator).\n"
+      "void eliminate_from_tip(int n, const double* phi, const double* p, const double* params, "
       "const passes& v) noexcept {\n" +
-      angle_step(true) + turn_step() + elimination_pass() + pivot_pass() + "}\n";
+      elimination_pass() + "}\n";
+  out.source +=
+      "\n// The value pass at (phi, p): the elimination and the pass from the pivot.\n"
+      "void evaluate(int n, const double* phi, const double* p, const double* params, "
+      "const passes& v) noexcept {\n"
+      "  eliminate_from_tip(n, phi, p, params, v);\n" +
+      pivot_pass() + "}\n";
   out.source +=
       "\n// The derivative of f along (dphi, dp) into df (dim 2n), from evaluate's values: each "
       "step's\n// forward-mode derivative in the order of the steps.\n"
