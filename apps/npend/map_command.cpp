@@ -303,7 +303,9 @@ void set_base_start(const map_command_options& o, int n, map_grid& grid) {
 
 // Checks the options and builds the run; touches no file.
 map_run prepare_run(const map_command_options& o) {
-  const chain c = o.chain.make_chain(cli::model_support::conservative, "npend map");
+  // Any chain: damping, springs and a driven pivot are axes too; map_grid::validate refuses
+  // what a quantity or axis cannot take (an energy axis on a chain that loses energy).
+  const chain c = o.chain.make_chain(cli::model_support::any, "npend map");
   const int n = c.links();
   const map_cell_options cell = cell_options(o, n);
   map_grid grid;
@@ -927,7 +929,8 @@ void add_map_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--x", o->x,
                   "NAME:FROM:TO:COUNT (required), NAME a start coordinate (phiK, pK, or dphiK with "
                   "--dphi), energy (J: the start's momenta scaled to it), or a parameter of the "
-                  "chain (mK, lK, g, kK)");
+                  "chain (mK, lK, g, kK, bK: joint K's stiffness and damping, drive-amplitude and "
+                  "drive-frequency of a --pivot drive)");
   cmd->add_option("--y", o->y, "NAME:FROM:TO:COUNT for the rows (row 0 = FROM) (required)");
   cmd->add_option("--quantity", o->quantity,
                   "flip (default: the time to the first flip), lyapunov (the maximal exponent), "

@@ -302,7 +302,8 @@ whose integration failed.)");
 values from `from` to `to` both included, with name a start coordinate (phi1..phin, p1..pn,
 or dphi1..dphin when `velocities` gives the start's velocities), "energy" (the start's
 momenta scaled to that energy in J), or a parameter of the chain (m1..mn, l1..ln, g,
-k1..kn). The rest of the start comes from x0 (default 0) or, with velocities (n values),
+k1..kn and b1..bn: the joints' stiffness and damping, drive-amplitude and drive-frequency of
+a chain whose pivot has a built-in drive). The rest of the start comes from x0 (default 0) or, with velocities (n values),
 from x0's angles and those velocities. Returns an array of shape (y count, x count), row 0
 the first y value, NaN where the energy rules a cell out: the same numbers as npend map's
 map.npy.)");

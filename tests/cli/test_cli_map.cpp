@@ -182,6 +182,61 @@ TEST_CASE("npend map: energy, mass and length axes start each cell as the closed
   CHECK(fs::exists(dir / "el" / "map.png"));
 }
 
+TEST_CASE("npend map: damping and drive axes give each cell its chain; a drive rules nothing out") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-drive"));
+  // The drive's amplitude and frequency: every cell is the library's flip time on a chain
+  // built here with that drive, and none is ruled out (a drive feeds energy in).
+  const auto r = run_npend(
+      "map --links 2 --pivot vertical:0.1:20 --phi 1.2,0 --x drive-amplitude:0:0.3:4 "
+      "--y drive-frequency:10:40:3 --t-end 15 --json --out " +
+      (dir / "drive").string());
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["forbidden"] == 0);
+  const npy d = read_npy(dir / "drive" / "map.npy");
+  REQUIRE(d.values.size() == 12);
+  const npend::flip_options flip{15.0, 0.01, 0};
+  int flipped = 0;
+  for (int row = 0; row < 3; ++row)
+    for (int col = 0; col < 4; ++col) {
+      auto p = npend::chain_parameters::uniform(2);
+      p.pivot = npend::pivot_motion::vertical(npend::grid_value(0, 0.3, 4, col),
+                                              npend::grid_value(10, 40, 3, row));
+      const double t = npend::flip_time(npend::chain(p), std::vector<double>{1.2, 0, 0, 0}, flip);
+      INFO("row " << row << ", column " << col);
+      CHECK(d.values[static_cast<std::size_t>(row * 4 + col)] == t);
+      flipped += std::isfinite(t) ? 1 : 0;
+    }
+  // From 1.2 rad at rest the fixed pivot (amplitude 0) cannot flip; strong drives can.
+  CHECK(std::isinf(d.values[0]));
+  CHECK(flipped > 0);
+  // Damping at both joints: the library's values, and NaN exactly where the energy falls
+  // short of a flip (2 cos φ1 + cos φ2 > 1 at rest), damping or not.
+  const auto r2 = run_npend(
+      "map --links 2 --phi 1,0 --x b1:0:0.6:3 --y phi2:-3:3:5 --damping 0,0.2 --t-end 10 --out " +
+      (dir / "damped").string());
+  REQUIRE(r2.exit_code == 0);
+  const npy b = read_npy(dir / "damped" / "map.npy");
+  REQUIRE(b.values.size() == 15);
+  int ruled_out = 0;
+  for (int row = 0; row < 5; ++row)
+    for (int col = 0; col < 3; ++col) {
+      const double phi2 = npend::grid_value(-3, 3, 5, row);
+      auto p = npend::chain_parameters::uniform(2);
+      p.damping = {npend::grid_value(0, 0.6, 3, col), 0.2};
+      const double value = b.values[static_cast<std::size_t>(row * 3 + col)];
+      INFO("row " << row << ", column " << col);
+      if (2 * std::cos(1.0) + std::cos(phi2) > 1) {
+        CHECK(std::isnan(value));
+        ++ruled_out;
+      } else {
+        CHECK(value == npend::flip_time(npend::chain(p), std::vector<double>{1.0, phi2, 0, 0},
+                                        {10.0, 0.01, 0}));
+      }
+    }
+  CHECK(ruled_out == 9);  // φ2 = −1.5, 0, 1.5 in each of the three columns
+}
+
 TEST_CASE("npend map: a map of one step, every cell ruled out, still draws its PNG") {
   // t-end = dt leaves the flip times' colour range dt..t-end empty; gnuplot refuses that.
   const fs::path dir(npend::test::temporary_directory("cli-map-one-step"));

@@ -82,7 +82,9 @@ def test_bad_map_input():
     with pytest.raises(ValueError, match="dt"):
         npend.map_cells(c, [0, 0, 0, 0], dt=-1)
     with pytest.raises(ValueError, match="conserve"):
-        npend.map_cells(npend.Chain(2, damping=0.1), [0, 0, 0, 0])
+        npend.map(npend.Chain(2, damping=0.1), ("energy", 0, 1, 2), ("phi1", 0, 1, 2))
+    with pytest.raises(ValueError, match="built-in drive"):
+        npend.map(c, ("drive-frequency", 1, 2, 2), ("phi1", 0, 1, 2))
 
 
 def test_indicator_cells_are_the_indicators_at_t_end():
@@ -98,3 +100,17 @@ def test_indicator_cells_are_the_indicators_at_t_end():
     assert megno[0] > 10 and megno[1] < 2.5
     with pytest.raises(ValueError, match="GALI_k must be 2..4"):
         npend.map_cells(c, x, quantity="gali", gali_order=5)
+
+
+def test_drive_axes_match_npend_map(tmp_path):
+    # A driven pivot's amplitude and frequency as axes: the numbers of npend map's map.npy,
+    # and no cell ruled out by the energy (the drive feeds energy in).
+    c = npend.Chain(2, pivot="vertical:0.1:20")
+    m = npend.map(c, ("drive-amplitude", 0, 0.3, 4), ("drive-frequency", 10, 40, 3),
+                  x0=[1.2, 0, 0, 0], t_end=15, threads=2)
+    run_npend("map", "--links", 2, "--pivot", "vertical:0.1:20", "--phi", "1.2,0",
+              "--x", "drive-amplitude:0:0.3:4", "--y", "drive-frequency:10:40:3",
+              "--t-end", 15, "--out", tmp_path / "d")
+    assert np.array_equal(m, np.load(tmp_path / "d" / "map.npy"), equal_nan=True)
+    assert not np.isnan(m).any()
+    assert math.isinf(m[0, 0]) and np.isfinite(m).any()

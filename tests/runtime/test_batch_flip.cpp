@@ -227,9 +227,16 @@ TEST_CASE("flip_times: flip_time's special cells and argument checks") {
   CHECK_THROWS_AS(npend::flip_times(c, std::vector<double>{1, 2, 3}, o), std::invalid_argument);
   CHECK_THROWS_AS(npend::flip_times(c, starts, {1.0, 0.0, 0}), std::invalid_argument);
   CHECK_THROWS_AS(npend::flip_times(c, starts, {1.0, 0.01, 3}), std::invalid_argument);
+  // A damped chain goes cell by cell too: flip_time's values, NaN where it would throw.
   npend::chain_parameters damped = npend::chain_parameters::uniform(2);
   damped.damping = {0.1, 0.1};
-  CHECK_THROWS_AS(npend::flip_times(npend::chain(damped), starts, o), std::invalid_argument);
+  const npend::chain damped_chain(damped);
+  const auto damped_times = npend::flip_times(damped_chain, starts, o);
+  REQUIRE(damped_times.size() == 4);
+  for (const std::size_t k : {0u, 1u, 3u})
+    CHECK(same(damped_times[k],
+               npend::flip_time(damped_chain, std::span(starts).subspan(4 * k, 4), o)));
+  CHECK(std::isnan(damped_times[2]));
   // A physical chain goes cell by cell through flip_time, with NaN for its integration_error.
   npend::chain_parameters rods = npend::chain_parameters::uniform(2);
   rods.make_uniform_rods();

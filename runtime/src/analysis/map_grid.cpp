@@ -27,6 +27,8 @@ constexpr axis_name axis_names[] = {
     {"p", map_axis_kind::momentum, true},    {"energy", map_axis_kind::energy, false},
     {"m", map_axis_kind::mass, true},        {"l", map_axis_kind::length, true},
     {"g", map_axis_kind::gravity, false},    {"k", map_axis_kind::stiffness, true},
+    {"b", map_axis_kind::damping, true},     {"drive-amplitude", map_axis_kind::drive_amplitude, false},
+    {"drive-frequency", map_axis_kind::drive_frequency, false},
 };
 
 // K of "prefixK" when name is the prefix followed by a link number 1..links, else 0.
@@ -58,6 +60,16 @@ void apply_parameter(chain_parameters& p, const map_axis& a, double v) {
     case map_axis_kind::stiffness:
       if (p.stiffness.empty()) p.stiffness.assign(n, 0.0);
       p.stiffness[slot(a.link)] = v;
+      break;
+    case map_axis_kind::damping:
+      if (p.damping.empty()) p.damping.assign(n, 0.0);
+      p.damping[slot(a.link)] = v;
+      break;
+    case map_axis_kind::drive_amplitude:
+      p.pivot.amplitude = v;
+      break;
+    case map_axis_kind::drive_frequency:
+      p.pivot.frequency = v;
       break;
     default:
       break;
@@ -136,8 +148,8 @@ map_start start_on(const chain& c, const map_grid& grid, int i, int j) {
 
 void check_axis_chain(const map_grid& grid, const map_axis& a, const map_cell_options& options) {
   if (!a.is_parameter()) return;
-  // Each end of the axis on the base chain: masses, lengths, g and springs act on the chain
-  // one at a time, so two axes' ends each valid give valid corners.
+  // Each end of the axis on the base chain: masses, lengths, g, springs, damping and the
+  // drive act on the chain one at a time, so two axes' ends each valid give valid corners.
   for (const int end : {0, a.count - 1}) {
     const chain_parameters p = parameters_with(grid.parameters, {{a, a.value(end)}});
     try {
@@ -153,7 +165,9 @@ void check_axis_chain(const map_grid& grid, const map_axis& a, const map_cell_op
 
 bool map_axis::is_parameter() const {
   return kind == map_axis_kind::mass || kind == map_axis_kind::length ||
-         kind == map_axis_kind::gravity || kind == map_axis_kind::stiffness;
+         kind == map_axis_kind::gravity || kind == map_axis_kind::stiffness ||
+         kind == map_axis_kind::damping || kind == map_axis_kind::drive_amplitude ||
+         kind == map_axis_kind::drive_frequency;
 }
 
 map_axis make_map_axis(std::string_view name, double from, double to, int count, int links) {
@@ -170,7 +184,8 @@ map_axis make_map_axis(std::string_view name, double from, double to, int count,
   if (!found)
     throw std::invalid_argument(fmt::format(
         "'{0}' is not an axis of the {1}-link chain: phi1..phi{1}, p1..p{1}, dphi1..dphi{1} (the "
-        "start), energy, m1..m{1}, l1..l{1}, g, k1..k{1} (the chain)",
+        "start), energy, m1..m{1}, l1..l{1}, g, k1..k{1}, b1..b{1}, drive-amplitude, "
+        "drive-frequency (the chain)",
         name, links));
   if (!std::isfinite(from) || !std::isfinite(to))
     throw std::invalid_argument(fmt::format("{}: the bounds must be finite", name));
@@ -206,6 +221,13 @@ void map_grid::validate(const map_cell_options& options) const {
       throw std::invalid_argument("energy: the chain must conserve its energy");
     if (a->kind == map_axis_kind::energy && (a->from < 0 || a->to < 0))
       throw std::invalid_argument("energy: the energies must be >= 0 J");
+    const auto drive = parameters.pivot.type;
+    if ((a->kind == map_axis_kind::drive_amplitude || a->kind == map_axis_kind::drive_frequency) &&
+        drive != pivot_motion::kind::vertical && drive != pivot_motion::kind::horizontal)
+      throw std::invalid_argument(fmt::format(
+          "{}: the pivot needs a built-in drive to vary (--pivot vertical:A:OMEGA or "
+          "horizontal:A:OMEGA)",
+          a->name));
   }
   parameters.validate();
   options.validate(chain(parameters));

@@ -18,7 +18,9 @@ namespace npend {
 /// the cell needs no integration. Arm k upright (φ_k = π) needs V ≥ 2 g G_k, the least V with
 /// φ_k = π (the others hanging: V is a sum of g G_j (1 − cos φ_j), G_j = m_j c_j + l_j μ_{j+1}
 /// the moment gravity acts on, c = l for point masses). `link` = 0: any arm (the least of
-/// those bounds); k ≥ 1: arm k. Conservative chains only (throws std::invalid_argument).
+/// those bounds); k ≥ 1: arm k. The bound also holds with joint springs (their energy is
+/// never negative) and damping (H only falls); a moving pivot feeds energy in, so a driven
+/// chain is never ruled out (false). Throws std::invalid_argument for an arm not 0..n.
 bool energy_forbids_flip(const chain& c, std::span<const double> x0, int link = 0);
 
 struct flip_options {

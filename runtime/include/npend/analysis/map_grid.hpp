@@ -23,12 +23,16 @@ enum class map_axis_kind {
   length,     ///< lK: the length l_K (m)
   gravity,    ///< g (m/s²)
   stiffness,  ///< kK: the spring at joint K (N m/rad)
+  damping,    ///< bK: the damping at joint K (N m s/rad)
+  drive_amplitude,  ///< drive-amplitude: a (m) of the pivot's built-in drive
+  drive_frequency,  ///< drive-frequency: Ω (rad/s) of the pivot's built-in drive
 };
 
 struct map_axis {
-  std::string name;  ///< as named: phi2, p1, dphi1, energy, m2, l1, g, k1
+  std::string name;  ///< as named: phi2, p1, dphi1, energy, m2, l1, g, k1, b1, drive-amplitude
+  ///< or drive-frequency
   map_axis_kind kind = map_axis_kind::angle;
-  int link = 0;  ///< K (1..n) of the per-link kinds; 0 for energy and g
+  int link = 0;  ///< K (1..n) of the per-link kinds; 0 for energy, g and the drive
   double from = 0, to = 0;
   int count = 1;
   double value(int i) const { return grid_value(from, to, count, i); }
@@ -52,7 +56,9 @@ struct map_grid {
   map_axis x, y;
 
   /// Throws std::invalid_argument naming the problem: one thing on both axes, a velocity axis
-  /// with a start given by momenta (or a momentum axis with velocities), a base start of the
+  /// with a start given by momenta (or a momentum axis with velocities), an energy axis on a
+  /// chain that does not conserve its energy, a drive axis without a built-in drive of the
+  /// pivot (vertical or horizontal), a base start of the
   /// wrong size or not finite, a parameter axis whose ends make an invalid chain, or cell
   /// options the chain at an end of the axes cannot take (map_cell_options::validate).
   void validate(const map_cell_options& options) const;
