@@ -21,12 +21,6 @@ using npend::test::temporary_directory;
 
 namespace {
 
-std::vector<std::string> listing(const fs::path& dir) {
-  return npend::test::directory_listing(dir.string());
-}
-
-std::string read(const fs::path& path) { return npend::test::read_text(path.string()); }
-
 }  // namespace
 
 TEST_CASE("npend poincare: --json points are the library's crossings, each t and the full state") {
@@ -73,14 +67,14 @@ TEST_CASE("npend poincare: --out writes the crossings, the script and the projec
       "phi1,phi2 --out " +
       (dir / "pts.csv").string());
   REQUIRE(r.exit_code == 0);
-  CHECK(listing(dir) == std::vector<std::string>{"pts.csv", "pts.gp", "pts.png"});
-  const auto table = npend::cli::parse_csv(read(dir / "pts.csv"), "pts.csv");
+  CHECK(npend::test::directory_listing(dir) == std::vector<std::string>{"pts.csv", "pts.gp", "pts.png"});
+  const auto table = npend::cli::parse_csv(npend::test::read_text(dir / "pts.csv"), "pts.csv");
   CHECK(table.names == std::vector<std::string>{"t", "phi1", "phi2", "p1", "p2", "H"});
   REQUIRE(!table.columns[0].empty());
   for (const double p1 : table.columns[3]) CHECK(std::fabs(p1) < 1e-12);
   for (const double h : table.columns[5]) CHECK(h == doctest::Approx(8).epsilon(1e-11));
   // The plot shows the projection asked for, with units.
-  const std::string script = read(dir / "pts.gp");
+  const std::string script = npend::test::read_text(dir / "pts.gp");
   CHECK(script.find("using 2:3") != std::string::npos);
   CHECK(script.find("set xlabel \"φ_{1} (rad)\"") != std::string::npos);
   // The text output lists every crossing.
@@ -146,7 +140,7 @@ TEST_CASE("npend analyze: writes the data, the plots and an index that shows the
                                           "tensions.csv",
                                           "tensions.gp",
                                           "tensions.png"};
-  CHECK(listing(dir) == expected);
+  CHECK(npend::test::directory_listing(dir) == expected);
   CHECK(j["files"].size() == expected.size());
   CHECK(j["signal"] == "phi3");
   CHECK(j["samples"] == 8192);
@@ -158,7 +152,7 @@ TEST_CASE("npend analyze: writes the data, the plots and an index that shows the
   CHECK(j["dimension"].is_number());
   CHECK(j["tau"].get<double>() > 0);
   // The index shows every plot and links every data file.
-  const std::string index = read(dir / "index.md");
+  const std::string index = npend::test::read_text(dir / "index.md");
   for (const auto& name : expected) {
     CAPTURE(name);
     if (name.ends_with(".png")) CHECK(index.find("](" + name + ")") != std::string::npos);
@@ -166,13 +160,13 @@ TEST_CASE("npend analyze: writes the data, the plots and an index that shows the
       CHECK(index.find("[" + name + "](" + name + ")") != std::string::npos);
   }
   // The series is the first 8192 samples of phi3 on the grid.
-  const auto series = npend::cli::parse_csv(read(dir / "series.csv"), "series.csv");
+  const auto series = npend::cli::parse_csv(npend::test::read_text(dir / "series.csv"), "series.csv");
   CHECK(series.names == std::vector<std::string>{"t", "phi1", "phi2", "phi3", "p1", "p2", "p3"});
   CHECK(series.columns[0].size() == 8192);
   CHECK(series.columns[3].front() == 0.72);
   // The tensions on the same samples, the first row the library's at the start (their
   // physics is tested in tests/runtime/test_rod_tensions.cpp).
-  const auto tensions = npend::cli::parse_csv(read(dir / "tensions.csv"), "tensions.csv");
+  const auto tensions = npend::cli::parse_csv(npend::test::read_text(dir / "tensions.csv"), "tensions.csv");
   CHECK(tensions.names == std::vector<std::string>{"t", "tau_1", "tau_2", "tau_3"});
   CHECK(tensions.columns[0].size() == 8192);
   const std::vector<double> x0{0.72, -0.72, 0.72, 0, 0, 0};
@@ -199,7 +193,7 @@ TEST_CASE("npend analyze: an arm going over the top is a note on the unwrapped a
   CHECK(j["angles"] == "unwrapped");
   REQUIRE(!j["notes"].empty());
   CHECK(j["notes"][0].get<std::string>().find("an arm passed the upright position") == 0);
-  CHECK(read(dir / "index.md").find("> Note: an arm passed the upright position") !=
+  CHECK(npend::test::read_text(dir / "index.md").find("> Note: an arm passed the upright position") !=
         std::string::npos);
   CHECK(r.err.find("note: an arm passed the upright position") == 0);
 }
@@ -237,7 +231,7 @@ TEST_CASE("npend demo: writes the paper's figures 6.8-6.13 and an index to --out
                                          "fig6_11_recurrence_histogram",
                                          "fig6_12_recurrence_spectrum",
                                          "fig6_13_delay_plot"};
-  const std::string index = read(dir / "index.md");
+  const std::string index = npend::test::read_text(dir / "index.md");
   for (const auto& f : figures) {
     CAPTURE(f);
     CHECK(fs::file_size(dir / (f + ".png")) > 10000);
@@ -248,7 +242,7 @@ TEST_CASE("npend demo: writes the paper's figures 6.8-6.13 and an index to --out
   // Every data file the scripts read is there.
   for (const auto& e : fs::directory_iterator(dir))
     if (e.path().extension() == ".gp") {
-      const std::string script = read(e.path());
+      const std::string script = npend::test::read_text(e.path());
       for (std::size_t at = 0; (at = script.find(".csv\"", at)) != std::string::npos; ++at) {
         const std::size_t open = script.rfind('"', at);
         CHECK(fs::exists(dir / script.substr(open + 1, at + 4 - open - 1)));
@@ -258,10 +252,10 @@ TEST_CASE("npend demo: writes the paper's figures 6.8-6.13 and an index to --out
   // table, in the index without a plot script.
   for (const std::string f : {"animation_weak", "animation_strong"}) {
     CAPTURE(f);
-    const std::string gif = read(dir / (f + ".gif"));
+    const std::string gif = npend::test::read_text(dir / (f + ".gif"));
     CHECK(gif.rfind("GIF89a", 0) == 0);
     CHECK(gif.size() > 10000);
-    const std::string frames = read(dir / (f + "_frames.csv"));
+    const std::string frames = npend::test::read_text(dir / (f + "_frames.csv"));
     CHECK(std::count(frames.begin(), frames.end(), '\n') == 122);
     CHECK(index.find("](" + f + ".gif)") != std::string::npos);
     CHECK(index.find("[" + f + ".gp]") == std::string::npos);
@@ -272,7 +266,7 @@ TEST_CASE("npend demo: writes the paper's figures 6.8-6.13 and an index to --out
 
   // Section 6: the physical pendulum, in its own folder with its own index.
   const fs::path physical = dir / "physical";
-  const std::string physical_index = read(physical / "index.md");
+  const std::string physical_index = npend::test::read_text(physical / "index.md");
   for (const char* f : {"rods_vs_points", "damped", "kapitza_acheson", "standing_lqr"}) {
     CAPTURE(f);
     CHECK(fs::file_size(physical / (std::string(f) + ".png")) > 10000);

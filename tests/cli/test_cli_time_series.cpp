@@ -63,10 +63,6 @@ npend::time_series load(const std::string& path, const std::string& column) {
       column, "--column");
 }
 
-std::vector<std::string> listing(const fs::path& dir) {
-  return npend::test::directory_listing(dir.string());
-}
-
 }  // namespace
 
 TEST_CASE("npend spectrum: --json peaks are the library's, strongest first, at the sines") {
@@ -104,7 +100,7 @@ TEST_CASE("npend spectrum: --out writes the spectrum, its peaks, the script and 
   const std::string file = write_sines(dir);
   const auto r = run_npend("spectrum --input " + file + " --out " + (dir / "s.csv").string());
   REQUIRE(r.exit_code == 0);
-  CHECK(listing(dir) ==
+  CHECK(npend::test::directory_listing(dir) ==
         std::vector<std::string>{"s.csv", "s.gp", "s.png", "s_peaks.csv", "sines.csv"});
   std::ifstream in(dir / "s.csv");
   std::stringstream text;
@@ -162,7 +158,7 @@ TEST_CASE("npend recurrence: --out writes the intervals, histogram, spectrum and
   const auto r = run_npend("recurrence --input " + file + " --event x=0 --bins 12 --out " +
                            (dir / "r.csv").string());
   REQUIRE(r.exit_code == 0);
-  CHECK(listing(dir) == std::vector<std::string>{"r.csv", "r.gp", "r.png", "r_histogram.csv",
+  CHECK(npend::test::directory_listing(dir) == std::vector<std::string>{"r.csv", "r.gp", "r.png", "r_histogram.csv",
                                                  "r_spectrum.csv", "sines.csv"});
 }
 
@@ -193,7 +189,7 @@ TEST_CASE("npend embed: --json tau and dimension of a sine") {
   CHECK(given["dimension"] == 3);
   CHECK(run_npend("embed --input " + file + " --column y --out " + (dir / "e.csv").string())
             .exit_code == 0);
-  CHECK(listing(dir) ==
+  CHECK(npend::test::directory_listing(dir) ==
         std::vector<std::string>{"e.csv", "e.gp", "e.png", "e_ami.csv", "e_dimension.csv",
                                  "sines.csv"});
 }
@@ -258,14 +254,14 @@ TEST_CASE("npend time series: a failure leaves no output file, and an old one un
   }
   CHECK(run_npend("recurrence --input " + bad + " --event x=0 --out " + (out / "a.csv").string())
             .exit_code == 2);
-  CHECK(listing(out).empty());
+  CHECK(npend::test::directory_listing(out).empty());
   std::ofstream(out / "a.csv") << "previous\n";
   CHECK(run_npend("spectrum --input " + bad + " --out " + (out / "a.csv").string()).exit_code == 2);
   std::ifstream in(out / "a.csv");
   std::string line;
   std::getline(in, line);
   CHECK(line == "previous");
-  CHECK(listing(out) == std::vector<std::string>{"a.csv"});
+  CHECK(npend::test::directory_listing(out) == std::vector<std::string>{"a.csv"});
 }
 
 TEST_CASE("npend spectrum: without gnuplot the data and script are written, with a note") {
@@ -281,7 +277,7 @@ TEST_CASE("npend spectrum: without gnuplot the data and script are written, with
   CHECK(j["files"].size() == 3);  // s.csv, s_peaks.csv, s.gp
   CHECK(j["notes"][0].get<std::string>().find("gnuplot is not installed") == 0);
   CHECK(r.err.find("note: gnuplot is not installed") == 0);
-  CHECK(listing(dir) == std::vector<std::string>{"s.csv", "s.gp", "s_peaks.csv", "sines.csv"});
+  CHECK(npend::test::directory_listing(dir) == std::vector<std::string>{"s.csv", "s.gp", "s_peaks.csv", "sines.csv"});
 }
 
 TEST_CASE("npend time series: --help names every option") {

@@ -20,20 +20,6 @@ using npend::test::temporary_directory;
 
 namespace {
 
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::vector<std::string> listing(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
-
 // Runs `body` with PATH set to `path`, restoring it afterwards.
 template <class F>
 void with_path(const std::string& path, F body) {
@@ -48,7 +34,7 @@ void with_path(const std::string& path, F body) {
   ::setenv("PATH", saved.c_str(), 1);
 }
 
-bool is_png(const fs::path& p) { return read(p).rfind("\x89PNG", 0) == 0; }
+bool is_png(const fs::path& p) { return npend::test::read_text(p).rfind("\x89PNG", 0) == 0; }
 
 }  // namespace
 
@@ -56,8 +42,8 @@ TEST_CASE("write_file_atomically: writes and replaces, leaving only the file") {
   const fs::path dir = temporary_directory("atomic");
   npend::cli::write_file_atomically(dir / "a.csv", "first\n");
   npend::cli::write_file_atomically(dir / "a.csv", "second\n");
-  CHECK(read(dir / "a.csv") == "second\n");
-  CHECK(listing(dir) == std::vector<std::string>{"a.csv"});
+  CHECK(npend::test::read_text(dir / "a.csv") == "second\n");
+  CHECK(npend::test::directory_listing(dir) == std::vector<std::string>{"a.csv"});
   // The mode of a plain new file (umask applied), not mkstemp's private 0600.
   CHECK((fs::status(dir / "a.csv").permissions() & fs::perms::owner_read) != fs::perms::none);
 }
@@ -76,11 +62,11 @@ TEST_CASE("write_file_atomically: a failure leaves the target and no temporary")
                          std::runtime_error);
   }
   CHECK(fs::is_directory(dir / "busy.csv" / "inside"));
-  CHECK(listing(dir) == std::vector<std::string>{"busy.csv"});
+  CHECK(npend::test::directory_listing(dir) == std::vector<std::string>{"busy.csv"});
   // A folder there from the start is refused before any work is done.
   CHECK_THROWS_WITH_AS(npend::cli::write_file_atomically(dir / "busy.csv", "x"),
                        doctest::Contains("names a directory, not a file"), std::runtime_error);
-  CHECK(listing(dir) == std::vector<std::string>{"busy.csv"});
+  CHECK(npend::test::directory_listing(dir) == std::vector<std::string>{"busy.csv"});
 }
 
 namespace {
@@ -109,12 +95,12 @@ TEST_CASE("remove_temporaries_on_signal: a SIGINT while writing leaves no file a
   const int status = die_while_writing(dir, true);
   REQUIRE(WIFSIGNALED(status));
   CHECK(WTERMSIG(status) == SIGINT);  // it still dies of the signal, as the shell expects
-  CHECK(listing(dir).empty());
+  CHECK(npend::test::directory_listing(dir).empty());
   // Without the handler the same death leaves the hidden temporary behind (so the check above
   // is what the handler does, not what dying does anyway).
   const fs::path other = temporary_directory("signal-no-cleanup");
   REQUIRE(WIFSIGNALED(die_while_writing(other, false)));
-  const auto left = listing(other);
+  const auto left = npend::test::directory_listing(other);
   REQUIRE(left.size() == 1);
   CHECK(left[0].rfind(".out.csv.npend-", 0) == 0);
 }
@@ -146,8 +132,8 @@ TEST_CASE("write_plot: a PNG from the kept script, which re-renders it") {
   CHECK(outcome.rendered);
   CHECK(outcome.message.find("p.png") != std::string::npos);
   CHECK(is_png(dir / "p.png"));
-  CHECK(listing(dir) == std::vector<std::string>{"p.csv", "p.gp", "p.png"});
-  const std::string script = read(dir / "p.gp");
+  CHECK(npend::test::directory_listing(dir) == std::vector<std::string>{"p.csv", "p.gp", "p.png"});
+  const std::string script = npend::test::read_text(dir / "p.gp");
   CHECK(script.rfind("# a test figure\n", 0) == 0);
   CHECK(script.find("npend_output = \"p.png\"") != std::string::npos);
   CHECK(script.find("plot \"p.csv\" using 1:2 with linespoints title \"y\"") != std::string::npos);
@@ -167,7 +153,7 @@ TEST_CASE("write_plot: without gnuplot the script is kept and the outcome says w
             [&] { outcome = npend::cli::write_plot(dir / "q", f); });
   CHECK_FALSE(outcome.rendered);
   CHECK(outcome.message.find("gnuplot is not installed") == 0);
-  CHECK(listing(dir) == std::vector<std::string>{"q.gp"});
+  CHECK(npend::test::directory_listing(dir) == std::vector<std::string>{"q.gp"});
 }
 
 TEST_CASE("write_plot: a failing script is reported, not thrown, and leaves no PNG") {
@@ -179,5 +165,5 @@ TEST_CASE("write_plot: a failing script is reported, not thrown, and leaves no P
   const auto outcome = npend::cli::write_plot(dir / "r", f);
   CHECK_FALSE(outcome.rendered);
   CHECK(outcome.message.find("gnuplot failed") == 0);
-  CHECK(listing(dir) == std::vector<std::string>{"r.gp"});
+  CHECK(npend::test::directory_listing(dir) == std::vector<std::string>{"r.gp"});
 }

@@ -12,7 +12,7 @@
 
 namespace {
 
-constexpr int W = npend::batch_width;
+constexpr int lanes = npend::batch_width;
 
 struct problem {
   int n;
@@ -34,24 +34,24 @@ problem random_problem(int n, int count, std::mt19937_64& rng) {
   return p;
 }
 
-// Batch rhs of W states (AoS in, AoS out), through SoA.
+// Batch rhs of lanes states (AoS in, AoS out), through SoA.
 std::vector<double> batch_rhs(const npend::batch_kernels& k, int n, const double* states,
                               const double* params) {
   const int m = 2 * n;
-  std::vector<double> x(static_cast<std::size_t>(m * W)), dx(x.size()), out(x.size());
-  for (int l = 0; l < W; ++l)
-    for (int i = 0; i < m; ++i) x[static_cast<std::size_t>(i * W + l)] = states[l * m + i];
+  std::vector<double> x(static_cast<std::size_t>(m * lanes)), dx(x.size()), out(x.size());
+  for (int l = 0; l < lanes; ++l)
+    for (int i = 0; i < m; ++i) x[static_cast<std::size_t>(i * lanes + l)] = states[l * m + i];
   k.rhs_batch(x.data(), params, dx.data());
-  for (int l = 0; l < W; ++l)
+  for (int l = 0; l < lanes; ++l)
     for (int i = 0; i < m; ++i)
-      out[static_cast<std::size_t>(l * m + i)] = dx[static_cast<std::size_t>(i * W + l)];
+      out[static_cast<std::size_t>(l * m + i)] = dx[static_cast<std::size_t>(i * lanes + l)];
   return out;
 }
 
 bool sines_agree(const double* x, int n) {
-  double s[W], c[W], a[W];
+  double s[lanes], c[lanes], a[lanes];
   for (int i = 0; i < n; ++i) {
-    std::fill(a, a + W, x[i]);
+    std::fill(a, a + lanes, x[i]);
     npend::batch_sincos(a, s, c);
     if (s[0] != std::sin(x[i]) || c[0] != std::cos(x[i])) return false;
   }
@@ -69,16 +69,16 @@ TEST_CASE("rhs_batch: agrees with the scalar rhs for 1 to 6 links on random stat
     REQUIRE(scalar != nullptr);
     REQUIRE(batch != nullptr);
     REQUIRE(batch->links == n);
-    REQUIRE(batch->width == W);
+    REQUIRE(batch->width == lanes);
     const int m = 2 * n;
     const int groups = 500;
-    const problem p = random_problem(n, groups * W, rng);
+    const problem p = random_problem(n, groups * lanes, rng);
     double worst = 0;
     int identical = 0, compared = 0, with_equal_sines = 0;
     for (int gi = 0; gi < groups; ++gi) {
-      const double* states = p.states.data() + gi * W * m;
+      const double* states = p.states.data() + gi * lanes * m;
       const auto got = batch_rhs(*batch, n, states, p.params.data());
-      for (int l = 0; l < W; ++l) {
+      for (int l = 0; l < lanes; ++l) {
         std::vector<double> want(static_cast<std::size_t>(m));
         scalar->rhs(states + l * m, p.params.data(), want.data());
         // Relative to the largest term of each half (rates, then forces).
@@ -122,18 +122,18 @@ TEST_CASE("rhs_batch: a lane's result does not depend on its slot or on the othe
     CAPTURE(n);
     const npend::batch_kernels& batch = *npend::generated::find_batch(n);
     const int m = 2 * n;
-    const problem p = random_problem(n, 2 * W, rng);
+    const problem p = random_problem(n, 2 * lanes, rng);
     const double* probe = p.states.data();  // state 0
     // The probe in every lane at once: all lanes the same bits.
     std::vector<double> same_everywhere;
-    for (int l = 0; l < W; ++l) same_everywhere.insert(same_everywhere.end(), probe, probe + m);
+    for (int l = 0; l < lanes; ++l) same_everywhere.insert(same_everywhere.end(), probe, probe + m);
     const auto all = batch_rhs(batch, n, same_everywhere.data(), p.params.data());
-    for (int l = 1; l < W; ++l)
+    for (int l = 1; l < lanes; ++l)
       for (int i = 0; i < m; ++i)
         CHECK(all[static_cast<std::size_t>(l * m + i)] == all[static_cast<std::size_t>(i)]);
     // The probe in slot `slot` among other random states: the bits of lane 0 above.
-    for (int slot = 0; slot < W; ++slot) {
-      std::vector<double> mixed(p.states.begin() + W * m, p.states.end());
+    for (int slot = 0; slot < lanes; ++slot) {
+      std::vector<double> mixed(p.states.begin() + lanes * m, p.states.end());
       std::copy(probe, probe + m, mixed.begin() + slot * m);
       const auto got = batch_rhs(batch, n, mixed.data(), p.params.data());
       for (int i = 0; i < m; ++i)

@@ -18,6 +18,8 @@ using npend::chain;
 using npend::chain_parameters;
 using npend::truncation;
 
+using npend::test::max_difference;
+
 namespace {
 
 std::vector<double> random_vector(std::mt19937_64& rng, int n, double scale) {
@@ -43,11 +45,6 @@ double relative_residual(const std::vector<std::vector<double>>& equations) {
 
 double slope(double error_big, double error_small) { return std::log2(error_big / error_small); }
 
-double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double worst = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::fabs(a[i] - b[i]));
-  return worst;
-}
 
 }  // namespace
 

@@ -7,6 +7,7 @@
 #include "npend/chain_system.hpp"
 #include "npend/integrate.hpp"
 #include "npend/integrate_system.hpp"
+#include "support/test_support.hpp"
 
 #include <boost/numeric/odeint/stepper/generation.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
@@ -20,6 +21,8 @@
 using npend::chain;
 using npend::integration_options;
 using npend::stepper_kind;
+
+using npend::test::max_difference;
 
 namespace {
 
@@ -47,11 +50,6 @@ integration_options grid(double t_end, double dt) {
   return o;
 }
 
-double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double d = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::fabs(a[i] - b[i]));
-  return d;
-}
 
 }  // namespace
 

@@ -21,6 +21,8 @@ std::vector<double> random_state(int links, std::mt19937_64& rng, double scale =
 
 /// ‖a − b‖∞ / ‖b‖∞ (or the absolute difference when b = 0).
 double relative_error(std::span<const double> a, std::span<const double> b);
+/// max_i |a_i − b_i| (a and b of one size).
+double max_difference(const std::vector<double>& a, const std::vector<double>& b);
 double relative_error(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 
 Eigen::VectorXd to_eigen(std::span<const double> v);
