@@ -2,6 +2,7 @@
 #include "chain_loop.hpp"
 
 #include <cmath>
+#include <cstddef>
 #include <npend/batch_math.hpp>
 
 namespace npend::generated::chain_loop {
@@ -275,11 +276,11 @@ void jacobian(int n, const double* x, const double* params, double* jac, double*
   evaluate(n, x, x + n, params, v);
   const int dim = 2 * n;
   double* const rows = work + workspace_size(n);
-  double* const dx = rows + 6 * n * n;
+  double* const dx = rows + 6 * std::ptrdiff_t{n} * n;
   double* const dy = dx + dim;
   {  // the tip
     const int k = n - 1;
-    double* const dr = rows + 6 * n * (k);
+    double* const dr = rows + 6 * std::ptrdiff_t{n} * (k);
     double* const dgamma = dr + n;
     double* const da = dgamma + n;
     double* const dbeta = da + dim;
@@ -296,11 +297,11 @@ void jacobian(int n, const double* x, const double* params, double* jac, double*
     da[n + k] += c0;
   }
   for (int k = n - 2; k >= 0; --k) {
-    double* const dr = rows + 6 * n * (k);
+    double* const dr = rows + 6 * std::ptrdiff_t{n} * (k);
     double* const dgamma = dr + n;
     double* const da = dgamma + n;
     double* const dbeta = da + dim;
-    const double* const dr1 = rows + 6 * n * (k + 1);
+    const double* const dr1 = rows + 6 * std::ptrdiff_t{n} * (k + 1);
     const double* const dgamma1 = dr1 + n;
     const double* const da1 = dgamma1 + n;
     const double* const dbeta1 = da1 + dim;
@@ -384,12 +385,12 @@ void jacobian(int n, const double* x, const double* params, double* jac, double*
     dy[j] = 0.0;
   }
   for (int k = 0; k + 1 < n; ++k) {
-    const double* const dr = rows + 6 * n * (k);
+    const double* const dr = rows + 6 * std::ptrdiff_t{n} * (k);
     const double* const dgamma = dr + n;
     const double* const da = dgamma + n;
     const double* const dbeta = da + dim;
-    double* const f = jac + k * dim;
-    double* const g = jac + (n + k) * dim;
+    double* const f = jac + std::ptrdiff_t{k} * dim;
+    double* const g = jac + std::ptrdiff_t{n + k} * dim;
     const double t0 = 1.0 / params[chain_layout::length_index(n, k)];
     const double t1 = v.beta[k] + v.r[k] * v.y[k];
     const double t2 = -t1;
@@ -460,12 +461,12 @@ void jacobian(int n, const double* x, const double* params, double* jac, double*
   }
   {  // the tip
     const int k = n - 1;
-    const double* const dr = rows + 6 * n * (k);
+    const double* const dr = rows + 6 * std::ptrdiff_t{n} * (k);
     const double* const dgamma = dr + n;
     const double* const da = dgamma + n;
     const double* const dbeta = da + dim;
-    double* const f = jac + k * dim;
-    double* const g = jac + (n + k) * dim;
+    double* const f = jac + std::ptrdiff_t{k} * dim;
+    double* const g = jac + std::ptrdiff_t{n + k} * dim;
     const double t0 = 1.0 / params[chain_layout::length_index(n, k)];
     const double t1 = v.beta[k] + v.r[k] * v.y[k];
     const double t2 = -t1;

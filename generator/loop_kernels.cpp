@@ -406,7 +406,7 @@ sx momentum_derivative(loop_step& st, const std::string& length) {
 std::string link_rows(const std::string& k, const std::string& suffix, bool constant) {
   const char* type = constant ? "const double* const" : "double* const";
   return fmt::format(
-      "    {0} dr{1} = rows + 6 * n * ({2});\n    {0} dgamma{1} = dr{1} + n;\n"
+      "    {0} dr{1} = rows + 6 * std::ptrdiff_t{{n}} * ({2});\n    {0} dgamma{1} = dr{1} + n;\n"
       "    {0} da{1} = dgamma{1} + n;\n    {0} dbeta{1} = da{1} + dim;\n",
       type, suffix, k);
 }
@@ -479,8 +479,8 @@ std::string jacobian_forward() {
       }
     }
     const std::string rows = link_rows("k", "", true) +
-                             "    double* const f = jac + k * dim;\n"
-                             "    double* const g = jac + (n + k) * dim;\n";
+                             "    double* const f = jac + std::ptrdiff_t{k} * dim;\n"
+                             "    double* const g = jac + std::ptrdiff_t{n + k} * dim;\n";
     text += last ? block("the tip", "    const int k = n - 1;\n" + rows + vs.emit())
                  : loop("int k = 0; k + 1 < n; ++k", rows + vs.emit());
   }
@@ -555,7 +555,7 @@ std::vector<function_text> loop_functions() {
                 values_call + "  evaluate(n, x, x + n, params, v);\n" +
                     "  const int dim = 2 * n;\n"
                     "  double* const rows = work + workspace_size(n);\n"
-                    "  double* const dx = rows + 6 * n * n;\n"
+                    "  double* const dx = rows + 6 * std::ptrdiff_t{n} * n;\n"
                     "  double* const dy = dx + dim;\n" +
                     jacobian_backward() + jacobian_forward()});
   fs.push_back({"H = T + V with T = 1/2 sum m_k |v_k|^2 from the elimination.",
@@ -739,7 +739,7 @@ inline constexpr std::size_t jacobian_workspace_size(int n) noexcept {{
 )",
                                     arrays);
   out.source = banner +
-               fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n#include <npend/batch_math.hpp>\n\n",
+               fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n#include <cstddef>\n#include <npend/batch_math.hpp>\n\n",
                            loop_stem) +
                "namespace npend::generated::chain_loop {\n\nnamespace {\n\n" + passes_struct();
   out.source +=
