@@ -249,6 +249,35 @@ TEST_CASE("npend map: a map of one step, every cell ruled out, still draws its P
   CHECK(fs::exists(dir / "m" / "map.png"));
 }
 
+TEST_CASE("npend map: forbidden cells are grey with failed cells red, and without any") {
+  // Without failed cells the map's NaN are left transparent over a grey plot area; with
+  // failed cells too (here: steps far too long for rk4) forbidden.npy is drawn over the map.
+  const fs::path dir(npend::test::temporary_directory("cli-map-grey"));
+  const auto both = run_npend(
+      "map --links 2 --x energy:0:100:6 --y phi1:0:3:6 --quantity state --dt 2 --t-end 1000 "
+      "--json --out " +
+      (dir / "both").string());
+  REQUIRE(both.exit_code == 0);
+  const auto jb = nlohmann::json::parse(both.out);
+  REQUIRE(jb["failed"] > 0);
+  REQUIRE(jb["forbidden"] > 0);
+  const std::string script = npend::test::read_text((dir / "both" / "map.gp").string());
+  CHECK(script.find("forbidden.npy") != std::string::npos);
+  CHECK(script.find("set object 1 rectangle") == std::string::npos);
+  const auto lens = run_npend("map --links 2 --x phi1:-3:3:8 --y phi2:-3:3:8 --t-end 10 --json --out " +
+                              (dir / "lens").string());
+  REQUIRE(lens.exit_code == 0);
+  const auto jl = nlohmann::json::parse(lens.out);
+  CHECK(jl["failed"] == 0);
+  CHECK(jl["forbidden"] == 16);
+  const std::string grey = npend::test::read_text((dir / "lens" / "map.gp").string());
+  CHECK(grey.find("set object 1 rectangle") != std::string::npos);
+  CHECK(grey.find("\"forbidden.npy\"") == std::string::npos);
+  CHECK(both.err.find("gnuplot failed") == std::string::npos);
+  CHECK(lens.err.find("gnuplot failed") == std::string::npos);
+  for (const char* folder : {"both", "lens"}) CHECK(fs::exists(dir / folder / "map.png"));
+}
+
 TEST_CASE("npend map: beyond 1024 cells a side map.png draws a subsample, map.npy keeps all") {
   const fs::path dir(npend::test::temporary_directory("cli-map-subsample"));
   const auto r = run_npend("map --links 2 --x phi1:-3:3:1100 --y phi2:-3:3:3 --t-end 0.01 --out " +
