@@ -9,12 +9,12 @@ namespace npend::generated::chain_loop {
 
 namespace {
 
-// The per-link arrays of the passes (n each), and a direction and a column (2n each) for
-// the Jacobian, cut from the caller's workspace.
+// The per-link arrays of the passes (n each), and n zero momenta for det A, cut from the
+// caller's workspace.
 struct passes {
   double *s, *c, *cd, *sd, *q, *mu, *d, *r, *beta, *a, *gamma, *x, *y, *w, *omega, *force;
   double *ds, *dc, *dcd, *dsd, *dq, *dr, *dbeta, *da, *dgamma, *dx, *dy;
-  double *direction, *column;
+  double *no_momenta;
 };
 
 passes cut(int n, double* work) noexcept {
@@ -47,8 +47,7 @@ passes cut(int n, double* work) noexcept {
   v.dgamma = work + n * i++;
   v.dx = work + n * i++;
   v.dy = work + n * i++;
-  v.direction = work + n * i;
-  v.column = work + n * (i + 2);
+  v.no_momenta = work + n * i;
   return v;
 }
 
@@ -74,7 +73,7 @@ void eliminate_from_tip(int n, const double* phi, const double* p, const double*
   double s1, c1, q1, mu1, r1, beta1;
   {  // the tip
     const int k = n - 1;
-    const double t0 = 1.0 / params[chain_layout::length_index(n, k)] * p[k];
+    const double t0 = p[k] * (1.0 / params[chain_layout::length_index(n, k)]);
     v.q[k] = t0;
     v.mu[k] = params[chain_layout::mass_index(n, k)];
     v.d[k] = params[chain_layout::mass_index(n, k)];
@@ -90,7 +89,7 @@ void eliminate_from_tip(int n, const double* phi, const double* p, const double*
     beta1 = 0.0;
   }
   for (int k = n - 2; k >= 0; --k) {
-    const double t0 = 1.0 / params[chain_layout::length_index(n, k)] * p[k];
+    const double t0 = p[k] * (1.0 / params[chain_layout::length_index(n, k)]);
     const double t1 = v.s[k] * s1 + v.c[k] * c1;
     const double t2 = v.c[k] * s1 - v.s[k] * c1;
     const double t3 = params[chain_layout::mass_index(n, k)] + mu1;
@@ -162,7 +161,7 @@ void tangent(int n, const double* params, const passes& v, const double* dphi, c
   for (int k = 0; k < n; ++k) {
     v.ds[k] = v.c[k] * dphi[k];
     v.dc[k] = -(v.s[k] * dphi[k]);
-    v.dq[k] = 1.0 / params[chain_layout::length_index(n, k)] * dp[k];
+    v.dq[k] = dp[k] * (1.0 / params[chain_layout::length_index(n, k)]);
   }
   for (int k = 0; k + 1 < n; ++k) {
     const double t0 = v.s[k + 1] * v.ds[k] + v.c[k + 1] * v.dc[k] + v.s[k] * v.ds[k + 1];
@@ -614,8 +613,8 @@ void mass_matrix(int n, const double* phi, const double* params, double* A, doub
 
 double det_mass_matrix(int n, const double* phi, const double* params, double* work) noexcept {
   const passes v = cut(n, work);
-  for (int k = 0; k < n; ++k) v.direction[k] = 0.0;
-  evaluate(n, phi, v.direction, params, v);
+  for (int k = 0; k < n; ++k) v.no_momenta[k] = 0.0;
+  evaluate(n, phi, v.no_momenta, params, v);
   double det = 1.0;
   for (int k = 0; k < n; ++k) {
     const double t0 = params[chain_layout::length_index(n, k)] * params[chain_layout::length_index(n, k)];
@@ -627,8 +626,8 @@ double det_mass_matrix(int n, const double* phi, const double* params, double* w
 
 double log_det_mass_matrix(int n, const double* phi, const double* params, double* work) noexcept {
   const passes v = cut(n, work);
-  for (int k = 0; k < n; ++k) v.direction[k] = 0.0;
-  evaluate(n, phi, v.direction, params, v);
+  for (int k = 0; k < n; ++k) v.no_momenta[k] = 0.0;
+  evaluate(n, phi, v.no_momenta, params, v);
   double log_det = 0.0;
   for (int k = 0; k < n; ++k) {
     const double t0 = params[chain_layout::length_index(n, k)] * params[chain_layout::length_index(n, k)];

@@ -12,7 +12,7 @@
 namespace npend::generated::chain_loop {
 
 /// Doubles of workspace the functions need for n links.
-inline constexpr int workspace_size(int n) noexcept { return 31 * n; }
+inline constexpr int workspace_size(int n) noexcept { return 28 * n; }
 
 /// Doubles of workspace the Jacobian needs: workspace_size(n) and the tangent rows of every
 /// link (O(n^2), as the Jacobian itself).

@@ -108,13 +108,18 @@ elimination_step eliminate(const elimination_inputs& e) {
   return eliminate_link(e.mass, e.C, e.S, e.q, e.q_next, e.r_next, e.beta_next);
 }
 
+// q = p / l: a link's momentum per length, for the link whose length `length` names.
+sx momentum_per_length(loop_step& st, sx p, const std::string& length) {
+  return p * (st.constant(1) / st.in(length));
+}
+
 // Link k's sine and cosine (from sines_and_cosines) and q_k = p_k / l_k, stored.
 struct link_angle {
   sx s, c, q;
 };
 link_angle read_angle(loop_step& st) {
   const link_angle a{st.in("v.s[k]"), st.in("v.c[k]"),
-                     st.in("p[k]") * (st.constant(1) / st.in(length_k))};
+                     momentum_per_length(st, st.in("p[k]"), length_k)};
   st.out("v.q[k]", a.q);
   return a;
 }
@@ -233,8 +238,9 @@ std::string tangent_pass() {
     const sx s = st.in("v.s[k]"), c = st.in("v.c[k]"), dphi = st.in("dphi[k]");
     st.out("v.ds[k]", c * dphi);
     st.out("v.dc[k]", -(s * dphi));
-    const sx p = st.in("p_unused"), q = p * (st.constant(1) / st.in(length_k));
-    st.out("v.dq[k]", st.tangents({q}, {{p, st.in("dp[k]")}})[0]);
+    const sx p = st.in("p_unused");
+    st.out("v.dq[k]",
+           st.tangents({momentum_per_length(st, p, length_k)}, {{p, st.in("dp[k]")}})[0]);
     text += loop("int k = 0; k < n; ++k", st.emit(in_loop));
   }
   {
@@ -397,8 +403,8 @@ std::pair<sx, sx> turn_derivative(loop_step& st, bool first) {
 
 // ∂q/∂p = 1/l for the link whose length `length` names.
 sx momentum_derivative(loop_step& st, const std::string& length) {
-  const sx p = st.in("p_unused"), q = p * (st.constant(1) / st.in(length));
-  return st.tangents({q}, {{p, st.constant(1)}})[0];
+  const sx p = st.in("p_unused");
+  return st.tangents({momentum_per_length(st, p, length)}, {{p, st.constant(1)}})[0];
 }
 
 // The rows of link k's tangents in the Jacobian's workspace: r_k and γ_k over the n angle
@@ -487,13 +493,12 @@ std::string jacobian_forward() {
   return text;
 }
 
-// f from the value pass.
-std::string hamilton_step(bool velocities_only, const std::string& target) {
+// φ̇ = f_k (k < n) from the value pass.
+std::string velocity_step(const std::string& target) {
   loop_step st;
   const auto [dphi, dp] =
       hamilton_equations(st, st.in("v.omega[k]"), st.in("v.force[k]"), st.in("v.s[k]"));
   st.out(target + "[k]", dphi);
-  if (!velocities_only) st.out(target + "[n + k]", dp);
   return loop("int k = 0; k < n; ++k", st.emit(in_loop));
 }
 
@@ -568,7 +573,7 @@ std::vector<function_text> loop_functions() {
   fs.push_back({"phi' = A^-1 p.",
                 "void velocities(int n, const double* phi, const double* p, const double* params, "
                 "double* dphi, double* work) noexcept",
-                values_call + "  evaluate(n, phi, p, params, v);\n" + hamilton_step(true, "dphi")});
+                values_call + "  evaluate(n, phi, p, params, v);\n" + velocity_step("dphi")});
   {
     loop_step st;
     const sx px = st.in("px") + st.in(mass_k)*st.in("v.x[k]");
@@ -628,8 +633,8 @@ std::vector<function_text> loop_functions() {
          "double det_mass_matrix(int n, const double* phi, const double* params, "
          "double* work) noexcept",
          "  const passes v = cut(n, work);\n"
-         "  for (int k = 0; k < n; ++k) v.direction[k] = 0.0;\n"
-         "  evaluate(n, phi, v.direction, params, v);\n"
+         "  for (int k = 0; k < n; ++k) v.no_momenta[k] = 0.0;\n"
+         "  evaluate(n, phi, v.no_momenta, params, v);\n"
          "  double det = 1.0;\n" +
              loop("int k = 0; k < n; ++k", st.emit(in_loop)) + "  return det;\n"});
   }
@@ -643,8 +648,8 @@ std::vector<function_text> loop_functions() {
          "double log_det_mass_matrix(int n, const double* phi, const double* params, "
          "double* work) noexcept",
          "  const passes v = cut(n, work);\n"
-         "  for (int k = 0; k < n; ++k) v.direction[k] = 0.0;\n"
-         "  evaluate(n, phi, v.direction, params, v);\n"
+         "  for (int k = 0; k < n; ++k) v.no_momenta[k] = 0.0;\n"
+         "  evaluate(n, phi, v.no_momenta, params, v);\n"
          "  double log_det = 0.0;\n" +
              loop("int k = 0; k < n; ++k",
                   st.emit(in_loop) + in_loop + "log_det += std::log(pivot);\n") +
@@ -699,18 +704,18 @@ std::string passes_struct() {
   for (const char* a : value_arrays) cuts += fmt::format("  v.{} = work + n * i++;\n", a);
   for (const char* a : tangent_arrays) cuts += fmt::format("  v.{} = work + n * i++;\n", a);
   return fmt::format(
-      "// The per-link arrays of the passes (n each), and a direction and a column (2n each) for\n"
-      "// the Jacobian, cut from the caller's workspace.\n"
-      "struct passes {{\n  double {};\n  double {};\n  double *direction, *column;\n}};\n\n"
+      "// The per-link arrays of the passes (n each), and n zero momenta for det A, cut from the\n"
+      "// caller's workspace.\n"
+      "struct passes {{\n  double {};\n  double {};\n  double *no_momenta;\n}};\n\n"
       "passes cut(int n, double* work) noexcept {{\n  passes v;\n  int i = 0;\n{}"
-      "  v.direction = work + n * i;\n  v.column = work + n * (i + 2);\n  return v;\n}}\n",
+      "  v.no_momenta = work + n * i;\n  return v;\n}}\n",
       names, tnames, cuts);
 }
 
 }  // namespace
 
 chain_sources emit_loop_kernels() {
-  const int arrays = static_cast<int>(std::size(value_arrays) + std::size(tangent_arrays)) + 4;
+  const int arrays = static_cast<int>(std::size(value_arrays) + std::size(tangent_arrays)) + 1;
   const std::string banner = generated_banner("npend-gen --loop");
   const auto fs = loop_functions();
   chain_sources out;
