@@ -149,9 +149,10 @@ std::vector<double> cells_in_parallel(const chain& c, const state_batch& starts,
                                       const map_cell_options& o, int threads,
                                       python_interrupt& interrupt) {
   const int team = team_size(threads);
-  // Enough chunks to balance the threads, each enough cells to fill the lanes.
+  // Enough chunks to balance the threads, each enough cells to keep the lanes full (up to
+  // 256, the cells of one of npend map's default tiles).
   const std::size_t chunk =
-      std::clamp<std::size_t>(starts.count / (4 * static_cast<std::size_t>(team)), 8, 64);
+      std::clamp<std::size_t>(starts.count / (4 * static_cast<std::size_t>(team)), 8, 256);
   return values_in_parallel(starts.count, chunk, team, interrupt,
                             [&](std::size_t first, std::size_t count) {
                               return map_cells(c, {starts.row(first), count * starts.width}, o);

@@ -91,7 +91,7 @@ reference_flip reference_flip_time(const npend::chain& c, std::vector<double> x,
 
 TEST_CASE("flip_times: runs on the batch lanes for point-mass chains, not for physical ones") {
   CHECK(npend::batch_flip_lanes(npend::chain(npend::chain_parameters::uniform(2))) ==
-        npend::batch_width);
+        4 * npend::batch_width);
   npend::chain_parameters rods = npend::chain_parameters::uniform(2);
   rods.make_uniform_rods();
   CHECK(npend::batch_flip_lanes(npend::chain(rods)) == 0);
@@ -164,7 +164,7 @@ TEST_CASE("flip_times: a cell's value depends on its own start only") {
   const npend::chain c(npend::chain_parameters::uniform(3));
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> angle(-3, 3), momentum(-2, 2);
-  const int count = 5 * npend::batch_width + 3;
+  const int count = 5 * npend::batch_flip_lanes(c) + 3;
   std::vector<double> starts;
   for (int k = 0; k < count; ++k) {
     for (int i = 0; i < 3; ++i) starts.push_back(angle(rng));

@@ -108,23 +108,32 @@ const batch_kernels* flip_kernels(const chain& c) {
   return k != nullptr && k->width == batch_width ? k : nullptr;
 }
 
-// rk4 on the batch kernels' W lanes, in structure-of-arrays layout (coordinate i of lane l at
-// [i*W + l]): odeint's runge_kutta4 step, sum for sum, so that each lane computes what
-// flip_time's stepper computes from the same state, but with the kernels' sines.
+// Blocks of batch_width lanes that flip_times steps at once. One block's rhs is a short
+// chain of dependent operations (a sincos, then a division); four independent blocks per
+// step let the processor overlap them: 1.2x the steps per second of one block, measured on
+// a 128^2 flip map with AVX-512.
+constexpr int lane_blocks = 4;
+
+// rk4 on lane_blocks blocks of the batch kernels' lanes. Block b holds lanes
+// b*W .. b*W + W-1 (W = batch_width) in the kernels' structure-of-arrays layout: coordinate
+// i of lane l at [b*2n*W + i*W + l % W]. odeint's runge_kutta4 step, sum for sum, so that
+// each lane computes what flip_time's stepper computes from the same state, but with the
+// kernels' sines. step(blocks) advances the first `blocks` blocks only.
 class lane_rk4 {
  public:
   static constexpr int W = batch_width;
+  static constexpr int lanes = W * lane_blocks;
 
   lane_rk4(const batch_kernels& k, const double* params, int n, double dt)
       : m_kernels(k),
         m_params(params),
-        m_size(static_cast<std::size_t>(2 * n * W)),
-        m_x(m_size),
-        m_k1(m_size),
-        m_k2(m_size),
-        m_k3(m_size),
-        m_k4(m_size),
-        m_tmp(m_size),
+        m_block(static_cast<std::size_t>(2 * n * W)),
+        m_x(m_block * lane_blocks),
+        m_k1(m_x.size()),
+        m_k2(m_x.size()),
+        m_k3(m_x.size()),
+        m_k4(m_x.size()),
+        m_tmp(m_x.size()),
         // odeint's coefficients a_ij dt and b_i dt, as it rounds them.
         m_half(0.5 * dt),
         m_zero(0.0 * dt),
@@ -134,43 +143,59 @@ class lane_rk4 {
 
   double* state() { return m_x.data(); }
 
-  void step() {
-    const std::size_t size = m_size;
+  /// Where coordinate i of lane l lives in state().
+  std::size_t at(std::size_t i, std::size_t l) const {
+    return (l / W) * m_block + i * W + l % W;
+  }
+
+  void step(int blocks) {
+    const std::size_t size = m_block * static_cast<std::size_t>(blocks);
     double* x = m_x.data();
     double *k1 = m_k1.data(), *k2 = m_k2.data(), *k3 = m_k3.data(), *k4 = m_k4.data();
     double* tmp = m_tmp.data();
     const double half = m_half, zero = m_zero, full = m_full, sixth = m_sixth, third = m_third;
-    m_kernels.rhs_batch(x, m_params, k1);
+    rhs(blocks, x, k1);
 #pragma omp simd
     for (std::size_t i = 0; i < size; ++i) tmp[i] = x[i] + half * k1[i];
-    m_kernels.rhs_batch(tmp, m_params, k2);
+    rhs(blocks, tmp, k2);
     // odeint keeps the zero coefficients of its Butcher rows (0 · k is not always 0).
 #pragma omp simd
     for (std::size_t i = 0; i < size; ++i) tmp[i] = x[i] + zero * k1[i] + half * k2[i];
-    m_kernels.rhs_batch(tmp, m_params, k3);
+    rhs(blocks, tmp, k3);
 #pragma omp simd
     for (std::size_t i = 0; i < size; ++i)
       tmp[i] = x[i] + zero * k1[i] + zero * k2[i] + full * k3[i];
-    m_kernels.rhs_batch(tmp, m_params, k4);
+    rhs(blocks, tmp, k4);
 #pragma omp simd
     for (std::size_t i = 0; i < size; ++i)
       x[i] = x[i] + sixth * k1[i] + third * k2[i] + third * k3[i] + sixth * k4[i];
   }
 
  private:
+  void rhs(int blocks, const double* x, double* dxdt) const {
+    for (int b = 0; b < blocks; ++b) {
+      const std::size_t offset = m_block * static_cast<std::size_t>(b);
+      m_kernels.rhs_batch(x + offset, m_params, dxdt + offset);
+    }
+  }
+
   const batch_kernels& m_kernels;
   const double* m_params;
-  std::size_t m_size;
+  std::size_t m_block;
   std::vector<double> m_x, m_k1, m_k2, m_k3, m_k4, m_tmp;
   double m_half, m_zero, m_full, m_sixth, m_third;
 };
 
-// The flip times of the starts `queue` (indices of states in `starts`), W at a time: a lane
-// whose cell is done takes the next start; once the queue is empty an idle lane runs a copy
-// of a live lane (its result unused), so that every step computes full lanes.
+// The flip times of the starts `queue` (indices of states in `starts`) on lane_rk4's lanes:
+// a lane whose cell is done takes the next start. Once the queue is empty the live lanes
+// move down into the lowest blocks, so that only ceil(live / W) blocks are stepped; the idle
+// lanes of the last of them run a copy of a live lane (results unused), so that every lane
+// stepped holds a finite state. A lane's arithmetic does not depend on its slot, so moving a
+// state changes nothing.
 void flip_on_lanes(const batch_kernels& k, const chain& c, std::span<const double> starts,
                    const std::vector<std::size_t>& queue, const flip_options& o,
                    std::vector<double>& out) {
+  constexpr int lanes = lane_rk4::lanes;
   constexpr int W = lane_rk4::W;
   const auto n = static_cast<std::size_t>(c.links());
   const std::size_t m = 2 * n;
@@ -178,36 +203,46 @@ void flip_on_lanes(const batch_kernels& k, const chain& c, std::span<const doubl
   double* x = rk.state();
   const long long steps = flip_steps(o);
   constexpr std::size_t idle = static_cast<std::size_t>(-1);
-  std::array<std::size_t, W> cell{};
-  std::array<long long, W> done_steps{};
+  std::array<std::size_t, lanes> cell{};
+  std::array<long long, lanes> done_steps{};
   std::size_t next = 0;
-  const auto load = [&](int l) {
-    cell[static_cast<std::size_t>(l)] = next < queue.size() ? queue[next++] : idle;
-    if (cell[static_cast<std::size_t>(l)] == idle) return;
-    done_steps[static_cast<std::size_t>(l)] = 0;
-    const double* x0 = starts.data() + cell[static_cast<std::size_t>(l)] * m;
-    for (std::size_t i = 0; i < m; ++i) x[i * W + static_cast<std::size_t>(l)] = x0[i];
+  const auto copy_lane = [&](std::size_t to, std::size_t from) {
+    for (std::size_t i = 0; i < m; ++i) x[rk.at(i, to)] = x[rk.at(i, from)];
   };
-  // An idle lane copies live lane `from`.
-  const auto pad = [&](int l, int from) {
-    for (std::size_t i = 0; i < m; ++i)
-      x[i * W + static_cast<std::size_t>(l)] = x[i * W + static_cast<std::size_t>(from)];
+  const auto load = [&](std::size_t l) {
+    cell[l] = next < queue.size() ? queue[next++] : idle;
+    if (cell[l] == idle) return;
+    done_steps[l] = 0;
+    const double* x0 = starts.data() + cell[l] * m;
+    for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = x0[i];
   };
-  for (int l = 0; l < W; ++l) load(l);
+  for (std::size_t l = 0; l < lanes; ++l) load(l);
+  // Live lanes to the lowest slots, idle ones of the last block padded; the blocks to step.
+  const auto compact = [&]() {
+    std::size_t live = 0;
+    for (std::size_t l = 0; l < lanes; ++l)
+      if (cell[l] != idle) {
+        if (l != live) {
+          copy_lane(live, l);
+          cell[live] = cell[l];
+          done_steps[live] = done_steps[l];
+          cell[l] = idle;
+        }
+        ++live;
+      }
+    const std::size_t blocks = (live + W - 1) / W;
+    for (std::size_t l = live; l < blocks * W; ++l) copy_lane(l, 0);
+    return static_cast<int>(blocks);
+  };
+  int blocks = compact();
   double lane_state[2 * chain_layout::max_links];
-  for (;;) {
-    int live = -1;
-    for (int l = 0; l < W && live < 0; ++l)
-      if (cell[static_cast<std::size_t>(l)] != idle) live = l;
-    if (live < 0) return;
-    for (int l = 0; l < W; ++l)
-      if (cell[static_cast<std::size_t>(l)] == idle) pad(l, live);
-    rk.step();
-    for (int l = 0; l < W; ++l) {
-      const auto lu = static_cast<std::size_t>(l);
-      if (cell[lu] == idle) continue;
-      const long long s = ++done_steps[lu];
-      for (std::size_t i = 0; i < n; ++i) lane_state[i] = x[i * W + lu];
+  while (blocks > 0) {
+    rk.step(blocks);
+    bool changed = false;
+    for (std::size_t l = 0; l < static_cast<std::size_t>(blocks * W); ++l) {
+      if (cell[l] == idle) continue;
+      const long long s = ++done_steps[l];
+      for (std::size_t i = 0; i < n; ++i) lane_state[i] = x[rk.at(i, l)];
       double value;
       if (has_flipped(lane_state, n, o))
         value = static_cast<double>(s) * o.dt;
@@ -217,15 +252,17 @@ void flip_on_lanes(const batch_kernels& k, const chain& c, std::span<const doubl
         value = std::numeric_limits<double>::infinity();
       else
         continue;
-      out[cell[lu]] = value;
+      out[cell[l]] = value;
       load(l);
+      changed |= cell[l] == idle;
     }
+    if (changed) blocks = compact();
   }
 }
 
 }  // namespace
 
-int batch_flip_lanes(const chain& c) { return flip_kernels(c) != nullptr ? batch_width : 0; }
+int batch_flip_lanes(const chain& c) { return flip_kernels(c) != nullptr ? lane_rk4::lanes : 0; }
 
 std::vector<double> flip_times(const chain& c, std::span<const double> starts,
                                const flip_options& o) {

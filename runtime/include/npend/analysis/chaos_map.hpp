@@ -38,9 +38,9 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
 
 /// flip_time of many start states at once: `starts` holds count = starts.size() / 2n states,
 /// one after another (dim count × 2n); returns the count flip times. On a point-mass chain
-/// with batch kernels (batch_flip_lanes > 0) the rk4 steps run on the batch kernels' W lanes
-/// (npend/batch_math.hpp), a lane refilled from the queue of starts as soon as its cell is
-/// done; otherwise flip_time cell by cell. Each value depends on its own start only, never
+/// with batch kernels (batch_flip_lanes > 0) the rk4 steps run on batch_flip_lanes lanes,
+/// blocks of the batch kernels' W (npend/batch_math.hpp), a lane refilled from the queue of
+/// starts as soon as its cell is done; otherwise flip_time cell by cell. Each value depends on its own start only, never
 /// on its slot or on the other starts. The lanes take the same rk4 steps as flip_time
 /// (odeint's runge_kutta4, the same sums in the same order) with SLEEF's sines and cosines
 /// (within 1 ulp) for std::sin's, so a cell's time equals flip_time's whenever the sines do,
@@ -50,8 +50,9 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
 std::vector<double> flip_times(const chain& c, std::span<const double> starts,
                                const flip_options& options);
 
-/// Lanes flip_times computes at once for chain `c`: npend::batch_width on a point-mass chain
-/// whose link count has batch kernels, 0 where it goes cell by cell (physical chains).
+/// Lanes flip_times steps at once for chain `c`: four blocks of npend::batch_width on a
+/// point-mass chain whose link count has batch kernels, 0 where it goes cell by cell
+/// (physical chains).
 int batch_flip_lanes(const chain& c);
 
 /// What a map shows in each cell.
