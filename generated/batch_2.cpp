@@ -25,10 +25,57 @@ void rhs_batch(const double* x, const double* params, double* dxdt) noexcept {
   }
 }
 
+void tangent_batch(const double* x, const double* w, const double* params, double* dxdt,
+                   double* dwdt) noexcept {
+  constexpr int W = batch_width;
+  double s[2 * W], c[2 * W];
+  for (int i = 0; i < 2; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);
+#pragma omp simd
+  for (int l = 0; l < W; ++l) {
+    const double t0 = 1.0 / params[2];
+    const double t1 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
+    const double t2 = params[0] + params[1] * (t1 * t1);
+    const double t3 = 1.0 / t2;
+    const double t4 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
+    const double t5 = 1.0 / params[3];
+    const double t6 = t5 * x[3 * W + l];
+    const double t7 = t0 * x[2 * W + l] - t4 * t6;
+    const double t8 = t3 * t7;
+    const double t9 = 1.0 / params[1];
+    const double t10 = t6 * t9 - t4 * t8;
+    const double t11 = params[1] * (t4 * t1);
+    const double t12 = t11 * t8 - t1 * t6;
+    const double t13 = params[4] * (params[2] * (params[0] + params[1]));
+    const double t14 = params[1] * (t1 * t8);
+    const double t15 = params[4] * (params[1] * params[3]);
+    const double t16 = t5 * w[3 * W + l];
+    const double t17 = c[1 * W + l] * w[1 * W + l];
+    const double t18 = c[0 * W + l] * w[0 * W + l];
+    const double t19 = s[0 * W + l] * w[0 * W + l];
+    const double t20 = s[1 * W + l] * w[1 * W + l];
+    const double t21 = s[0 * W + l] * t17 + s[1 * W + l] * t18 + (-(c[1 * W + l] * t19) - c[0 * W + l] * t20);
+    const double t22 = c[0 * W + l] * t17 - s[1 * W + l] * t19 - (c[1 * W + l] * t18 - s[0 * W + l] * t20);
+    const double t23 = t1 * t22;
+    const double t24 = t3 * (t0 * w[2 * W + l] - (t4 * t16 + t6 * t21)) - t7 * (t3 * (params[1] * (t23 + t23)) / t2);
+    const double t25 = t9 * t16 - (t4 * t24 + t8 * t21);
+    const double t26 = t11 * t24 + t8 * (params[1] * (t4 * t22 + t1 * t21)) - (t1 * t16 + t6 * t22);
+    const double t27 = -(t10 * (params[1] * (t1 * t24 + t8 * t22)) + t14 * t25) - t15 * t17;
+    dxdt[0 * W + l] = t0 * t8;
+    dxdt[1 * W + l] = t5 * t10;
+    dxdt[2 * W + l] = -(t8 * t12) - s[0 * W + l] * t13;
+    dxdt[3 * W + l] = -(t10 * t14) - s[1 * W + l] * t15;
+    dwdt[0 * W + l] = t0 * t24;
+    dwdt[1 * W + l] = t5 * t25;
+    dwdt[2 * W + l] = -(t8 * t26 + t12 * t24) - t13 * t18;
+    dwdt[3 * W + l] = t27;
+  }
+}
+
 const batch_kernels kernels = {
     .links = links,
     .width = batch_width,
     .rhs_batch = &rhs_batch,
+    .tangent_batch = &tangent_batch,
 };
 
 }  // namespace npend::generated::batch_2

@@ -41,10 +41,97 @@ void rhs_batch(const double* x, const double* params, double* dxdt) noexcept {
   }
 }
 
+void tangent_batch(const double* x, const double* w, const double* params, double* dxdt,
+                   double* dwdt) noexcept {
+  constexpr int W = batch_width;
+  double s[3 * W], c[3 * W];
+  for (int i = 0; i < 3; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);
+#pragma omp simd
+  for (int l = 0; l < W; ++l) {
+    const double t0 = 1.0 / params[3];
+    const double t1 = c[1 * W + l] * s[2 * W + l] - s[1 * W + l] * c[2 * W + l];
+    const double t2 = params[1] + params[2] * (t1 * t1);
+    const double t3 = 1.0 / t2;
+    const double t4 = params[1] + params[2];
+    const double t5 = params[1] * t4;
+    const double t6 = t3 * t5;
+    const double t7 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
+    const double t8 = t7 * t7;
+    const double t9 = params[0] + t6 * t8;
+    const double t10 = 1.0 / t9;
+    const double t11 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
+    const double t12 = 1.0 / params[4];
+    const double t13 = t12 * x[4 * W + l];
+    const double t14 = s[1 * W + l] * s[2 * W + l] + c[1 * W + l] * c[2 * W + l];
+    const double t15 = params[2] * (t14 * t1);
+    const double t16 = 1.0 / params[5];
+    const double t17 = t16 * x[5 * W + l];
+    const double t18 = t13 - t14 * t17;
+    const double t19 = t3 * t18;
+    const double t20 = t15 * t19 - t1 * t17;
+    const double t21 = t0 * x[3 * W + l] - t11 * t13 - t7 * t20;
+    const double t22 = t10 * t21;
+    const double t23 = t3 * t15;
+    const double t24 = t7 * t22;
+    const double t25 = t19 - t23 * t24;
+    const double t26 = t25 - t11 * t22;
+    const double t27 = 1.0 / params[2];
+    const double t28 = t17 * t27 - (t14 * t25 - t1 * t24);
+    const double t29 = t11 * t7;
+    const double t30 = t6 * t29;
+    const double t31 = t30 * t22 + (t11 * t20 - t7 * t13);
+    const double t32 = params[6] * (params[3] * (params[0] + t4));
+    const double t33 = t20 + t6 * t24;
+    const double t34 = params[6] * (params[4] * t4);
+    const double t35 = params[2] * (t14 * t24 + t1 * t25);
+    const double t36 = params[6] * (params[2] * params[5]);
+    const double t37 = t12 * w[4 * W + l];
+    const double t38 = c[1 * W + l] * w[1 * W + l];
+    const double t39 = c[0 * W + l] * w[0 * W + l];
+    const double t40 = s[0 * W + l] * w[0 * W + l];
+    const double t41 = s[1 * W + l] * w[1 * W + l];
+    const double t42 = s[0 * W + l] * t38 + s[1 * W + l] * t39 + (-(c[1 * W + l] * t40) - c[0 * W + l] * t41);
+    const double t43 = t16 * w[5 * W + l];
+    const double t44 = c[2 * W + l] * w[2 * W + l];
+    const double t45 = s[2 * W + l] * w[2 * W + l];
+    const double t46 = s[1 * W + l] * t44 + s[2 * W + l] * t38 + (-(c[2 * W + l] * t41) - c[1 * W + l] * t45);
+    const double t47 = c[1 * W + l] * t44 - s[2 * W + l] * t41 - (c[2 * W + l] * t38 - s[1 * W + l] * t45);
+    const double t48 = t1 * t47;
+    const double t49 = t3 * (params[2] * (t48 + t48)) / t2;
+    const double t50 = t3 * (t37 - (t14 * t43 + t17 * t46)) - t18 * t49;
+    const double t51 = params[2] * (t14 * t47 + t1 * t46);
+    const double t52 = t15 * t50 + t19 * t51 - (t1 * t43 + t17 * t47);
+    const double t53 = c[0 * W + l] * t38 - s[1 * W + l] * t40 - (c[1 * W + l] * t39 - s[0 * W + l] * t41);
+    const double t54 = t0 * w[3 * W + l] - (t11 * t37 + t13 * t42) - (t7 * t52 + t20 * t53);
+    const double t55 = t7 * t53;
+    const double t56 = t5 * t49;
+    const double t57 = t10 * t54 - t21 * (t10 * (t6 * (t55 + t55) - t8 * t56) / t9);
+    const double t58 = t7 * t57 + t22 * t53;
+    const double t59 = t50 - (t23 * t58 + t24 * (t3 * t51 - t15 * t49));
+    const double t60 = t59 - (t11 * t57 + t22 * t42);
+    const double t61 = t27 * t43 - (t14 * t59 + t25 * t46 - (t1 * t58 + t24 * t47));
+    const double t62 = t30 * t57 + t22 * (t6 * (t11 * t53 + t7 * t42) - t29 * t56) + (t11 * t52 + t20 * t42 - (t7 * t37 + t13 * t53));
+    const double t63 = t28 * (params[2] * (t14 * t58 + t24 * t46 + (t1 * t59 + t25 * t47)));
+    dxdt[0 * W + l] = t0 * t22;
+    dxdt[1 * W + l] = t12 * t26;
+    dxdt[2 * W + l] = t16 * t28;
+    dxdt[3 * W + l] = -(t22 * t31) - s[0 * W + l] * t32;
+    dxdt[4 * W + l] = -(t26 * t33) - s[1 * W + l] * t34;
+    dxdt[5 * W + l] = -(t28 * t35) - s[2 * W + l] * t36;
+    dwdt[0 * W + l] = t0 * t57;
+    dwdt[1 * W + l] = t12 * t60;
+    dwdt[2 * W + l] = t16 * t61;
+    dwdt[3 * W + l] = -(t22 * t62 + t31 * t57) - t32 * t39;
+    dwdt[4 * W + l] = -(t26 * (t52 + (t6 * t58 - t24 * t56)) + t33 * t60) - t34 * t38;
+    dwdt[5 * W + l] = -(t63 + t35 * t61) - t36 * t44;
+  }
+}
+
 const batch_kernels kernels = {
     .links = links,
     .width = batch_width,
     .rhs_batch = &rhs_batch,
+    .tangent_batch = &tangent_batch,
 };
 
 }  // namespace npend::generated::batch_3

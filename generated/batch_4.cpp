@@ -57,10 +57,136 @@ void rhs_batch(const double* x, const double* params, double* dxdt) noexcept {
   }
 }
 
+void tangent_batch(const double* x, const double* w, const double* params, double* dxdt,
+                   double* dwdt) noexcept {
+  constexpr int W = batch_width;
+  double s[4 * W], c[4 * W];
+  for (int i = 0; i < 4; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);
+#pragma omp simd
+  for (int l = 0; l < W; ++l) {
+    const double t0 = 1.0 / params[4];
+    const double t1 = c[2 * W + l] * s[3 * W + l] - s[2 * W + l] * c[3 * W + l];
+    const double t2 = params[2] + params[3] * (t1 * t1);
+    const double t3 = 1.0 / t2;
+    const double t4 = params[2] + params[3];
+    const double t5 = params[2] * t4;
+    const double t6 = t3 * t5;
+    const double t7 = c[1 * W + l] * s[2 * W + l] - s[1 * W + l] * c[2 * W + l];
+    const double t8 = t7 * t7;
+    const double t9 = params[1] + t6 * t8;
+    const double t10 = 1.0 / t9;
+    const double t11 = params[1] * (params[1] + t6);
+    const double t12 = t10 * t11;
+    const double t13 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
+    const double t14 = t13 * t13;
+    const double t15 = params[0] + t12 * t14;
+    const double t16 = 1.0 / t15;
+    const double t17 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
+    const double t18 = 1.0 / params[5];
+    const double t19 = t18 * x[5 * W + l];
+    const double t20 = s[1 * W + l] * s[2 * W + l] + c[1 * W + l] * c[2 * W + l];
+    const double t21 = t20 * t7;
+    const double t22 = t6 * t21;
+    const double t23 = 1.0 / params[6];
+    const double t24 = t23 * x[6 * W + l];
+    const double t25 = s[2 * W + l] * s[3 * W + l] + c[2 * W + l] * c[3 * W + l];
+    const double t26 = params[3] * (t25 * t1);
+    const double t27 = 1.0 / params[7];
+    const double t28 = t27 * x[7 * W + l];
+    const double t29 = t24 - t25 * t28;
+    const double t30 = t3 * t29;
+    const double t31 = t26 * t30 - t1 * t28;
+    const double t32 = t19 - t20 * t24 - t7 * t31;
+    const double t33 = t10 * t32;
+    const double t34 = t22 * t33 + (t20 * t31 - t7 * t24);
+    const double t35 = t0 * x[4 * W + l] - t17 * t19 - t13 * t34;
+    const double t36 = t16 * t35;
+    const double t37 = t10 * t22;
+    const double t38 = t13 * t36;
+    const double t39 = t33 - t37 * t38;
+    const double t40 = t39 - t17 * t36;
+    const double t41 = t3 * t26;
+    const double t42 = t20 * t38 + t7 * t39;
+    const double t43 = t30 - t41 * t42;
+    const double t44 = t43 - (t20 * t39 - t7 * t38);
+    const double t45 = 1.0 / params[3];
+    const double t46 = t28 * t45 - (t25 * t43 - t1 * t42);
+    const double t47 = t17 * t13;
+    const double t48 = t12 * t47;
+    const double t49 = t48 * t36 + (t17 * t34 - t13 * t19);
+    const double t50 = params[1] + t4;
+    const double t51 = params[8] * (params[4] * (params[0] + t50));
+    const double t52 = t34 + t12 * t38;
+    const double t53 = params[8] * (params[5] * t50);
+    const double t54 = t31 + t6 * t42;
+    const double t55 = params[8] * (params[6] * t4);
+    const double t56 = params[3] * (t25 * t42 + t1 * t43);
+    const double t57 = params[8] * (params[3] * params[7]);
+    const double t58 = t18 * w[5 * W + l];
+    const double t59 = c[1 * W + l] * w[1 * W + l];
+    const double t60 = c[0 * W + l] * w[0 * W + l];
+    const double t61 = s[0 * W + l] * w[0 * W + l];
+    const double t62 = s[1 * W + l] * w[1 * W + l];
+    const double t63 = s[0 * W + l] * t59 + s[1 * W + l] * t60 + (-(c[1 * W + l] * t61) - c[0 * W + l] * t62);
+    const double t64 = t23 * w[6 * W + l];
+    const double t65 = c[2 * W + l] * w[2 * W + l];
+    const double t66 = s[2 * W + l] * w[2 * W + l];
+    const double t67 = s[1 * W + l] * t65 + s[2 * W + l] * t59 + (-(c[2 * W + l] * t62) - c[1 * W + l] * t66);
+    const double t68 = t27 * w[7 * W + l];
+    const double t69 = c[3 * W + l] * w[3 * W + l];
+    const double t70 = s[3 * W + l] * w[3 * W + l];
+    const double t71 = s[2 * W + l] * t69 + s[3 * W + l] * t65 + (-(c[3 * W + l] * t66) - c[2 * W + l] * t70);
+    const double t72 = c[2 * W + l] * t69 - s[3 * W + l] * t66 - (c[3 * W + l] * t65 - s[2 * W + l] * t70);
+    const double t73 = t1 * t72;
+    const double t74 = t3 * (params[3] * (t73 + t73)) / t2;
+    const double t75 = t3 * (t64 - (t25 * t68 + t28 * t71)) - t29 * t74;
+    const double t76 = params[3] * (t25 * t72 + t1 * t71);
+    const double t77 = t26 * t75 + t30 * t76 - (t1 * t68 + t28 * t72);
+    const double t78 = c[1 * W + l] * t65 - s[2 * W + l] * t62 - (c[2 * W + l] * t59 - s[1 * W + l] * t66);
+    const double t79 = t7 * t78;
+    const double t80 = t5 * t74;
+    const double t81 = t10 * (t6 * (t79 + t79) - t8 * t80) / t9;
+    const double t82 = t10 * (t58 - (t20 * t64 + t24 * t67) - (t7 * t77 + t31 * t78)) - t32 * t81;
+    const double t83 = t6 * (t20 * t78 + t7 * t67) - t21 * t80;
+    const double t84 = t22 * t82 + t33 * t83 + (t20 * t77 + t31 * t67 - (t7 * t64 + t24 * t78));
+    const double t85 = c[0 * W + l] * t59 - s[1 * W + l] * t61 - (c[1 * W + l] * t60 - s[0 * W + l] * t62);
+    const double t86 = t0 * w[4 * W + l] - (t17 * t58 + t19 * t63) - (t13 * t84 + t34 * t85);
+    const double t87 = t13 * t85;
+    const double t88 = -(t11 * t81) - t10 * (params[1] * t80);
+    const double t89 = t16 * t86 - t35 * (t16 * (t12 * (t87 + t87) + t14 * t88) / t15);
+    const double t90 = t13 * t89 + t36 * t85;
+    const double t91 = t82 - (t37 * t90 + t38 * (t10 * t83 - t22 * t81));
+    const double t92 = t91 - (t17 * t89 + t36 * t63);
+    const double t93 = t20 * t90 + t38 * t67 + (t7 * t91 + t39 * t78);
+    const double t94 = t75 - (t41 * t93 + t42 * (t3 * t76 - t26 * t74));
+    const double t95 = t94 - (t20 * t91 + t39 * t67 - (t7 * t90 + t38 * t78));
+    const double t96 = t45 * t68 - (t25 * t94 + t43 * t71 - (t1 * t93 + t42 * t72));
+    const double t97 = t48 * t89 + t36 * (t12 * (t17 * t85 + t13 * t63) + t47 * t88) + (t17 * t84 + t34 * t63 - (t13 * t58 + t19 * t85));
+    const double t98 = t46 * (params[3] * (t25 * t93 + t42 * t71 + (t1 * t94 + t43 * t72)));
+    dxdt[0 * W + l] = t0 * t36;
+    dxdt[1 * W + l] = t18 * t40;
+    dxdt[2 * W + l] = t23 * t44;
+    dxdt[3 * W + l] = t27 * t46;
+    dxdt[4 * W + l] = -(t36 * t49) - s[0 * W + l] * t51;
+    dxdt[5 * W + l] = -(t40 * t52) - s[1 * W + l] * t53;
+    dxdt[6 * W + l] = -(t44 * t54) - s[2 * W + l] * t55;
+    dxdt[7 * W + l] = -(t46 * t56) - s[3 * W + l] * t57;
+    dwdt[0 * W + l] = t0 * t89;
+    dwdt[1 * W + l] = t18 * t92;
+    dwdt[2 * W + l] = t23 * t95;
+    dwdt[3 * W + l] = t27 * t96;
+    dwdt[4 * W + l] = -(t36 * t97 + t49 * t89) - t51 * t60;
+    dwdt[5 * W + l] = -(t40 * (t84 + (t12 * t90 + t38 * t88)) + t52 * t92) - t53 * t59;
+    dwdt[6 * W + l] = -(t44 * (t77 + (t6 * t93 - t42 * t80)) + t54 * t95) - t55 * t65;
+    dwdt[7 * W + l] = -(t98 + t56 * t96) - t57 * t69;
+  }
+}
+
 const batch_kernels kernels = {
     .links = links,
     .width = batch_width,
     .rhs_batch = &rhs_batch,
+    .tangent_batch = &tangent_batch,
 };
 
 }  // namespace npend::generated::batch_4

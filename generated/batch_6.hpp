@@ -15,6 +15,12 @@ inline constexpr int links = 6;
 /// as chain_6::rhs, with SLEEF's 1-ulp sines and cosines.
 void rhs_batch(const double* x, const double* params, double* dxdt) noexcept;
 
+/// Hamilton's equations and their tangent on W lanes: dxdt = f(x) as rhs_batch, and
+/// dwdt = J(x) w, the Jacobian–vector product for the tangent vectors w (dim 2n*W),
+/// forward mode through rhs_batch's program.
+void tangent_batch(const double* x, const double* w, const double* params, double* dxdt,
+                   double* dwdt) noexcept;
+
 /// This link count's entry of the runtime's batch kernel table.
 extern const batch_kernels kernels;
 

@@ -5,6 +5,9 @@
 #include <map>
 #include <npend/chain_kernels.hpp>
 #include <stdexcept>
+#include <utility>
+
+#include "forward_diff.hpp"
 
 namespace npend::gen {
 
@@ -41,6 +44,8 @@ std::string input_text(int n, const node& in) {
       return fmt::format("params[{}]", chain_layout::length_index(n, in.index));
     case input_kind::gravity:
       return fmt::format("params[{}]", chain_layout::gravity_index(n));
+    case input_kind::tangent:
+      return lane("w", in.index);
     default:
       throw std::logic_error("emit_batch: the point-mass rhs reads only phi, p, m, l and g");
   }
@@ -54,18 +59,19 @@ int trig_angle(const expr_graph& g, const node& nd) {
   return arg.index;
 }
 
-// The loop body over lanes: the scalar rhs's straight-line program, with the state and the
-// outputs indexed by lane and the sines and cosines read from the arrays s and c.
-std::string lane_body(int n, const emitted_function& f) {
-  const expr_graph& g = *f.graph;
-  const std::vector<int> order = evaluation_order(g, f.outputs);
+// The loop body over lanes: a straight-line program of the state (the scalar rhs's, or it
+// with its tangent), with the state, the tangent vector w and output k (lane("dxdt", k),
+// then lane("dwdt", k - 2n)) indexed by lane and the sines and cosines read from the arrays
+// s and c.
+std::string lane_body(int n, const expr_graph& g, const std::vector<sx>& outputs) {
+  const std::vector<int> order = evaluation_order(g, outputs);
   std::vector<int> uses(u(g.size()), 0);
   for (const int id : order) {
     const node& nd = g.at(id);
     if (nd.lhs >= 0) ++uses[u(nd.lhs)];
     if (nd.rhs >= 0) ++uses[u(nd.rhs)];
   }
-  for (const sx out : f.outputs) ++uses[u(out.id)];
+  for (const sx out : outputs) ++uses[u(out.id)];
 
   std::string text;
   std::map<int, printed> done;
@@ -113,14 +119,47 @@ std::string lane_body(int n, const emitted_function& f) {
     }
     done[id] = p;
   }
-  for (std::size_t i = 0; i < f.outputs.size(); ++i)
-    text += fmt::format("    {} = {};\n", lane("dxdt", static_cast<int>(i)),
-                        done.at(f.outputs[i].id).text);
+  const int d = chain_layout::state_size(n);
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const int k = static_cast<int>(i);
+    text += fmt::format("    {} = {};\n", k < d ? lane("dxdt", k) : lane("dwdt", k - d),
+                        done.at(outputs[i].id).text);
+  }
   return text;
+}
+
+// The rhs's program followed by its tangent along w: J(x) w by forward mode through the same
+// straight-line program (forward_diff.hpp), in a copy of the rhs's graph.
+std::string tangent_lane_body(int n, const emitted_function& rhs) {
+  expr_graph g = *rhs.graph;
+  std::vector<sx> outputs;
+  for (const sx out : rhs.outputs) outputs.push_back(sx{&g, out.id});
+  std::vector<std::pair<sx, sx>> seeds;
+  for (int i = 0; i < n; ++i)
+    seeds.emplace_back(g.input(input_kind::phi, i), g.input(input_kind::tangent, i));
+  for (int i = 0; i < n; ++i)
+    seeds.emplace_back(g.input(input_kind::p, i), g.input(input_kind::tangent, n + i));
+  const std::vector<sx> tangents = tangent_along(g, outputs, seeds);
+  outputs.insert(outputs.end(), tangents.begin(), tangents.end());
+  return lane_body(n, g, outputs);
 }
 
 const char* batch_signature =
     "void rhs_batch(const double* x, const double* params, double* dxdt) noexcept";
+const char* tangent_signature =
+    "void tangent_batch(const double* x, const double* w, const double* params, double* dxdt,\n"
+    "                   double* dwdt) noexcept";
+
+// The body's head: W, and the lanes' sines and cosines of the n angles.
+std::string lane_sines(int n) {
+  return fmt::format(
+      "  constexpr int W = batch_width;\n"
+      "  double s[{0} * W], c[{0} * W];\n"
+      "  for (int i = 0; i < {0}; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);\n"
+      "#pragma omp simd\n"
+      "  for (int l = 0; l < W; ++l) {{\n",
+      n);
+}
 
 }  // namespace
 
@@ -149,24 +188,25 @@ chain_sources emit_batch(int n, const emitted_function& rhs) {
       "/// as chain_{}::rhs, with SLEEF's 1-ulp sines and cosines.\n{};\n\n",
       chain_layout::state_size(n), n, batch_signature);
   out.header += fmt::format(
+      "/// Hamilton's equations and their tangent on W lanes: dxdt = f(x) as rhs_batch, and\n"
+      "/// dwdt = J(x) w, the Jacobian–vector product for the tangent vectors w (dim 2n*W),\n"
+      "/// forward mode through rhs_batch's program.\n{};\n\n",
+      tangent_signature);
+  out.header += fmt::format(
       "/// This link count's entry of the runtime's batch kernel table.\n"
       "extern const batch_kernels kernels;\n\n}}  // namespace npend::generated::{}\n",
       stem);
 
   out.source = banner + fmt::format("#include \"{}.hpp\"\n\n", stem) +
                fmt::format("namespace npend::generated::{} {{\n\n", stem);
-  out.source += fmt::format(
-      "{} {{\n"
-      "  constexpr int W = batch_width;\n"
-      "  double s[{} * W], c[{} * W];\n"
-      "  for (int i = 0; i < {}; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);\n"
-      "#pragma omp simd\n"
-      "  for (int l = 0; l < W; ++l) {{\n",
-      batch_signature, n, n, n);
-  out.source += lane_body(n, rhs) + "  }\n}\n";
+  out.source += fmt::format("{} {{\n", batch_signature) + lane_sines(n) +
+                lane_body(n, *rhs.graph, rhs.outputs) + "  }\n}\n";
+  out.source += fmt::format("\n{} {{\n", tangent_signature) + lane_sines(n) +
+                tangent_lane_body(n, rhs) + "  }\n}\n";
   out.source += fmt::format(
       "\nconst batch_kernels kernels = {{\n    .links = links,\n    .width = batch_width,\n"
-      "    .rhs_batch = &rhs_batch,\n}};\n\n}}  // namespace npend::generated::{}\n",
+      "    .rhs_batch = &rhs_batch,\n    .tangent_batch = &tangent_batch,\n}};\n\n"
+      "}}  // namespace npend::generated::{}\n",
       stem);
   return out;
 }

@@ -97,6 +97,8 @@ std::string input_text(argument_layout layout, int n, const node& in) {
       return fmt::format("inputs[{}]", chain_layout::torque_index(n, in.index));
     case input_kind::local:
       break;  // a loop kernel's step names its own inputs
+    case input_kind::tangent:
+      break;  // only the batch kernels take a tangent vector (emit_batch.cpp)
   }
   throw std::logic_error("emit: unknown input");
 }

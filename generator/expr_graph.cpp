@@ -203,6 +203,9 @@ std::vector<GiNaC::numeric> expr_graph::evaluate(const std::vector<sx>& outputs,
           case input_kind::local:
             value[i] = in.local.at(k);
             break;
+          case input_kind::tangent:
+            value[i] = in.tangent.at(k);
+            break;
         }
         break;
       }

@@ -21,7 +21,9 @@ enum class op : std::uint8_t { constant, input, neg, add, sub, mul, div, sin, co
 
 /// What an input node stands for; the emitter maps each to an argument array. drive (index 0
 /// a_x, 1 a_y) and torque are the time-dependent inputs of physical chains. local is an input
-/// of one link's step of a loop kernel (loop_kernels.hpp): a value its caller names.
+/// of one link's step of a loop kernel (loop_kernels.hpp): a value its caller names. tangent
+/// (index 0..2n-1) is a tangent vector w of the state, the direction of a batch kernel's
+/// Jacobian–vector product (emit_batch.hpp).
 enum class input_kind : std::uint8_t {
   phi,
   dphi,
@@ -36,7 +38,8 @@ enum class input_kind : std::uint8_t {
   damping,
   drive,
   torque,
-  local
+  local,
+  tangent
 };
 
 struct node {
@@ -85,6 +88,7 @@ class expr_graph {
     std::vector<GiNaC::numeric> com, inertia;  ///< of rigid links
     std::vector<GiNaC::numeric> phi, stiffness, rest_angle, damping, drive, torque;  ///< physical
     std::vector<GiNaC::numeric> local;  ///< the inputs of a loop kernel's step
+    std::vector<GiNaC::numeric> tangent;  ///< w of a Jacobian–vector product
     GiNaC::numeric gravity;
   };
   std::vector<GiNaC::numeric> evaluate(const std::vector<sx>& outputs,

@@ -1,5 +1,6 @@
 #include "forward_diff.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace npend::gen {
@@ -25,16 +26,25 @@ std::vector<char> needed_nodes(const expr_graph& graph, const std::vector<sx>& o
 
 std::vector<sx> directional_derivative(expr_graph& graph, const std::vector<sx>& outputs,
                                        sx input) {
-  if (graph.at(input.id).kind != op::input)
-    throw std::logic_error("directional_derivative: the direction must be an input node");
+  return tangent_along(graph, outputs, {{input, graph.constant(1)}});
+}
+
+std::vector<sx> tangent_along(expr_graph& graph, const std::vector<sx>& outputs,
+                              const std::vector<std::pair<sx, sx>>& seeds) {
   const int size = graph.size();  // the tangents' own nodes are appended past this
   const std::vector<char> needed = needed_nodes(graph, outputs);
-  // tangent[id] = -1: the node does not depend on the input.
+  // tangent[id] = -1: the node does not depend on the seeded inputs.
   std::vector<int> tangent(u(size), -1);
-  tangent[u(input.id)] = graph.constant(1).id;
+  int first = size;
+  for (const auto& [input, seed] : seeds) {
+    if (graph.at(input.id).kind != op::input)
+      throw std::logic_error("tangent_along: a direction must be an input node");
+    tangent[u(input.id)] = seed.id;
+    first = std::min(first, input.id);
+  }
   const auto d = [&](int id) { return sx{&graph, tangent[u(id)]}; };
   const auto has = [&](int id) { return id >= 0 && tangent[u(id)] >= 0; };
-  for (int id = input.id + 1; id < size; ++id) {
+  for (int id = first + 1; id < size; ++id) {
     if (!needed[u(id)]) continue;
     const node n = graph.at(id);  // a copy: creating nodes may reallocate the node storage
     if (!has(n.lhs) && !has(n.rhs)) continue;

@@ -10,6 +10,7 @@
 // `npend-gen --verify` checks like any other output.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "expr_graph.hpp"
@@ -20,5 +21,12 @@ namespace npend::gen {
 /// output a node of `graph`, the constant 0 where the output does not depend on the input.
 /// sin and cos are differentiated as functions of their argument.
 std::vector<sx> directional_derivative(expr_graph& graph, const std::vector<sx>& outputs, sx input);
+
+/// The tangent of `outputs` when input node seeds[k].first moves with the tangent
+/// seeds[k].second (a node of `graph`): Σ_k ∂output/∂input_k · seed_k, forward mode. With
+/// tangent-vector inputs as seeds this is a Jacobian–vector product J·w built from the
+/// outputs' own program, O(its size) nodes whatever the number of inputs.
+std::vector<sx> tangent_along(expr_graph& graph, const std::vector<sx>& outputs,
+                              const std::vector<std::pair<sx, sx>>& seeds);
 
 }  // namespace npend::gen

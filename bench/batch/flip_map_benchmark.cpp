@@ -120,7 +120,7 @@ int main(int argc, char** argv) {
       "%s\n",
       fmt::format("{{\"count\": {}, \"t_end\": {}, \"rounds\": {}, \"isa\": \"{}\", \"lanes\": {}, "
                   "\"scalar_seconds\": {}, \"lane_seconds\": {}, \"cells_differing\": {}}}",
-                  s.count, s.t_end, s.rounds, npend::batch_isa(), npend::batch_flip_lanes(c),
+                  s.count, s.t_end, s.rounds, npend::batch_isa(), npend::batch_lanes(c),
                   list(scalar_seconds), list(lane_seconds), differing)
           .c_str());
   return 0;

@@ -47,7 +47,7 @@ TEST_CASE("npend map: the .npy grid holds the library's flip time of every cell"
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j["cells"] == 120);
   // A point-mass chain's flip map runs on the batch lanes.
-  CHECK(j["batch"]["lanes"].get<int>() == npend::batch_flip_lanes(npend::chain(npend::chain_parameters::uniform(2))));
+  CHECK(j["batch"]["lanes"].get<int>() == npend::batch_lanes(npend::chain(npend::chain_parameters::uniform(2))));
   CHECK(j["batch"]["isa"] == npend::batch_isa());
   const npy m = read_npy(dir / "map.npy");
   CHECK(m.header.find("'shape': (10, 12)") != std::string::npos);
@@ -300,9 +300,11 @@ TEST_CASE("npend map: one thread or two, the same bytes") {
 
 TEST_CASE("npend map: killed part way and resumed, the same bytes as one run") {
   const fs::path dir(npend::test::temporary_directory("cli-map-resume"));
+  // Uniform rods (--rods) go cell by cell, not on the batch lanes: slow enough (about half a
+  // second) to be killed part way.
   const std::string big =
-      " map --links 2 --x phi1:-3.1:3.1:32 --y phi2:-3.1:3.1:32 --quantity lyapunov --t-end 10 "
-      "--tile 4 --threads 1";
+      " map --links 2 --rods --x phi1:-3.1:3.1:32 --y phi2:-3.1:3.1:32 --quantity lyapunov "
+      "--t-end 10 --tile 4 --threads 1";
   REQUIRE(run_npend(big + " --out " + (dir / "whole").string()).exit_code == 0);
   // Start it in the background, wait for its first tiles, kill it.
   const fs::path part = dir / "part";

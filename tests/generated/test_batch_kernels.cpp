@@ -141,3 +141,51 @@ TEST_CASE("rhs_batch: a lane's result does not depend on its slot or on the othe
     }
   }
 }
+
+TEST_CASE("tangent_batch: f as rhs_batch, and J w as the scalar Jacobian times w, 1 to 6 links") {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> direction(-1, 1);
+  for (int n = 1; n <= 6; ++n) {
+    CAPTURE(n);
+    const npend::chain_kernels& scalar = *npend::generated::find_chain(n);
+    const npend::batch_kernels& batch = *npend::generated::find_batch(n);
+    REQUIRE(static_cast<bool>(batch.tangent_batch));
+    const int m = 2 * n;
+    const auto mu = static_cast<std::size_t>(m);
+    const problem p = random_problem(n, 200 * lanes, rng);
+    double worst_f = 0, worst_jw = 0;
+    for (int gi = 0; gi < 200; ++gi) {
+      const double* states = p.states.data() + gi * lanes * m;
+      std::vector<double> x(mu * lanes), w(x.size()), dx(x.size()), dw(x.size());
+      for (int l = 0; l < lanes; ++l)
+        for (int i = 0; i < m; ++i) {
+          x[static_cast<std::size_t>(i * lanes + l)] = states[l * m + i];
+          w[static_cast<std::size_t>(i * lanes + l)] = direction(rng);
+        }
+      batch.tangent_batch(x.data(), w.data(), p.params.data(), dx.data(), dw.data());
+      std::vector<double> f_batch(x.size());
+      batch.rhs_batch(x.data(), p.params.data(), f_batch.data());
+      for (int l = 0; l < lanes; ++l) {
+        std::vector<double> jac(mu * mu), lane_w(mu);
+        scalar.jacobian(states + l * m, p.params.data(), jac.data());
+        for (int i = 0; i < m; ++i) lane_w[static_cast<std::size_t>(i)] = w[static_cast<std::size_t>(i * lanes + l)];
+        // |J| |w| row by row: the size of the terms J w sums, for a relative error.
+        for (int i = 0; i < m; ++i) {
+          double want = 0, scale = 0;
+          for (int j = 0; j < m; ++j) {
+            const double term = jac[static_cast<std::size_t>(i * m + j)] * lane_w[static_cast<std::size_t>(j)];
+            want += term;
+            scale += std::fabs(term);
+          }
+          const auto at = static_cast<std::size_t>(i * lanes + l);
+          if (scale > 0) worst_jw = std::max(worst_jw, std::fabs(dw[at] - want) / scale);
+          worst_f = std::max(worst_f, std::fabs(dx[at] - f_batch[at]) /
+                                          std::max(1.0, std::fabs(f_batch[at])));
+        }
+      }
+    }
+    MESSAGE("n = " << n << ": J w worst relative difference " << worst_jw << ", f " << worst_f);
+    CHECK(worst_jw <= 1e-12);
+    CHECK(worst_f <= 1e-14);
+  }
+}

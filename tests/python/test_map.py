@@ -66,7 +66,9 @@ def test_lyapunov_map_cells_are_maximal_exponents():
     values = npend.map_cells(c, x, quantity="lyapunov", t_end=20, dt=0.005)
     for row, value in zip(x, values):
         r = npend.lyapunov(c, row, 20, dt=0.005, stepper="rk4", maximal=True)
-        assert value == r["exponents"][0]
+        # The cells run on the batch lanes, with SLEEF's sines instead of std::sin's: the
+        # same rk4 and renormalisations, equal up to round-off grown over 20 s.
+        assert value == pytest.approx(r["exponents"][0], rel=1e-9, abs=1e-12)
 
 
 def test_bad_map_input():

@@ -1,6 +1,7 @@
 // flip_times on the batch kernels' lanes (analysis/chaos_map.hpp) against the scalar
 // flip_time (odeint's rk4 on the scalar kernel with std::sin), and the independence of a
-// cell's value from its lane and from the other cells.
+// cell's value from its lane and from the other cells; Lyapunov cells on the lanes against
+// the library's maximal_lyapunov_exponent.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -90,11 +91,11 @@ reference_flip reference_flip_time(const npend::chain& c, std::vector<double> x,
 }  // namespace
 
 TEST_CASE("flip_times: runs on the batch lanes for point-mass chains, not for physical ones") {
-  CHECK(npend::batch_flip_lanes(npend::chain(npend::chain_parameters::uniform(2))) ==
+  CHECK(npend::batch_lanes(npend::chain(npend::chain_parameters::uniform(2))) ==
         4 * npend::batch_width);
   npend::chain_parameters rods = npend::chain_parameters::uniform(2);
   rods.make_uniform_rods();
-  CHECK(npend::batch_flip_lanes(npend::chain(rods)) == 0);
+  CHECK(npend::batch_lanes(npend::chain(rods)) == 0);
 }
 
 TEST_CASE("flip_times: within a step of the scalar flip_time, mostly the same value") {
@@ -164,7 +165,7 @@ TEST_CASE("flip_times: a cell's value depends on its own start only") {
   const npend::chain c(npend::chain_parameters::uniform(3));
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> angle(-3, 3), momentum(-2, 2);
-  const int count = 5 * npend::batch_flip_lanes(c) + 3;
+  const int count = 5 * npend::batch_lanes(c) + 3;
   std::vector<double> starts;
   for (int k = 0; k < count; ++k) {
     for (int i = 0; i < 3; ++i) starts.push_back(angle(rng));
@@ -245,4 +246,55 @@ TEST_CASE("flip_times: flip_time's special cells and argument checks") {
   CHECK(std::isinf(rod_times[0]));
   CHECK(std::isnan(rod_times[2]));
   CHECK(rod_times[3] == npend::flip_time(rod_chain, std::vector<double>{2.0, 2.5, 0, 0}, o));
+}
+
+TEST_CASE("map_cells: Lyapunov cells on the lanes agree with maximal_lyapunov_exponent") {
+  // Over 2 s the lanes' and the scalar library's trajectories stay within round-off (SLEEF's
+  // sines against std::sin's, growing by e^(λ t) ≲ e^20), so the two exponents agree closely
+  // on regular and chaotic starts alike; renormalisation every 10 steps and at the end.
+  const npend::chain c(npend::chain_parameters::uniform(3));
+  REQUIRE(npend::batch_lanes(c) > 0);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> angle(-3, 3), momentum(-2, 2);
+  const int count = 3 * npend::batch_lanes(c) + 5;
+  std::vector<double> starts;
+  for (int k = 0; k < count; ++k) {
+    for (int i = 0; i < 3; ++i) starts.push_back(angle(rng) * (k % 3 == 0 ? 0.1 : 1.0));
+    for (int i = 0; i < 3; ++i) starts.push_back(momentum(rng));
+  }
+  npend::map_cell_options mo;
+  mo.quantity = npend::map_quantity::lyapunov;
+  mo.t_end = 2.005;  // not a whole number of renormalisation intervals: a short last one
+  mo.dt = 0.01;
+  const std::vector<double> lanes = npend::map_cells(c, starts, mo);
+  npend::lyapunov_options lo;
+  lo.integration.stepper = npend::stepper_kind::rk4;
+  lo.integration.t_end = mo.t_end;
+  lo.integration.dt = mo.dt;
+  double worst = 0, largest = 0;
+  for (int k = 0; k < count; ++k) {
+    const std::span<const double> x(starts.data() + 6 * k, 6);
+    const double want = npend::maximal_lyapunov_exponent(c, x, lo).exponents.front();
+    CAPTURE(k);
+    CHECK(std::isfinite(lanes[static_cast<std::size_t>(k)]));
+    worst = std::max(worst, std::fabs(lanes[static_cast<std::size_t>(k)] - want));
+    largest = std::max(largest, std::fabs(want));
+    // One cell alone, through map_cell: the same value (a lane does not see its neighbours).
+    if (k % 7 == 0) CHECK(same(npend::map_cell(c, x, mo), lanes[static_cast<std::size_t>(k)]));
+  }
+  MESSAGE("largest |λ| " << largest << " 1/s, worst difference " << worst);
+  CHECK(largest > 0.5);
+  CHECK(worst <= 1e-8);
+}
+
+TEST_CASE("map_cells: Lyapunov cells on the lanes, a failed start is NaN, a bad one refused") {
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  npend::map_cell_options mo;
+  mo.quantity = npend::map_quantity::lyapunov;
+  mo.t_end = 1;
+  // A huge momentum: the state leaves the doubles within the first steps.
+  const std::vector<double> blown{0.5, 0.5, 1e200, -1e200};
+  CHECK(std::isnan(npend::map_cell(c, blown, mo)));
+  const std::vector<double> bad{0.5, std::numeric_limits<double>::infinity(), 0, 0};
+  CHECK_THROWS_AS(npend::map_cells(c, bad, mo), std::invalid_argument);
 }

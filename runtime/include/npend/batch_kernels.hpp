@@ -17,6 +17,10 @@ struct batch_kernels {
   /// Hamilton's equations on `width` states: x_soa and dxdt_soa dim 2n*width, params the
   /// point-mass layout (dim 2n+1, the same for all lanes).
   void (*rhs_batch)(const double* x_soa, const double* params, double* dxdt_soa) noexcept;
+  /// Hamilton's equations and their tangent: dxdt_soa = f(x) as rhs_batch, dwdt_soa =
+  /// J(x) w for the tangent vectors w_soa (dim 2n*width, the same layout).
+  void (*tangent_batch)(const double* x_soa, const double* w_soa, const double* params,
+                        double* dxdt_soa, double* dwdt_soa) noexcept;
 };
 
 }  // namespace npend

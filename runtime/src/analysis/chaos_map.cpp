@@ -2,17 +2,20 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <batch_index.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
 #include "npend/batch_kernels.hpp"
 #include "npend/chain_system.hpp"
+#include "npend/integrate.hpp"
 #include "npend/integration_error.hpp"
 
 namespace npend {
@@ -100,34 +103,38 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
 
 namespace {
 
-// The batch kernels flip_times runs chain `c` on, or nullptr.
-const batch_kernels* flip_kernels(const chain& c) {
+// The batch kernels the lanes run chain `c` on, or nullptr.
+const batch_kernels* lane_kernels(const chain& c) {
   if (c.is_physical()) return nullptr;
   const batch_kernels* k = generated::find_batch(c.links());
   // The kernels must have been compiled for this translation unit's lane count.
   return k != nullptr && k->width == batch_width ? k : nullptr;
 }
 
-// Blocks of batch_width lanes that flip_times steps at once. One block's rhs is a short
-// chain of dependent operations (a sincos, then a division); four independent blocks per
-// step let the processor overlap them: 1.2x the steps per second of one block, measured on
-// a 128^2 flip map with AVX-512.
+// Blocks of batch_width lanes stepped at once. One block's rhs is a short chain of dependent
+// operations (a sincos, then a division); four independent blocks per step let the
+// processor overlap them: 1.2x the steps per second of one block, measured on a 128^2 flip
+// map with AVX-512.
 constexpr int lane_blocks = 4;
 
-// rk4 on lane_blocks blocks of the batch kernels' lanes. Block b holds lanes
-// b*W .. b*W + W-1 (W = batch_width) in the kernels' structure-of-arrays layout: coordinate
-// i of lane l at [b*2n*W + i*W + l % W]. odeint's runge_kutta4 step, sum for sum, so that
-// each lane computes what flip_time's stepper computes from the same state, but with the
-// kernels' sines. step(blocks) advances the first `blocks` blocks only.
+// rk4 on lane_blocks blocks of the batch kernels' lanes, for the state alone (rhs_batch) or
+// the state with one tangent vector (tangent_batch: the variational equations). Block b
+// holds lanes b*W .. b*W + W-1 (W = batch_width) in the kernels' structure-of-arrays layout:
+// coordinate i of lane l at [b*B + i*W + l % W], the state's 2n coordinates first, then the
+// tangent's (B = 2n*W, or 4n*W with the tangent). odeint's runge_kutta4 step, sum for sum,
+// so that each lane computes what the scalar library's stepper computes from the same
+// state, but with the kernels' sines. step(blocks) advances the first `blocks` blocks only.
 class lane_rk4 {
  public:
   static constexpr int W = batch_width;
   static constexpr int lanes = W * lane_blocks;
 
-  lane_rk4(const batch_kernels& k, const double* params, int n, double dt)
+  lane_rk4(const batch_kernels& k, const double* params, int n, double dt, bool tangent)
       : m_kernels(k),
         m_params(params),
-        m_block(static_cast<std::size_t>(2 * n * W)),
+        m_tangent(tangent),
+        m_half_block(static_cast<std::size_t>(2 * n * W)),
+        m_block(m_half_block * (tangent ? 2 : 1)),
         m_x(m_block * lane_blocks),
         m_k1(m_x.size()),
         m_k2(m_x.size()),
@@ -174,59 +181,64 @@ class lane_rk4 {
  private:
   void rhs(int blocks, const double* x, double* dxdt) const {
     for (int b = 0; b < blocks; ++b) {
-      const std::size_t offset = m_block * static_cast<std::size_t>(b);
-      m_kernels.rhs_batch(x + offset, m_params, dxdt + offset);
+      const std::size_t o = m_block * static_cast<std::size_t>(b);
+      if (m_tangent)
+        m_kernels.tangent_batch(x + o, x + o + m_half_block, m_params, dxdt + o,
+                                dxdt + o + m_half_block);
+      else
+        m_kernels.rhs_batch(x + o, m_params, dxdt + o);
     }
   }
 
   const batch_kernels& m_kernels;
   const double* m_params;
-  std::size_t m_block;
+  bool m_tangent;
+  std::size_t m_half_block, m_block;
   std::vector<double> m_x, m_k1, m_k2, m_k3, m_k4, m_tmp;
   double m_half, m_zero, m_full, m_sixth, m_third;
 };
 
-// The flip times of the starts `queue` (indices of states in `starts`) on lane_rk4's lanes:
-// a lane whose cell is done takes the next start. Once the queue is empty the live lanes
-// move down into the lowest blocks, so that only ceil(live / W) blocks are stepped; the idle
-// lanes of the last of them run a copy of a live lane (results unused), so that every lane
-// stepped holds a finite state. A lane's arithmetic does not depend on its slot, so moving a
-// state changes nothing.
-void flip_on_lanes(const batch_kernels& k, const chain& c, std::span<const double> starts,
-                   const std::vector<std::size_t>& queue, const flip_options& o,
-                   std::vector<double>& out) {
-  constexpr int lanes = lane_rk4::lanes;
-  constexpr int W = lane_rk4::W;
-  const auto n = static_cast<std::size_t>(c.links());
-  const std::size_t m = 2 * n;
-  lane_rk4 rk(k, c.packed_parameters().data(), c.links(), o.dt);
+// What a lane carries besides its coordinates.
+struct lane_slot {
+  std::size_t cell = 0;  // index of its start in the queue's `starts`
+  long long steps = 0;   // rk4 steps taken from the start
+  double sum = 0;        // the Lyapunov map's Σ ln of the tangent's growth
+};
+
+// Runs the cells `queue` on rk's lanes (`coordinates` of them per lane): start(x, l, cell)
+// writes cell's start into lane l of x = rk.state(); after every step, done(x, l, slot) —
+// slot.steps already counted — returns the cell's value once it is finished, std::nullopt
+// otherwise; the value goes to out[slot.cell] and the lane takes the next cell. Once the
+// queue is empty the live lanes move down into the lowest blocks, so that only
+// ceil(live / W) blocks are stepped; the idle lanes of the last of them run a copy of a live
+// lane (results unused), so that every lane stepped holds a finite state. A lane's
+// arithmetic does not depend on its slot, so moving a lane changes nothing.
+template <class Start, class Done>
+void run_on_lanes(lane_rk4& rk, std::size_t coordinates, const std::vector<std::size_t>& queue,
+                  const Start& start, const Done& done, std::vector<double>& out) {
+  constexpr std::size_t lanes = lane_rk4::lanes, W = lane_rk4::W;
   double* x = rk.state();
-  const long long steps = flip_steps(o);
-  constexpr std::size_t idle = static_cast<std::size_t>(-1);
-  std::array<std::size_t, lanes> cell{};
-  std::array<long long, lanes> done_steps{};
+  std::array<std::optional<lane_slot>, lanes> slot{};
   std::size_t next = 0;
   const auto copy_lane = [&](std::size_t to, std::size_t from) {
-    for (std::size_t i = 0; i < m; ++i) x[rk.at(i, to)] = x[rk.at(i, from)];
+    for (std::size_t i = 0; i < coordinates; ++i) x[rk.at(i, to)] = x[rk.at(i, from)];
   };
   const auto load = [&](std::size_t l) {
-    cell[l] = next < queue.size() ? queue[next++] : idle;
-    if (cell[l] == idle) return;
-    done_steps[l] = 0;
-    const double* x0 = starts.data() + cell[l] * m;
-    for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = x0[i];
+    slot[l].reset();
+    if (next == queue.size()) return;
+    slot[l] = lane_slot{queue[next++]};
+    start(x, l, slot[l]->cell);
   };
   for (std::size_t l = 0; l < lanes; ++l) load(l);
   // Live lanes to the lowest slots, idle ones of the last block padded; the blocks to step.
   const auto compact = [&]() {
     std::size_t live = 0;
     for (std::size_t l = 0; l < lanes; ++l)
-      if (cell[l] != idle) {
+      if (slot[l]) {
         if (l != live) {
           copy_lane(live, l);
-          cell[live] = cell[l];
-          done_steps[live] = done_steps[l];
-          cell[l] = idle;
+          slot[live] = slot[l];
+          slot[l].reset();
         }
         ++live;
       }
@@ -235,34 +247,89 @@ void flip_on_lanes(const batch_kernels& k, const chain& c, std::span<const doubl
     return static_cast<int>(blocks);
   };
   int blocks = compact();
-  double lane_state[2 * chain_layout::max_links];
   while (blocks > 0) {
     rk.step(blocks);
-    bool changed = false;
-    for (std::size_t l = 0; l < static_cast<std::size_t>(blocks * W); ++l) {
-      if (cell[l] == idle) continue;
-      const long long s = ++done_steps[l];
-      for (std::size_t i = 0; i < n; ++i) lane_state[i] = x[rk.at(i, l)];
-      double value;
-      if (has_flipped(lane_state, n, o))
-        value = static_cast<double>(s) * o.dt;
-      else if (!std::isfinite(lane_state[0]))
-        value = std::numeric_limits<double>::quiet_NaN();
-      else if (s == steps)
-        value = std::numeric_limits<double>::infinity();
-      else
-        continue;
-      out[cell[l]] = value;
+    bool emptied = false;
+    for (std::size_t l = 0; l < static_cast<std::size_t>(blocks) * W; ++l) {
+      if (!slot[l]) continue;
+      ++slot[l]->steps;
+      const std::optional<double> value = done(x, l, *slot[l]);
+      if (!value) continue;
+      out[slot[l]->cell] = *value;
       load(l);
-      changed |= cell[l] == idle;
+      emptied |= !slot[l];
     }
-    if (changed) blocks = compact();
+    if (emptied) blocks = compact();
   }
+}
+
+// The flip times of the starts `queue` (indices of states in `starts`) on the lanes.
+void flip_on_lanes(const batch_kernels& k, const chain& c, std::span<const double> starts,
+                   const std::vector<std::size_t>& queue, const flip_options& o,
+                   std::vector<double>& out) {
+  const auto n = static_cast<std::size_t>(c.links());
+  const std::size_t m = 2 * n;
+  lane_rk4 rk(k, c.packed_parameters().data(), c.links(), o.dt, false);
+  const long long steps = flip_steps(o);
+  double lane_state[2 * chain_layout::max_links];
+  const auto start = [&](double* x, std::size_t l, std::size_t cell) {
+    for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = starts[cell * m + i];
+  };
+  const auto done = [&](const double* x, std::size_t l,
+                        const lane_slot& s) -> std::optional<double> {
+    for (std::size_t i = 0; i < n; ++i) lane_state[i] = x[rk.at(i, l)];
+    if (has_flipped(lane_state, n, o)) return static_cast<double>(s.steps) * o.dt;
+    if (!std::isfinite(lane_state[0])) return std::numeric_limits<double>::quiet_NaN();
+    if (s.steps == steps) return std::numeric_limits<double>::infinity();
+    return std::nullopt;
+  };
+  run_on_lanes(rk, m, queue, start, done, out);
+}
+
+// The maximal Lyapunov exponents of the starts `queue` on the lanes, as
+// maximal_lyapunov_exponent computes them with `lo` (rk4, no transient): the tangent vector
+// starts as (1, …, 1)/√(2n) and is renormalised every round(interval / dt) steps and at the
+// end; the exponent is Σ ln(growth) / t_end. NaN where the state or the tangent becomes
+// non-finite (where the library throws integration_error).
+void lyapunov_on_lanes(const batch_kernels& k, const chain& c, std::span<const double> starts,
+                       const std::vector<std::size_t>& queue, const lyapunov_options& lo,
+                       std::vector<double>& out) {
+  const auto m = static_cast<std::size_t>(c.state_size());
+  const double dt = lo.integration.dt;
+  lane_rk4 rk(k, c.packed_parameters().data(), c.links(), dt, true);
+  const auto total = static_cast<long long>(output_steps(lo.integration));
+  const long long chunk =
+      std::max<long long>(1, std::llround(lo.renormalisation_interval / dt));
+  const double t_total = static_cast<double>(total) * dt;
+  const double w0 = 1.0 / std::sqrt(static_cast<double>(m));
+  const auto start = [&](double* x, std::size_t l, std::size_t cell) {
+    for (std::size_t i = 0; i < m; ++i) {
+      x[rk.at(i, l)] = starts[cell * m + i];
+      x[rk.at(m + i, l)] = w0;
+    }
+  };
+  const auto done = [&](double* x, std::size_t l, lane_slot& s) -> std::optional<double> {
+    if (s.steps % chunk != 0 && s.steps != total) return std::nullopt;
+    double squares = 0;
+    bool finite = true;
+    for (std::size_t i = 0; i < m; ++i) {
+      const double w = x[rk.at(m + i, l)];
+      squares += w * w;
+      finite = finite && std::isfinite(x[rk.at(i, l)]) && std::isfinite(w);
+    }
+    if (!finite) return std::numeric_limits<double>::quiet_NaN();
+    const double norm = std::sqrt(squares);
+    s.sum += std::log(norm);
+    for (std::size_t i = 0; i < m; ++i) x[rk.at(m + i, l)] /= norm;
+    if (s.steps == total) return s.sum / t_total;
+    return std::nullopt;
+  };
+  run_on_lanes(rk, 2 * m, queue, start, done, out);
 }
 
 }  // namespace
 
-int batch_flip_lanes(const chain& c) { return flip_kernels(c) != nullptr ? lane_rk4::lanes : 0; }
+int batch_lanes(const chain& c) { return lane_kernels(c) != nullptr ? lane_rk4::lanes : 0; }
 
 std::vector<double> flip_times(const chain& c, std::span<const double> starts,
                                const flip_options& o) {
@@ -275,7 +342,7 @@ std::vector<double> flip_times(const chain& c, std::span<const double> starts,
   energy_forbids_flip(c, std::vector<double>(m, 0.0), o.link);  // its checks, even for no cells
   const std::size_t count = starts.size() / m;
   std::vector<double> out(count, std::numeric_limits<double>::quiet_NaN());
-  const batch_kernels* k = flip_kernels(c);
+  const batch_kernels* k = lane_kernels(c);
   if (k == nullptr) {
     for (std::size_t i = 0; i < count; ++i) try {
         out[i] = flip_time(c, starts.subspan(i * m, m), o);
@@ -384,6 +451,13 @@ double final_coordinate(const chain& c, std::span<const double> x0, const map_ce
   return x[static_cast<std::size_t>(o.component)];
 }
 
+// maximal_lyapunov_exponent's check of a start, for the cells that run on the lanes.
+void check_finite_start(std::span<const double> x0) {
+  for (std::size_t i = 0; i < x0.size(); ++i)
+    if (!std::isfinite(x0[i]))
+      throw std::invalid_argument(fmt::format("start state entry {} is not finite", i + 1));
+}
+
 // A flip map's value: the flip time, NaN where the energy rules a flip out. flip_times
 // gives those cells +inf, so only its +inf cells need the energy looked at again.
 void mark_forbidden(const chain& c, std::span<const double> starts, int link,
@@ -423,19 +497,18 @@ void map_cell_options::validate(const chain& c) const {
 
 double map_cell(const chain& c, std::span<const double> x0, const map_cell_options& options) {
   try {
-    if (options.quantity == map_quantity::flip) {
+    if (options.quantity == map_quantity::flip || options.quantity == map_quantity::lyapunov) {
       if (x0.size() != static_cast<std::size_t>(c.state_size()))
         throw std::invalid_argument(
-            fmt::format("flip: the {}-link chain needs a state of {}, got {}", c.links(),
-                        c.state_size(), x0.size()));
+            fmt::format("{}: the {}-link chain needs a state of {}, got {}",
+                        map_quantity_name(options.quantity), c.links(), c.state_size(),
+                        x0.size()));
       return map_cells(c, x0, options).front();
     }
     if (options.quantity == map_quantity::state) {
       options.validate(c);
       return final_coordinate(c, x0, options);
     }
-    if (options.quantity == map_quantity::lyapunov)
-      return maximal_lyapunov_exponent(c, x0, map_lyapunov_options(options)).exponents.front();
     return indicator_cell(c, x0, options);
   } catch (const integration_error&) {
     return std::numeric_limits<double>::quiet_NaN();
@@ -455,6 +528,26 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
         fmt::format("{}: the {}-link chain needs states of {} one after another, got {} numbers",
                     map_quantity_name(options.quantity), c.links(), m, starts.size()));
   std::vector<double> out(starts.size() / m);
+  if (options.quantity == map_quantity::lyapunov) {
+    const lyapunov_options lo = map_lyapunov_options(options);
+    if (const batch_kernels* k = lane_kernels(c)) {
+      lo.validate();
+      lo.integration.validate();
+      std::vector<std::size_t> queue(out.size());
+      for (std::size_t i = 0; i < out.size(); ++i) {
+        check_finite_start(starts.subspan(i * m, m));
+        queue[i] = i;
+      }
+      lyapunov_on_lanes(*k, c, starts, queue, lo, out);
+      return out;
+    }
+    for (std::size_t i = 0; i < out.size(); ++i) try {
+        out[i] = maximal_lyapunov_exponent(c, starts.subspan(i * m, m), lo).exponents.front();
+      } catch (const integration_error&) {
+        out[i] = std::numeric_limits<double>::quiet_NaN();
+      }
+    return out;
+  }
   for (std::size_t i = 0; i < out.size(); ++i)
     out[i] = map_cell(c, starts.subspan(i * m, m), options);
   return out;

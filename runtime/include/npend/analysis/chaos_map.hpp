@@ -38,7 +38,7 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
 
 /// flip_time of many start states at once: `starts` holds count = starts.size() / 2n states,
 /// one after another (dim count × 2n); returns the count flip times. On a point-mass chain
-/// with batch kernels (batch_flip_lanes > 0) the rk4 steps run on batch_flip_lanes lanes,
+/// with batch kernels (batch_lanes > 0) the rk4 steps run on batch_lanes lanes,
 /// blocks of the batch kernels' W (npend/batch_math.hpp), a lane refilled from the queue of
 /// starts as soon as its cell is done; otherwise flip_time cell by cell. Each value depends on its own start only, never
 /// on its slot or on the other starts. The lanes take the same rk4 steps as flip_time
@@ -50,10 +50,10 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
 std::vector<double> flip_times(const chain& c, std::span<const double> starts,
                                const flip_options& options);
 
-/// Lanes flip_times steps at once for chain `c`: four blocks of npend::batch_width on a
-/// point-mass chain whose link count has batch kernels, 0 where it goes cell by cell
-/// (physical chains).
-int batch_flip_lanes(const chain& c);
+/// Lanes flip_times and a Lyapunov map (map_cells) step at once for chain `c`: four blocks
+/// of npend::batch_width on a point-mass chain whose link count has batch kernels, 0 where
+/// they go cell by cell (physical chains).
+int batch_lanes(const chain& c);
 
 /// What a map shows in each cell.
 enum class map_quantity {
@@ -90,7 +90,9 @@ struct map_cell_options {
 
 /// One cell of a map: the flip time (flip_times of this one start, so on the batch lanes
 /// where the chain has them, with flip_options from `options`), the maximal Lyapunov
-/// exponent (1/s) of maximal_lyapunov_exponent with rk4 at dt up to t_end, an indicator
+/// exponent (1/s) of maximal_lyapunov_exponent with rk4 at dt up to t_end (on the batch
+/// lanes where the chain has them: the same rk4, renormalisations and sum, with the lanes'
+/// tangent kernel and SLEEF's sines, so equal to the library's up to round-off), an indicator
 /// of chaos_indicators (rk4 at dt, to t_end), or a coordinate of the state at t_end (rk4 at
 /// dt); NaN when the integration fails (an integration_error) and, for a flip map, where the
 /// energy rules a flip out (energy_forbids_flip: a map marks those cells apart from the
@@ -99,7 +101,7 @@ struct map_cell_options {
 double map_cell(const chain& c, std::span<const double> x0, const map_cell_options& options);
 
 /// map_cell of each of count = starts.size() / 2n start states (dim count × 2n), the same
-/// values bit for bit; the flip quantity goes through flip_times, W cells at a time.
+/// values bit for bit; flip and Lyapunov cells run batch_lanes at a time.
 std::vector<double> map_cells(const chain& c, std::span<const double> starts,
                               const map_cell_options& options);
 
