@@ -6,7 +6,12 @@
 //           rk4 on the batch kernels' W lanes with lanes refilled from the tile's queue —
 // rounds interleaved; prints one JSON object (bench/run reports medians and the ratio).
 //
-//   npend_bench_flip_map [--count N] [--t-end T] [--rounds R]   (defaults 256, 1000, 3)
+// With --lyapunov 1, the same for a map of the maximal Lyapunov exponent (rk4 at dt 0.01):
+// maximal_lyapunov_exponent cell by cell against map_cells on the lanes (tangent_batch);
+// it prints the largest difference between the two maps instead of the cells differing.
+//
+//   npend_bench_flip_map [--count N] [--t-end T] [--rounds R] [--lyapunov 0|1]
+//                        (defaults 256, 1000, 3, 0)
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -27,6 +32,7 @@ struct settings {
   int count = 256;
   double t_end = 1000;
   int rounds = 3;
+  bool lyapunov = false;
 };
 
 settings parse(int argc, char** argv) {
@@ -41,6 +47,7 @@ settings parse(int argc, char** argv) {
     if (a == "--count") s.count = static_cast<int>(v);
     else if (a == "--t-end") s.t_end = v;
     else if (a == "--rounds") s.rounds = static_cast<int>(v);
+    else if (a == "--lyapunov") s.lyapunov = v != 0;
     else {
       std::fprintf(stderr, "npend_bench_flip_map: unknown option %s\n", a.c_str());
       std::exit(2);
@@ -67,8 +74,10 @@ std::vector<double> scalar_map(const npend::chain& c, const settings& s,
   return map;
 }
 
-std::vector<double> lane_map(const npend::chain& c, const settings& s,
-                             const npend::flip_options& o) {
+// The map computed tile by tile (16 x 16 cells, as npend map hands them out): cells(starts)
+// gives the values of a tile's starts.
+template <class Cells>
+std::vector<double> tiled(const settings& s, const Cells& cells) {
   constexpr int tile = 16;
   std::vector<double> map(static_cast<std::size_t>(s.count) * static_cast<std::size_t>(s.count));
   for (int y0 = 0; y0 < s.count; y0 += tile)
@@ -79,7 +88,7 @@ std::vector<double> lane_map(const npend::chain& c, const settings& s,
           const auto x = start_of(s, i, j);
           starts.insert(starts.end(), x.begin(), x.end());
         }
-      const std::vector<double> times = npend::flip_times(c, starts, o);
+      const std::vector<double> times = cells(starts);
       std::size_t k = 0;
       for (int j = y0; j < std::min(s.count, y0 + tile); ++j)
         for (int i = x0; i < std::min(s.count, x0 + tile); ++i)
@@ -87,6 +96,11 @@ std::vector<double> lane_map(const npend::chain& c, const settings& s,
               static_cast<std::size_t>(i)] = times[k++];
     }
   return map;
+}
+
+std::vector<double> lane_map(const npend::chain& c, const settings& s,
+                             const npend::flip_options& o) {
+  return tiled(s, [&](const std::vector<double>& starts) { return npend::flip_times(c, starts, o); });
 }
 
 template <class F>
@@ -104,9 +118,52 @@ std::string list(const std::vector<double>& v) {
 
 }  // namespace
 
+// The Lyapunov map cell by cell (the library's maximal_lyapunov_exponent) and on the lanes
+// (map_cells, tile by tile); prints its JSON line.
+int lyapunov_maps(const npend::chain& c, const settings& s) {
+  npend::map_cell_options mo;
+  mo.quantity = npend::map_quantity::lyapunov;
+  mo.t_end = s.t_end;
+  mo.dt = 0.01;
+  npend::lyapunov_options lo;
+  lo.integration.stepper = npend::stepper_kind::rk4;
+  lo.integration.t_end = s.t_end;
+  lo.integration.dt = mo.dt;
+  const auto cell_by_cell = [&] {
+    std::vector<double> map;
+    for (int j = 0; j < s.count; ++j)
+      for (int i = 0; i < s.count; ++i)
+        map.push_back(npend::maximal_lyapunov_exponent(c, start_of(s, i, j), lo).exponents[0]);
+    return map;
+  };
+  const auto on_lanes = [&] {
+    return tiled(s, [&](const std::vector<double>& starts) {
+      return npend::map_cells(c, starts, mo);
+    });
+  };
+  std::vector<double> scalar_seconds, lane_seconds, scalar, lanes;
+  for (int r = 0; r < s.rounds; ++r) {
+    scalar_seconds.push_back(seconds_of(cell_by_cell, scalar));
+    lane_seconds.push_back(seconds_of(on_lanes, lanes));
+  }
+  double largest = 0;
+  for (std::size_t k = 0; k < scalar.size(); ++k)
+    largest = std::max(largest, std::fabs(scalar[k] - lanes[k]));
+  std::printf(
+      "%s\n",
+      fmt::format("{{\"quantity\": \"lyapunov\", \"count\": {}, \"t_end\": {}, \"rounds\": {}, "
+                  "\"isa\": \"{}\", \"lanes\": {}, \"scalar_seconds\": {}, "
+                  "\"lane_seconds\": {}, \"largest_difference\": {}}}",
+                  s.count, s.t_end, s.rounds, npend::batch_isa(), npend::batch_lanes(c),
+                  list(scalar_seconds), list(lane_seconds), largest)
+          .c_str());
+  return 0;
+}
+
 int main(int argc, char** argv) {
   const settings s = parse(argc, argv);
   const npend::chain c(npend::chain_parameters::uniform(2));
+  if (s.lyapunov) return lyapunov_maps(c, s);
   const npend::flip_options o{s.t_end, 0.01, 0};
   std::vector<double> scalar_seconds, lane_seconds, scalar, lanes;
   for (int r = 0; r < s.rounds; ++r) {
