@@ -100,7 +100,8 @@ std::vector<double> tiled(const settings& s, const Cells& cells) {
 
 std::vector<double> lane_map(const npend::chain& c, const settings& s,
                              const npend::flip_options& o) {
-  return tiled(s, [&](const std::vector<double>& starts) { return npend::flip_times(c, starts, o); });
+  return tiled(s,
+               [&](const std::vector<double>& starts) { return npend::flip_times(c, starts, o); });
 }
 
 template <class F>

@@ -47,7 +47,8 @@ TEST_CASE("npend map: the .npy grid holds the library's flip time of every cell"
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j["cells"] == 120);
   // A point-mass chain's flip map runs on the batch lanes.
-  CHECK(j["batch"]["lanes"].get<int>() == npend::batch_lanes(npend::chain(npend::chain_parameters::uniform(2))));
+  CHECK(j["batch"]["lanes"].get<int>() ==
+        npend::batch_lanes(npend::chain(npend::chain_parameters::uniform(2))));
   CHECK(j["batch"]["isa"] == npend::batch_isa());
   const npy m = read_npy(dir / "map.npy");
   CHECK(m.header.find("'shape': (10, 12)") != std::string::npos);

@@ -168,12 +168,14 @@ TEST_CASE("tangent_batch: f as rhs_batch, and J w as the scalar Jacobian times w
       for (int l = 0; l < lanes; ++l) {
         std::vector<double> jac(mu * mu), lane_w(mu);
         scalar.jacobian(states + l * m, p.params.data(), jac.data());
-        for (int i = 0; i < m; ++i) lane_w[static_cast<std::size_t>(i)] = w[static_cast<std::size_t>(i * lanes + l)];
+        for (int i = 0; i < m; ++i)
+          lane_w[static_cast<std::size_t>(i)] = w[static_cast<std::size_t>(i * lanes + l)];
         // |J| |w| row by row: the size of the terms J w sums, for a relative error.
         for (int i = 0; i < m; ++i) {
           double want = 0, scale = 0;
           for (int j = 0; j < m; ++j) {
-            const double term = jac[static_cast<std::size_t>(i * m + j)] * lane_w[static_cast<std::size_t>(j)];
+            const double term =
+                jac[static_cast<std::size_t>(i * m + j)] * lane_w[static_cast<std::size_t>(j)];
             want += term;
             scale += std::fabs(term);
           }

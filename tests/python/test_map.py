@@ -92,11 +92,13 @@ def test_bad_map_input():
 def test_indicator_cells_are_the_indicators_at_t_end():
     c = npend.Chain(2)
     x = np.array([[1.8, 1.8, 0, 0], [0.3, 0.2, 0, 0]])  # chaotic, regular
-    runs = [npend.chaos_indicators(c, row, 50, dt=0.01, vectors=3) for row in x]
+    # The cells run on the batch lanes (SLEEF's sines): over 3 s the chaotic start's round-off
+    # has not grown, so the lanes give the library's indicators to round-off.
+    runs = [npend.chaos_indicators(c, row, 3, dt=0.01, vectors=3) for row in x]
     for quantity, pick in [("fli", lambda r: r["fli"][-1]), ("megno", lambda r: r["mean_megno"][-1]),
                            ("sali", lambda r: r["sali"][-1]), ("gali", lambda r: r["gali"][-1, -1])]:
-        values = npend.map_cells(c, x, quantity=quantity, t_end=50, dt=0.01)
-        assert np.array_equal(values, [pick(r) for r in runs]), quantity
+        values = npend.map_cells(c, x, quantity=quantity, t_end=3, dt=0.01)
+        assert values == pytest.approx([pick(r) for r in runs], rel=1e-9), quantity
     # MEGNO tells the chaotic start (<Y> ~ lambda t / 2) from the regular one (<Y> -> 2).
     megno = npend.map_cells(c, x, quantity="megno", t_end=50)
     assert megno[0] > 10 and megno[1] < 2.5

@@ -298,3 +298,47 @@ TEST_CASE("map_cells: Lyapunov cells on the lanes, a failed start is NaN, a bad 
   const std::vector<double> bad{0.5, std::numeric_limits<double>::infinity(), 0, 0};
   CHECK_THROWS_AS(npend::map_cells(c, bad, mo), std::invalid_argument);
 }
+
+TEST_CASE("map_cells: chaos indicator cells on the lanes agree with chaos_indicators") {
+  // FLI, MEGNO, SALI (2 vectors) and GALI_4 (4 vectors) of the triple pendulum over 2 s:
+  // the lanes' and the library's trajectories stay within round-off, so the values agree
+  // closely (relative to the value, for SALI and GALI, which fall towards 0).
+  const npend::chain c(npend::chain_parameters::uniform(3));
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> angle(-3, 3), momentum(-2, 2);
+  const int count = npend::batch_lanes(c) + 3;
+  std::vector<double> starts;
+  for (int k = 0; k < count; ++k) {
+    for (int i = 0; i < 3; ++i) starts.push_back(angle(rng) * (k % 3 == 0 ? 0.1 : 1.0));
+    for (int i = 0; i < 3; ++i) starts.push_back(momentum(rng));
+  }
+  for (const auto quantity : {npend::map_quantity::fli, npend::map_quantity::megno,
+                              npend::map_quantity::sali, npend::map_quantity::gali}) {
+    CAPTURE(npend::map_quantity_name(quantity));
+    npend::map_cell_options mo;
+    mo.quantity = quantity;
+    mo.t_end = 2;
+    mo.dt = 0.01;
+    const std::vector<double> lanes = npend::map_cells(c, starts, mo);
+    npend::chaos_indicator_options io;
+    io.t_end = mo.t_end;
+    io.dt = mo.dt;
+    io.vectors = quantity == npend::map_quantity::gali ? 4 : 2;
+    double worst = 0;
+    for (int k = 0; k < count; ++k) {
+      const std::span<const double> x(starts.data() + 6 * k, 6);
+      const auto last = npend::chaos_indicators(c, x, io).last;
+      const double want = quantity == npend::map_quantity::fli     ? last.fli
+                          : quantity == npend::map_quantity::megno ? last.mean_megno
+                          : quantity == npend::map_quantity::sali  ? last.sali
+                                                                   : last.gali.back();
+      const double got = lanes[static_cast<std::size_t>(k)];
+      CAPTURE(k);
+      REQUIRE(std::isfinite(got));
+      worst = std::max(worst, std::fabs(got - want) / std::max(1e-3, std::fabs(want)));
+      if (k % 9 == 0) CHECK(same(npend::map_cell(c, x, mo), got));
+    }
+    MESSAGE(npend::map_quantity_name(quantity) << ": worst relative difference " << worst);
+    CHECK(worst <= 1e-9);
+  }
+}

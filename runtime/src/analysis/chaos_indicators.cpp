@@ -85,22 +85,31 @@ double gali(const column_matrix& w, Eigen::Index j) {
 
 chaos_indicator_sample sample_at(double t, double fli, const std::vector<double>& s,
                                  const layout& l) {
+  return chaos_indicator_sample_of(t, fli, s[l.y()], s[l.z()],
+                                   std::span(s).subspan(l.vector(0), l.d * l.k), l.d);
+}
+
+}  // namespace
+
+std::vector<double> chaos_indicator_start(std::size_t d, std::size_t k) {
+  const column_matrix w = starting_vectors(d, k);
+  return {w.data(), w.data() + w.size()};
+}
+
+chaos_indicator_sample chaos_indicator_sample_of(double t, double fli, double y, double z,
+                                                 std::span<const double> vectors,
+                                                 std::size_t d) {
   chaos_indicator_sample out;
   out.t = t;
   out.fli = fli;
-  out.megno = t > 0 ? 2 * s[l.y()] / t : 0.0;
-  out.mean_megno = t > 0 ? s[l.z()] / t : 0.0;
-  const auto d = static_cast<Eigen::Index>(l.d);
-  column_matrix w(d, static_cast<Eigen::Index>(l.k));
-  for (std::size_t j = 0; j < l.k; ++j)
-    w.col(static_cast<Eigen::Index>(j)) =
-        Eigen::Map<const Eigen::VectorXd>(s.data() + l.vector(j), d);
+  out.megno = t > 0 ? 2 * y / t : 0.0;
+  out.mean_megno = t > 0 ? z / t : 0.0;
+  const auto k = static_cast<Eigen::Index>(vectors.size() / d);
+  const Eigen::Map<const column_matrix> w(vectors.data(), static_cast<Eigen::Index>(d), k);
   out.sali = std::min((w.col(0) + w.col(1)).norm(), (w.col(0) - w.col(1)).norm());
   for (Eigen::Index j = 2; j <= w.cols(); ++j) out.gali.push_back(gali(w, j));
   return out;
 }
-
-}  // namespace
 
 chaos_indicator_result chaos_indicators(const chain& c, std::span<const double> x0,
                                         const chaos_indicator_options& o) {

@@ -10,6 +10,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <utility>
 #include <stdexcept>
 #include <vector>
 
@@ -117,24 +118,79 @@ const batch_kernels* lane_kernels(const chain& c) {
 // map with AVX-512.
 constexpr int lane_blocks = 4;
 
-// rk4 on lane_blocks blocks of the batch kernels' lanes, for the state alone (rhs_batch) or
-// the state with one tangent vector (tangent_batch: the variational equations). Block b
-// holds lanes b*W .. b*W + W-1 (W = batch_width) in the kernels' structure-of-arrays layout:
-// coordinate i of lane l at [b*B + i*W + l % W], the state's 2n coordinates first, then the
-// tangent's (B = 2n*W, or 4n*W with the tangent). odeint's runge_kutta4 step, sum for sum,
-// so that each lane computes what the scalar library's stepper computes from the same
-// state, but with the kernels' sines. step(blocks) advances the first `blocks` blocks only.
+// What the lanes integrate, one block of W lanes at a time (W = batch_width): the chain's
+// state alone (rhs_batch), or with tangent vectors (tangent_batch). A block holds the
+// `coordinates` of its W lanes in the kernels' structure-of-arrays layout, coordinate i of
+// the block's lane l at [i*W + l]: the state's 2n coordinates first, then
+//   tangent = 1: one tangent vector (2n), the Lyapunov map's;
+//   tangent = k ≥ 2 with `indicators`: k deviation vectors (2n each), then the time t
+//   (dt/dt = 1, so that each lane knows its own t) and MEGNO's integrals y and z, as
+//   chaos_indicators' augmented system.
+class lane_system {
+ public:
+  static constexpr int W = batch_width;
+
+  lane_system(const batch_kernels& k, const double* params, int n, int tangent, bool indicators)
+      : m_kernels(k),
+        m_params(params),
+        m_d(static_cast<std::size_t>(2 * n)),
+        m_tangent(static_cast<std::size_t>(tangent)),
+        m_indicators(indicators),
+        m_scratch(indicators ? m_d * W : 0) {}
+
+  std::size_t coordinates() const { return m_d * (1 + m_tangent) + (m_indicators ? 3 : 0); }
+  std::size_t vector(std::size_t j) const { return m_d * (1 + j); }  // its first coordinate
+  std::size_t time() const { return m_d * (1 + m_tangent); }
+  std::size_t y() const { return time() + 1; }
+  std::size_t z() const { return time() + 2; }
+
+  void operator()(const double* x, double* dxdt) {
+    if (m_tangent == 0) {
+      m_kernels.rhs_batch(x, m_params, dxdt);
+      return;
+    }
+    const auto at = [](std::size_t i) { return i * W; };
+    m_kernels.tangent_batch(x, x + at(vector(0)), m_params, dxdt, dxdt + at(vector(0)));
+    for (std::size_t j = 1; j < m_tangent; ++j)
+      m_kernels.tangent_batch(x, x + at(vector(j)), m_params, m_scratch.data(),
+                              dxdt + at(vector(j)));
+    if (!m_indicators) return;
+    const double* w = x + at(vector(0));
+    const double* dw = dxdt + at(vector(0));
+    for (std::size_t l = 0; l < W; ++l) {
+      double along = 0, squares = 0;
+      for (std::size_t i = 0; i < m_d; ++i) {
+        along += w[at(i) + l] * dw[at(i) + l];
+        squares += w[at(i) + l] * w[at(i) + l];
+      }
+      const double t = x[at(time()) + l];
+      dxdt[at(time()) + l] = 1;
+      dxdt[at(y()) + l] = t * (along / squares);
+      dxdt[at(z()) + l] = t > 0 ? 2 * x[at(y()) + l] / t : 0.0;
+    }
+  }
+
+ private:
+  const batch_kernels& m_kernels;
+  const double* m_params;
+  std::size_t m_d, m_tangent;
+  bool m_indicators;
+  std::vector<double> m_scratch;  // the state's derivative again, for vectors 2..k
+};
+
+// rk4 on lane_blocks blocks of a lane_system's lanes. Block b holds lanes b*W .. b*W + W-1:
+// coordinate i of lane l at [b*B + i*W + l % W], B = coordinates × W. odeint's runge_kutta4
+// step, sum for sum, so that each lane computes what the scalar library's stepper computes
+// from the same state, but with the kernels' sines. step(blocks) advances the first
+// `blocks` blocks only.
 class lane_rk4 {
  public:
   static constexpr int W = batch_width;
   static constexpr int lanes = W * lane_blocks;
 
-  lane_rk4(const batch_kernels& k, const double* params, int n, double dt, bool tangent)
-      : m_kernels(k),
-        m_params(params),
-        m_tangent(tangent),
-        m_half_block(static_cast<std::size_t>(2 * n * W)),
-        m_block(m_half_block * (tangent ? 2 : 1)),
+  lane_rk4(lane_system system, double dt)
+      : m_system(std::move(system)),
+        m_block(m_system.coordinates() * W),
         m_x(m_block * lane_blocks),
         m_k1(m_x.size()),
         m_k2(m_x.size()),
@@ -148,7 +204,9 @@ class lane_rk4 {
         m_sixth((1.0 / 6.0) * dt),
         m_third((1.0 / 3.0) * dt) {}
 
+  const lane_system& system() const { return m_system; }
   double* state() { return m_x.data(); }
+  std::size_t coordinates() const { return m_system.coordinates(); }
 
   /// Where coordinate i of lane l lives in state().
   std::size_t at(std::size_t i, std::size_t l) const {
@@ -179,21 +237,15 @@ class lane_rk4 {
   }
 
  private:
-  void rhs(int blocks, const double* x, double* dxdt) const {
+  void rhs(int blocks, const double* x, double* dxdt) {
     for (int b = 0; b < blocks; ++b) {
       const std::size_t o = m_block * static_cast<std::size_t>(b);
-      if (m_tangent)
-        m_kernels.tangent_batch(x + o, x + o + m_half_block, m_params, dxdt + o,
-                                dxdt + o + m_half_block);
-      else
-        m_kernels.rhs_batch(x + o, m_params, dxdt + o);
+      m_system(x + o, dxdt + o);
     }
   }
 
-  const batch_kernels& m_kernels;
-  const double* m_params;
-  bool m_tangent;
-  std::size_t m_half_block, m_block;
+  lane_system m_system;
+  std::size_t m_block;
   std::vector<double> m_x, m_k1, m_k2, m_k3, m_k4, m_tmp;
   double m_half, m_zero, m_full, m_sixth, m_third;
 };
@@ -202,10 +254,11 @@ class lane_rk4 {
 struct lane_slot {
   std::size_t cell = 0;  // index of its start in the queue's `starts`
   long long steps = 0;   // rk4 steps taken from the start
-  double sum = 0;        // the Lyapunov map's Σ ln of the tangent's growth
+  double sum = 0;        // Σ ln of the (first) tangent vector's growth
+  double peak = 0;       // the indicators' FLI: the running maximum of `sum`
 };
 
-// Runs the cells `queue` on rk's lanes (`coordinates` of them per lane): start(x, l, cell)
+// Runs the cells `queue` on rk's lanes: start(x, l, cell)
 // writes cell's start into lane l of x = rk.state(); after every step, done(x, l, slot) —
 // slot.steps already counted — returns the cell's value once it is finished, std::nullopt
 // otherwise; the value goes to out[slot.cell] and the lane takes the next cell. Once the
@@ -214,9 +267,10 @@ struct lane_slot {
 // lane (results unused), so that every lane stepped holds a finite state. A lane's
 // arithmetic does not depend on its slot, so moving a lane changes nothing.
 template <class Start, class Done>
-void run_on_lanes(lane_rk4& rk, std::size_t coordinates, const std::vector<std::size_t>& queue,
-                  const Start& start, const Done& done, std::vector<double>& out) {
+void run_on_lanes(lane_rk4& rk, const std::vector<std::size_t>& queue, const Start& start,
+                  const Done& done, std::vector<double>& out) {
   constexpr std::size_t lanes = lane_rk4::lanes, W = lane_rk4::W;
+  const std::size_t coordinates = rk.coordinates();
   double* x = rk.state();
   std::array<std::optional<lane_slot>, lanes> slot{};
   std::size_t next = 0;
@@ -269,7 +323,7 @@ void flip_on_lanes(const batch_kernels& k, const chain& c, std::span<const doubl
                    std::vector<double>& out) {
   const auto n = static_cast<std::size_t>(c.links());
   const std::size_t m = 2 * n;
-  lane_rk4 rk(k, c.packed_parameters().data(), c.links(), o.dt, false);
+  lane_rk4 rk(lane_system(k, c.packed_parameters().data(), c.links(), 0, false), o.dt);
   const long long steps = flip_steps(o);
   double lane_state[2 * chain_layout::max_links];
   const auto start = [&](double* x, std::size_t l, std::size_t cell) {
@@ -283,7 +337,7 @@ void flip_on_lanes(const batch_kernels& k, const chain& c, std::span<const doubl
     if (s.steps == steps) return std::numeric_limits<double>::infinity();
     return std::nullopt;
   };
-  run_on_lanes(rk, m, queue, start, done, out);
+  run_on_lanes(rk, queue, start, done, out);
 }
 
 // The maximal Lyapunov exponents of the starts `queue` on the lanes, as
@@ -296,7 +350,7 @@ void lyapunov_on_lanes(const batch_kernels& k, const chain& c, std::span<const d
                        std::vector<double>& out) {
   const auto m = static_cast<std::size_t>(c.state_size());
   const double dt = lo.integration.dt;
-  lane_rk4 rk(k, c.packed_parameters().data(), c.links(), dt, true);
+  lane_rk4 rk(lane_system(k, c.packed_parameters().data(), c.links(), 1, false), dt);
   const auto total = static_cast<long long>(output_steps(lo.integration));
   const long long chunk =
       std::max<long long>(1, std::llround(lo.renormalisation_interval / dt));
@@ -324,7 +378,54 @@ void lyapunov_on_lanes(const batch_kernels& k, const chain& c, std::span<const d
     if (s.steps == total) return s.sum / t_total;
     return std::nullopt;
   };
-  run_on_lanes(rk, 2 * m, queue, start, done, out);
+  run_on_lanes(rk, queue, start, done, out);
+}
+
+// The chaos indicators of the starts `queue` on the lanes, as chaos_indicators computes them
+// (rk4 at dt with `vectors` deviation vectors from chaos_indicator_start, each normalised
+// after every step, MEGNO's integrals riding along), sampled at the last step;
+// pick(sample) is the map's value. NaN where the state or a vector becomes non-finite
+// (where the library throws integration_error).
+template <class Pick>
+void indicators_on_lanes(const batch_kernels& k, const chain& c, std::span<const double> starts,
+                         const std::vector<std::size_t>& queue, double t_end, double dt,
+                         std::size_t vectors, const Pick& pick, std::vector<double>& out) {
+  const auto d = static_cast<std::size_t>(c.state_size());
+  lane_rk4 rk(lane_system(k, c.packed_parameters().data(), c.links(),
+                          static_cast<int>(vectors), true),
+              dt);
+  const lane_system& sys = rk.system();
+  const std::vector<double> w0 = chaos_indicator_start(d, vectors);
+  const auto total = static_cast<long long>(std::floor(t_end / dt + 1e-9));
+  std::vector<double> w(d * vectors);
+  const auto start = [&](double* x, std::size_t l, std::size_t cell) {
+    for (std::size_t i = 0; i < d; ++i) x[rk.at(i, l)] = starts[cell * d + i];
+    for (std::size_t j = 0; j < vectors; ++j)
+      for (std::size_t i = 0; i < d; ++i) x[rk.at(sys.vector(j) + i, l)] = w0[j * d + i];
+    for (const std::size_t i : {sys.time(), sys.y(), sys.z()}) x[rk.at(i, l)] = 0;
+  };
+  const auto done = [&](double* x, std::size_t l, lane_slot& s) -> std::optional<double> {
+    for (std::size_t j = 0; j < vectors; ++j) {
+      double squares = 0;
+      for (std::size_t i = 0; i < d; ++i) {
+        const double v = x[rk.at(sys.vector(j) + i, l)];
+        squares += v * v;
+      }
+      const double norm = std::sqrt(squares);
+      if (!std::isfinite(norm) || norm == 0 || !std::isfinite(x[rk.at(0, l)]))
+        return std::numeric_limits<double>::quiet_NaN();
+      for (std::size_t i = 0; i < d; ++i) x[rk.at(sys.vector(j) + i, l)] /= norm;
+      if (j == 0) {
+        s.sum += std::log(norm);
+        s.peak = std::max(s.peak, s.sum);
+      }
+    }
+    if (s.steps != total) return std::nullopt;
+    for (std::size_t i = 0; i < d * vectors; ++i) w[i] = x[rk.at(sys.vector(0) + i, l)];
+    return pick(chaos_indicator_sample_of(static_cast<double>(total) * dt, s.peak,
+                                          x[rk.at(sys.y(), l)], x[rk.at(sys.z(), l)], w, d));
+  };
+  run_on_lanes(rk, queue, start, done, out);
 }
 
 }  // namespace
@@ -414,24 +515,38 @@ lyapunov_options map_lyapunov_options(const map_cell_options& o) {
   return lo;
 }
 
-// FLI, MEGNO, SALI or GALI_k at t_end: as many deviation vectors as the quantity needs.
+// The deviation vectors an indicator map integrates: GALI_k's k, 2 for the others.
+std::size_t indicator_vectors(const chain& c, const map_cell_options& o) {
+  const int k = o.gali_order == 0 ? c.links() + 1 : o.gali_order;
+  return o.quantity == map_quantity::gali ? static_cast<std::size_t>(k) : 2;
+}
+
+// The map's value of an indicator sample: FLI, MEGNO ⟨Y⟩, SALI or GALI_k.
+double indicator_value(map_quantity quantity, const chaos_indicator_sample& sample) {
+  switch (quantity) {
+    case map_quantity::fli:
+      return sample.fli;
+    case map_quantity::megno:
+      return sample.mean_megno;
+    case map_quantity::sali:
+      return sample.sali;
+    default:
+      return sample.gali.back();
+  }
+}
+
+bool is_indicator(map_quantity quantity) {
+  return quantity == map_quantity::fli || quantity == map_quantity::megno ||
+         quantity == map_quantity::sali || quantity == map_quantity::gali;
+}
+
+// FLI, MEGNO, SALI or GALI_k at t_end, cell by cell.
 double indicator_cell(const chain& c, std::span<const double> x0, const map_cell_options& o) {
   chaos_indicator_options io;
   io.t_end = o.t_end;
   io.dt = o.dt;
-  const int k = o.gali_order == 0 ? c.links() + 1 : o.gali_order;
-  io.vectors = o.quantity == map_quantity::gali ? static_cast<std::size_t>(k) : 2;
-  const auto last = chaos_indicators(c, x0, io).last;
-  switch (o.quantity) {
-    case map_quantity::fli:
-      return last.fli;
-    case map_quantity::megno:
-      return last.mean_megno;
-    case map_quantity::sali:
-      return last.sali;
-    default:
-      return last.gali.back();
-  }
+  io.vectors = indicator_vectors(c, o);
+  return indicator_value(o.quantity, chaos_indicators(c, x0, io).last);
 }
 
 // Coordinate o.component of the state at t_end: rk4 steps of dt (the last one shortened to
@@ -451,11 +566,13 @@ double final_coordinate(const chain& c, std::span<const double> x0, const map_ce
   return x[static_cast<std::size_t>(o.component)];
 }
 
-// maximal_lyapunov_exponent's check of a start, for the cells that run on the lanes.
-void check_finite_start(std::span<const double> x0) {
+// The library's check of a start (maximal_lyapunov_exponent's, or chaos_indicators' with
+// their `prefix`), for the cells that run on the lanes.
+void check_finite_start(std::span<const double> x0, std::string_view prefix = "") {
   for (std::size_t i = 0; i < x0.size(); ++i)
     if (!std::isfinite(x0[i]))
-      throw std::invalid_argument(fmt::format("start state entry {} is not finite", i + 1));
+      throw std::invalid_argument(
+          fmt::format("{}start state entry {} is not finite", prefix, i + 1));
 }
 
 // A flip map's value: the flip time, NaN where the energy rules a flip out. flip_times
@@ -497,7 +614,7 @@ void map_cell_options::validate(const chain& c) const {
 
 double map_cell(const chain& c, std::span<const double> x0, const map_cell_options& options) {
   try {
-    if (options.quantity == map_quantity::flip || options.quantity == map_quantity::lyapunov) {
+    if (options.quantity != map_quantity::state) {
       if (x0.size() != static_cast<std::size_t>(c.state_size()))
         throw std::invalid_argument(
             fmt::format("{}: the {}-link chain needs a state of {}, got {}",
@@ -505,11 +622,8 @@ double map_cell(const chain& c, std::span<const double> x0, const map_cell_optio
                         x0.size()));
       return map_cells(c, x0, options).front();
     }
-    if (options.quantity == map_quantity::state) {
-      options.validate(c);
-      return final_coordinate(c, x0, options);
-    }
-    return indicator_cell(c, x0, options);
+    options.validate(c);
+    return final_coordinate(c, x0, options);
   } catch (const integration_error&) {
     return std::numeric_limits<double>::quiet_NaN();
   }
@@ -543,6 +657,28 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
     }
     for (std::size_t i = 0; i < out.size(); ++i) try {
         out[i] = maximal_lyapunov_exponent(c, starts.subspan(i * m, m), lo).exponents.front();
+      } catch (const integration_error&) {
+        out[i] = std::numeric_limits<double>::quiet_NaN();
+      }
+    return out;
+  }
+  if (is_indicator(options.quantity)) {
+    if (const batch_kernels* k = lane_kernels(c)) {
+      options.validate(c);
+      std::vector<std::size_t> queue(out.size());
+      for (std::size_t i = 0; i < out.size(); ++i) {
+        check_finite_start(starts.subspan(i * m, m), "chaos indicators: ");
+        queue[i] = i;
+      }
+      const auto pick = [&](const chaos_indicator_sample& sample) {
+        return indicator_value(options.quantity, sample);
+      };
+      indicators_on_lanes(*k, c, starts, queue, options.t_end, options.dt,
+                          indicator_vectors(c, options), pick, out);
+      return out;
+    }
+    for (std::size_t i = 0; i < out.size(); ++i) try {
+        out[i] = indicator_cell(c, starts.subspan(i * m, m), options);
       } catch (const integration_error&) {
         out[i] = std::numeric_limits<double>::quiet_NaN();
       }

@@ -69,4 +69,15 @@ struct chaos_indicator_result {
 chaos_indicator_result chaos_indicators(const chain& c, std::span<const double> x0,
                                         const chaos_indicator_options& options);
 
+/// The k deviation vectors chaos_indicators starts from for a state of dimension d (d × k,
+/// column-major: vector j at [j*d, (j+1)*d)). For the batch lanes of the maps, which must
+/// start where the library does.
+std::vector<double> chaos_indicator_start(std::size_t d, std::size_t k);
+
+/// The indicators at time t > 0 from FLI's running maximum `fli`, MEGNO's integrals
+/// y = ∫ s ẇ₁·w₁/‖w₁‖² ds and z = ∫ Y ds, and the k ≥ 2 normalised deviation vectors `w`
+/// (d × k, column-major), as chaos_indicators samples them.
+chaos_indicator_sample chaos_indicator_sample_of(double t, double fli, double y, double z,
+                                                 std::span<const double> w, std::size_t d);
+
 }  // namespace npend
