@@ -435,8 +435,8 @@ long tiles_present(const map_run& run) {
 }
 
 // The values of tile `index`, row-major within the tile; a cell the energy rules out or
-// whose integration fails is NaN. The tile's cells go to the library together, so that a flip
-// map runs them on the batch kernels' lanes (each value the same as map_cell's).
+// whose integration fails is NaN. The tile's cells go to the library together, so that they
+// run on the batch kernels' lanes together (each value the same as map_cell's).
 std::vector<double> compute_tile(const map_run& run, int index) {
   const tile_bounds b = run.layout.bounds(index, run.grid.x, run.grid.y);
   std::vector<int> columns, rows;

@@ -123,7 +123,7 @@ py::dict modes(const chain& c, const py::object& angles_in) {
 }
 
 // `total` values over `threads` OpenMP threads (0: all cores), computed `chunk` at a time by
-// compute(first, count) (a chunk's cells go to the library together, so that a flip map fills
+// compute(first, count) (a chunk's cells go to the library together, so that they fill
 // the batch kernels' lanes); each cell's value depends on its start alone, so the result does
 // not depend on the thread count. Threads other than the caller's only read the interrupt
 // flag; the caller's thread polls Python's signal handlers.

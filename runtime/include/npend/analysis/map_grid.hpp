@@ -80,7 +80,7 @@ struct map_start {
 map_start map_cell_start(const map_grid& grid, int i, int j);
 
 /// The map's value at cell (i, j) for each (i, j) in `cells`, as map_cells computes them
-/// (cells with the same chain together, so that a flip map runs them on the batch lanes);
+/// (cells with the same chain together, so that they run on the batch lanes together);
 /// NaN where the energy rules the cell out (map_cell_forbidden) or the integration fails.
 /// Throws std::invalid_argument as map_cells.
 std::vector<double> map_grid_values(const map_grid& grid, std::span<const int> cells_i,

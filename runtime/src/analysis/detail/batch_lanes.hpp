@@ -1,0 +1,181 @@
+// The batch lanes of the chaos maps (private to the runtime): many cells integrated at once
+// on the generated batch kernels (npend/batch_kernels.hpp), W = batch_width lanes to a block
+// and lane_blocks blocks to a step, with finished lanes refilled from a queue of cells.
+// chaos_map.cpp runs flip times, Lyapunov exponents and chaos indicators on them.
+//
+// The arithmetic of a lane never depends on its slot or its neighbours, so a cell's value
+// depends on its start alone, however the cells are queued, refilled or moved.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "npend/batch_kernels.hpp"
+#include "npend/chain.hpp"
+
+namespace npend::detail {
+
+// The batch kernels the lanes run chain `c` on, or nullptr.
+const batch_kernels* lane_kernels(const chain& c);
+
+// Blocks of batch_width lanes stepped at once. One block's rhs is a short chain of dependent
+// operations (a sincos, then a division); four independent blocks per step let the
+// processor overlap them: 1.2x the steps per second of one block, measured on a 128^2 flip
+// map with AVX-512.
+constexpr int lane_blocks = 4;
+
+// What the lanes integrate, one block of W lanes at a time (W = batch_width): the chain's
+// state alone (rhs_batch), or with tangent vectors (tangent_batch). A block holds the
+// `coordinates` of its W lanes in the kernels' structure-of-arrays layout, coordinate i of
+// the block's lane l at [i*W + l]: the state's 2n coordinates first, then
+//   tangent = 1: one tangent vector (2n), the Lyapunov map's;
+//   tangent = k ≥ 2 with `indicators`: k deviation vectors (2n each), then the time t
+//   (dt/dt = 1, so that each lane knows its own t) and MEGNO's integrals y and z, as
+//   chaos_indicators' augmented system.
+class lane_system {
+ public:
+  static constexpr int W = batch_width;
+
+  lane_system(const batch_kernels& k, const double* params, int n, int tangent, bool indicators)
+      : m_kernels(k),
+        m_params(params),
+        m_d(static_cast<std::size_t>(2 * n)),
+        m_tangent(static_cast<std::size_t>(tangent)),
+        m_indicators(indicators),
+        m_scratch(tangent > 1 ? m_d * W : 0) {}
+
+  std::size_t coordinates() const { return m_d * (1 + m_tangent) + (m_indicators ? 3 : 0); }
+  std::size_t vector(std::size_t j) const { return m_d * (1 + j); }  // its first coordinate
+  std::size_t time() const { return m_d * (1 + m_tangent); }
+  std::size_t y() const { return time() + 1; }
+  std::size_t z() const { return time() + 2; }
+
+  /// dxdt of one block's W lanes (each `coordinates` long, structure-of-arrays).
+  void operator()(const double* x, double* dxdt);
+
+ private:
+  const batch_kernels& m_kernels;
+  const double* m_params;
+  std::size_t m_d, m_tangent;
+  bool m_indicators;
+  std::vector<double> m_scratch;  // the state's derivative again, for vectors 2..k
+};
+
+// rk4 on lane_blocks blocks of a lane_system's lanes. Block b holds lanes b*W .. b*W + W-1:
+// coordinate i of lane l at [b*B + i*W + l % W], B = coordinates × W. odeint's runge_kutta4
+// step, sum for sum, so that each lane computes what the scalar library's stepper computes
+// from the same state, but with the kernels' sines. step(blocks) advances the first
+// `blocks` blocks only.
+class lane_rk4 {
+ public:
+  static constexpr int W = batch_width;
+  static constexpr int lanes = W * lane_blocks;
+
+  lane_rk4(lane_system system, double dt)
+      : m_system(std::move(system)),
+        m_block(m_system.coordinates() * W),
+        m_x(m_block * lane_blocks),
+        m_k1(m_x.size()),
+        m_k2(m_x.size()),
+        m_k3(m_x.size()),
+        m_k4(m_x.size()),
+        m_tmp(m_x.size()),
+        // odeint's coefficients a_ij dt and b_i dt, as it rounds them.
+        m_half(0.5 * dt),
+        m_zero(0.0 * dt),
+        m_full(1.0 * dt),
+        m_sixth((1.0 / 6.0) * dt),
+        m_third((1.0 / 3.0) * dt) {}
+
+  const lane_system& system() const { return m_system; }
+  double* state() { return m_x.data(); }
+  std::size_t coordinates() const { return m_system.coordinates(); }
+
+  /// Where coordinate i of lane l lives in state().
+  std::size_t at(std::size_t i, std::size_t l) const {
+    return (l / W) * m_block + i * W + l % W;
+  }
+
+  /// One rk4 step of dt for the first `blocks` blocks.
+  void step(int blocks);
+
+ private:
+  void rhs(int blocks, const double* x, double* dxdt);
+
+  lane_system m_system;
+  std::size_t m_block;
+  std::vector<double> m_x, m_k1, m_k2, m_k3, m_k4, m_tmp;
+  double m_half, m_zero, m_full, m_sixth, m_third;
+};
+
+// What a lane carries besides its coordinates.
+struct lane_slot {
+  std::size_t cell = 0;  // index of its start in the queue's `starts`
+  long long steps = 0;   // rk4 steps taken from the start
+  double sum = 0;        // Σ ln of the (first) tangent vector's growth
+  double peak = 0;       // the indicators' FLI: the running maximum of `sum`
+};
+
+// Runs the cells `queue` on rk's lanes: start(x, l, cell) writes cell's start into lane l
+// of x = rk.state(); after every step, done(x, l, slot) — slot.steps already counted —
+// returns the cell's value once it is finished, std::nullopt otherwise; the value goes to
+// out[slot.cell] and the lane takes the next cell. Once the
+// queue is empty the live lanes move down into the lowest blocks, so that only
+// ceil(live / W) blocks are stepped; the idle lanes of the last of them run a copy of a live
+// lane (results unused), so that every lane stepped holds a finite state. A lane's
+// arithmetic does not depend on its slot, so moving a lane changes nothing.
+template <class Start, class Done>
+void run_on_lanes(lane_rk4& rk, const std::vector<std::size_t>& queue, const Start& start,
+                  const Done& done, std::vector<double>& out) {
+  constexpr std::size_t lanes = lane_rk4::lanes, W = lane_rk4::W;
+  const std::size_t coordinates = rk.coordinates();
+  double* x = rk.state();
+  std::array<std::optional<lane_slot>, lanes> slot{};
+  std::size_t next = 0;
+  const auto copy_lane = [&](std::size_t to, std::size_t from) {
+    for (std::size_t i = 0; i < coordinates; ++i) x[rk.at(i, to)] = x[rk.at(i, from)];
+  };
+  const auto load = [&](std::size_t l) {
+    slot[l].reset();
+    if (next == queue.size()) return;
+    slot[l] = lane_slot{queue[next++]};
+    start(x, l, slot[l]->cell);
+  };
+  for (std::size_t l = 0; l < lanes; ++l) load(l);
+  // Live lanes to the lowest slots, idle ones of the last block padded; the blocks to step.
+  const auto compact = [&]() {
+    std::size_t live = 0;
+    for (std::size_t l = 0; l < lanes; ++l)
+      if (slot[l]) {
+        if (l != live) {
+          copy_lane(live, l);
+          slot[live] = slot[l];
+          slot[l].reset();
+        }
+        ++live;
+      }
+    const std::size_t blocks = (live + W - 1) / W;
+    for (std::size_t l = live; l < blocks * W; ++l) copy_lane(l, 0);
+    return static_cast<int>(blocks);
+  };
+  int blocks = compact();
+  while (blocks > 0) {
+    rk.step(blocks);
+    bool emptied = false;
+    for (std::size_t l = 0; l < static_cast<std::size_t>(blocks) * W; ++l) {
+      if (!slot[l]) continue;
+      ++slot[l]->steps;
+      const std::optional<double> value = done(x, l, *slot[l]);
+      if (!value) continue;
+      out[slot[l]->cell] = *value;
+      load(l);
+      emptied |= !slot[l];
+    }
+    if (emptied) blocks = compact();
+  }
+}
+
+}  // namespace npend::detail
