@@ -705,9 +705,8 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
   summary["forbidden"] = forbidden;
   summary["failed"] = failed;
   if (o.quantity == "flip") summary["no_flip"] = never;
-  if (o.quantity != "state")
-    // The batch lanes the cells ran on (0: cell by cell), and the ISA they were built for.
-    summary["batch"] = {{"isa", batch_isa()}, {"lanes", batch_lanes(run.c)}};
+  // The batch lanes the cells ran on (0: cell by cell), and the ISA they were built for.
+  summary["batch"] = {{"isa", batch_isa()}, {"lanes", batch_lanes(run.c)}};
   summary["wall_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   summary["resumed"] = o.resume;

@@ -1,10 +1,11 @@
 // flip_times on the batch kernels' lanes (analysis/chaos_map.hpp) against the scalar
 // flip_time (odeint's rk4 on the scalar kernel with std::sin), and the independence of a
-// cell's value from its lane and from the other cells; Lyapunov cells on the lanes against
-// the library's maximal_lyapunov_exponent.
+// cell's value from its lane and from the other cells; Lyapunov, chaos-indicator and
+// final-state cells on the lanes against the library.
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -15,6 +16,7 @@
 
 #include "npend/analysis/chaos_map.hpp"
 #include "npend/batch_math.hpp"
+#include "npend/chain_system.hpp"
 
 namespace {
 
@@ -341,4 +343,45 @@ TEST_CASE("map_cells: chaos indicator cells on the lanes agree with chaos_indica
     MESSAGE(npend::map_quantity_name(quantity) << ": worst relative difference " << worst);
     CHECK(worst <= 1e-9);
   }
+}
+
+TEST_CASE("map_cells: final-state cells on the lanes agree with odeint's rk4 on the library") {
+  // rk4 steps of dt and a last shorter one to land on t_end (2.005 s: 200 steps and one of
+  // 0.005 s), against odeint's runge_kutta4 on the scalar chain_system, every component.
+  const npend::chain c(npend::chain_parameters::uniform(3));
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> angle(-3, 3), momentum(-2, 2);
+  const int count = npend::batch_lanes(c) + 7;
+  std::vector<double> starts;
+  for (int k = 0; k < count; ++k) {
+    for (int i = 0; i < 3; ++i) starts.push_back(angle(rng));
+    for (int i = 0; i < 3; ++i) starts.push_back(momentum(rng));
+  }
+  npend::map_cell_options mo;
+  mo.quantity = npend::map_quantity::state;
+  mo.t_end = 2.005;
+  mo.dt = 0.01;
+  double worst = 0;
+  for (int component = 0; component < 6; ++component) {
+    mo.component = component;
+    const std::vector<double> lanes = npend::map_cells(c, starts, mo);
+    for (int k = 0; k < count; ++k) {
+      std::vector<double> x(starts.begin() + 6 * k, starts.begin() + 6 * k + 6);
+      boost::numeric::odeint::runge_kutta4<std::vector<double>> stepper;
+      const npend::chain_system system(c);
+      for (int step = 0; step < 200; ++step) stepper.do_step(system, x, step * 0.01, 0.01);
+      stepper.do_step(system, x, 2.0, 2.005 - 200 * 0.01);
+      const double got = lanes[static_cast<std::size_t>(k)];
+      worst = std::max(worst, std::fabs(got - x[static_cast<std::size_t>(component)]));
+      if (k % 11 == 0) {
+        const std::span<const double> start(starts.data() + 6 * k, 6);
+        CHECK(same(npend::map_cell(c, start, mo), got));
+      }
+    }
+  }
+  MESSAGE("worst difference " << worst);
+  CHECK(worst <= 1e-10);
+  // A state that leaves the doubles is NaN.
+  const std::vector<double> blown{0.5, 0.5, 0.5, 1e200, -1e200, 1e200};
+  CHECK(std::isnan(npend::map_cell(c, blown, mo)));
 }

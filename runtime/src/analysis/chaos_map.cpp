@@ -221,6 +221,42 @@ void indicators_on_lanes(const batch_kernels& k, const chain& c, std::span<const
   run_on_lanes(rk, queue, start, done, out);
 }
 
+// Coordinate o.component of each start's state at o.t_end on the lanes, as final_coordinate
+// computes it: rk4 steps of dt, then — where t_end is not a whole number of steps — one
+// shorter step to land on t_end, a second pass on lanes whose step is that rest. NaN where
+// the state becomes non-finite (where final_coordinate throws integration_error).
+void final_coordinates_on_lanes(const batch_kernels& k, const chain& c,
+                                std::span<const double> starts,
+                                const std::vector<std::size_t>& queue,
+                                const map_cell_options& o, std::vector<double>& out) {
+  const auto m = static_cast<std::size_t>(c.state_size());
+  const auto steps = static_cast<long long>(std::floor(o.t_end / o.dt + 1e-9));
+  const double rest = o.t_end - static_cast<double>(steps) * o.dt;
+  std::vector<double> ends(starts.begin(), starts.end());  // each cell's state, advanced
+  std::vector<double> unused(out.size());
+  const auto advance = [&](double dt, long long count) {
+    lane_rk4 rk(lane_system(k, c.packed_parameters().data(), c.links(), 0, false), dt);
+    const auto start = [&](double* x, std::size_t l, std::size_t cell) {
+      for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = ends[cell * m + i];
+    };
+    const auto done = [&](const double* x, std::size_t l,
+                          const lane_slot& s) -> std::optional<double> {
+      if (s.steps != count) return std::nullopt;
+      for (std::size_t i = 0; i < m; ++i) ends[s.cell * m + i] = x[rk.at(i, l)];
+      return 0.0;
+    };
+    run_on_lanes(rk, queue, start, done, unused);
+  };
+  advance(o.dt, steps);
+  if (rest > 1e-9 * o.dt) advance(rest, 1);
+  for (const std::size_t cell : queue) {
+    const std::span<const double> x(ends.data() + cell * m, m);
+    out[cell] = std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); })
+                    ? x[static_cast<std::size_t>(o.component)]
+                    : std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
 }  // namespace
 
 int batch_lanes(const chain& c) { return lane_kernels(c) != nullptr ? lane_rk4::lanes : 0; }
@@ -406,20 +442,11 @@ void map_cell_options::validate(const chain& c) const {
 }
 
 double map_cell(const chain& c, std::span<const double> x0, const map_cell_options& options) {
-  try {
-    if (options.quantity != map_quantity::state) {
-      if (x0.size() != static_cast<std::size_t>(c.state_size()))
-        throw std::invalid_argument(
-            fmt::format("{}: the {}-link chain needs a state of {}, got {}",
-                        map_quantity_name(options.quantity), c.links(), c.state_size(),
-                        x0.size()));
-      return map_cells(c, x0, options).front();
-    }
-    options.validate(c);
-    return final_coordinate(c, x0, options);
-  } catch (const integration_error&) {
-    return std::numeric_limits<double>::quiet_NaN();
-  }
+  if (x0.size() != static_cast<std::size_t>(c.state_size()))
+    throw std::invalid_argument(fmt::format("{}: the {}-link chain needs a state of {}, got {}",
+                                            map_quantity_name(options.quantity), c.links(),
+                                            c.state_size(), x0.size()));
+  return map_cells(c, x0, options).front();
 }
 
 std::vector<double> map_cells(const chain& c, std::span<const double> starts,
@@ -477,8 +504,18 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
       }
     return out;
   }
-  for (std::size_t i = 0; i < out.size(); ++i)
-    out[i] = map_cell(c, starts.subspan(i * m, m), options);
+  options.validate(c);
+  if (const batch_kernels* k = lane_kernels(c)) {
+    std::vector<std::size_t> queue(out.size());
+    for (std::size_t i = 0; i < out.size(); ++i) queue[i] = i;
+    final_coordinates_on_lanes(*k, c, starts, queue, options, out);
+    return out;
+  }
+  for (std::size_t i = 0; i < out.size(); ++i) try {
+      out[i] = final_coordinate(c, starts.subspan(i * m, m), options);
+    } catch (const integration_error&) {
+      out[i] = std::numeric_limits<double>::quiet_NaN();
+    }
   return out;
 }
 

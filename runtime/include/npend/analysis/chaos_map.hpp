@@ -50,9 +50,9 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
 std::vector<double> flip_times(const chain& c, std::span<const double> starts,
                                const flip_options& options);
 
-/// Lanes flip_times and map_cells (every quantity but `state`) step at once for chain `c`:
-/// four blocks of npend::batch_width on a point-mass chain whose link count has batch
-/// kernels, 0 where they go cell by cell (physical chains).
+/// Lanes flip_times and map_cells step at once for chain `c`: four blocks of
+/// npend::batch_width on a point-mass chain whose link count has batch kernels, 0 where they
+/// go cell by cell (physical chains).
 int batch_lanes(const chain& c);
 
 /// What a map shows in each cell.
@@ -94,15 +94,15 @@ struct map_cell_options {
 /// lanes where the chain has them: the same rk4, renormalisations and sum, with the lanes'
 /// tangent kernel and SLEEF's sines, so equal to the library's up to round-off), an indicator
 /// of chaos_indicators (rk4 at dt, to t_end; on the batch lanes likewise), or a coordinate
-/// of the state at t_end (rk4 at
-/// dt); NaN when the integration fails (an integration_error) and, for a flip map, where the
-/// energy rules a flip out (energy_forbids_flip: a map marks those cells apart from the
-/// +inf of cells that were integrated to t_end without flipping). Throws
+/// of the state at t_end (rk4 at dt, a last shorter step landing on t_end; on the batch
+/// lanes likewise); NaN when the integration fails (an integration_error) and, for a flip
+/// map, where the energy rules a flip out (energy_forbids_flip: a map marks those cells
+/// apart from the +inf of cells that were integrated to t_end without flipping). Throws
 /// std::invalid_argument as flip_time and maximal_lyapunov_exponent do.
 double map_cell(const chain& c, std::span<const double> x0, const map_cell_options& options);
 
 /// map_cell of each of count = starts.size() / 2n start states (dim count × 2n), the same
-/// values bit for bit; all but `state` cells run batch_lanes at a time.
+/// values bit for bit; the cells run batch_lanes at a time.
 std::vector<double> map_cells(const chain& c, std::span<const double> starts,
                               const map_cell_options& options);
 
