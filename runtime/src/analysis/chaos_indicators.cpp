@@ -8,6 +8,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "detail/argument_checks.hpp"
 #include "npend/integration_error.hpp"
 
 namespace npend {
@@ -119,10 +120,7 @@ chaos_indicator_result chaos_indicators(const chain& c, std::span<const double> 
     throw std::invalid_argument(
         fmt::format("chaos indicators: the {}-link chain needs a start of {} entries, got {}",
                     c.links(), d, x0.size()));
-  for (std::size_t i = 0; i < d; ++i)
-    if (!std::isfinite(x0[i]))
-      throw std::invalid_argument(
-          fmt::format("chaos indicators: start state entry {} is not finite", i + 1));
+  detail::require_finite_start(x0, "chaos indicators: ");
   if (o.vectors < 2 || o.vectors > d)
     throw std::invalid_argument(
         fmt::format("chaos indicators: vectors is {}: it must be 2..{} (2n) for the {}-link chain",

@@ -8,11 +8,13 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <optional>
 #include <utility>
 #include <stdexcept>
 #include <vector>
 
+#include "detail/argument_checks.hpp"
 #include "detail/batch_lanes.hpp"
 #include "npend/batch_kernels.hpp"
 #include "npend/chain_system.hpp"
@@ -60,9 +62,10 @@ void check_flip_options(const flip_options& o) {
         fmt::format("flip: need 0 < dt <= t_end, got dt = {}, t_end = {}", o.dt, o.t_end));
 }
 
-// The rk4 steps of dt up to t_end.
-long long flip_steps(const flip_options& o) {
-  return static_cast<long long>(std::floor(o.t_end / o.dt + 1e-9));
+// The whole rk4 steps of dt up to t_end (a last shorter step, where a quantity takes one,
+// lands on t_end).
+long long whole_steps(double t_end, double dt) {
+  return static_cast<long long>(std::floor(t_end / dt + 1e-9));
 }
 
 // Whether an arm (or arm o.link) of the n-link state x is at or past the upright position.
@@ -89,7 +92,7 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
   if (flipped(x)) return 0;
   boost::numeric::odeint::runge_kutta4<std::vector<double>> stepper;
   const chain_system system(c);
-  const auto steps = flip_steps(o);
+  const auto steps = whole_steps(o.t_end, o.dt);
   for (long long k = 1; k <= steps; ++k) {
     stepper.do_step(system, x, static_cast<double>(k - 1) * o.dt, o.dt);
     if (flipped(x)) return static_cast<double>(k) * o.dt;
@@ -104,11 +107,48 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
 
 namespace {
 
+// Each start's value by `cell` (the library's scalar path, one start after another; starts
+// of m numbers each), NaN where the integration fails (integration_error).
+template <class Cell>
+std::vector<double> cell_by_cell(std::span<const double> starts, std::size_t m, const Cell& cell) {
+  std::vector<double> out(starts.size() / m);
+  for (std::size_t i = 0; i < out.size(); ++i) try {
+      out[i] = cell(starts.subspan(i * m, m));
+    } catch (const integration_error&) {
+      out[i] = std::numeric_limits<double>::quiet_NaN();
+    }
+  return out;
+}
+
+// The queue of every start, in order: 0, 1, …, count - 1.
+std::vector<std::size_t> all_cells(std::size_t count) {
+  std::vector<std::size_t> queue(count);
+  std::iota(queue.begin(), queue.end(), std::size_t{0});
+  return queue;
+}
+
 using detail::lane_kernels;
 using detail::lane_rk4;
 using detail::lane_slot;
 using detail::lane_system;
 using detail::run_on_lanes;
+
+// Σ v_i² of the vector at coordinates first .. first + d - 1 of lane l.
+double lane_squares(const lane_rk4& rk, const double* x, std::size_t first, std::size_t d,
+                    std::size_t l) {
+  double squares = 0;
+  for (std::size_t i = 0; i < d; ++i) {
+    const double v = x[rk.at(first + i, l)];
+    squares += v * v;
+  }
+  return squares;
+}
+
+// That vector divided by `norm`.
+void divide_lane(const lane_rk4& rk, double* x, std::size_t first, std::size_t d, std::size_t l,
+                 double norm) {
+  for (std::size_t i = 0; i < d; ++i) x[rk.at(first + i, l)] /= norm;
+}
 
 // The flip times of the starts `queue` (indices of states in `starts`) on the lanes.
 void flip_on_lanes(const batch_kernels& k, const chain& c, std::span<const double> starts,
@@ -117,7 +157,7 @@ void flip_on_lanes(const batch_kernels& k, const chain& c, std::span<const doubl
   const auto n = static_cast<std::size_t>(c.links());
   const std::size_t m = 2 * n;
   lane_rk4 rk(lane_system(k, c.packed_parameters().data(), c.links(), 0, false), o.dt);
-  const long long steps = flip_steps(o);
+  const long long steps = whole_steps(o.t_end, o.dt);
   double lane_state[2 * chain_layout::max_links];
   const auto start = [&](double* x, std::size_t l, std::size_t cell) {
     for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = starts[cell * m + i];
@@ -157,17 +197,11 @@ void lyapunov_on_lanes(const batch_kernels& k, const chain& c, std::span<const d
   };
   const auto done = [&](double* x, std::size_t l, lane_slot& s) -> std::optional<double> {
     if (s.steps % chunk != 0 && s.steps != total) return std::nullopt;
-    double squares = 0;
-    bool finite = true;
-    for (std::size_t i = 0; i < m; ++i) {
-      const double w = x[rk.at(m + i, l)];
-      squares += w * w;
-      finite = finite && std::isfinite(x[rk.at(i, l)]) && std::isfinite(w);
-    }
-    if (!finite) return std::numeric_limits<double>::quiet_NaN();
-    const double norm = std::sqrt(squares);
+    for (std::size_t i = 0; i < 2 * m; ++i)  // the state, then the tangent
+      if (!std::isfinite(x[rk.at(i, l)])) return std::numeric_limits<double>::quiet_NaN();
+    const double norm = std::sqrt(lane_squares(rk, x, m, m, l));
     s.sum += std::log(norm);
-    for (std::size_t i = 0; i < m; ++i) x[rk.at(m + i, l)] /= norm;
+    divide_lane(rk, x, m, m, l, norm);
     if (s.steps == total) return s.sum / t_total;
     return std::nullopt;
   };
@@ -189,7 +223,7 @@ void indicators_on_lanes(const batch_kernels& k, const chain& c, std::span<const
               dt);
   const lane_system& sys = rk.system();
   const std::vector<double> w0 = chaos_indicator_start(d, vectors);
-  const auto total = static_cast<long long>(std::floor(t_end / dt + 1e-9));
+  const auto total = whole_steps(t_end, dt);
   std::vector<double> w(d * vectors);
   const auto start = [&](double* x, std::size_t l, std::size_t cell) {
     for (std::size_t i = 0; i < d; ++i) x[rk.at(i, l)] = starts[cell * d + i];
@@ -199,15 +233,10 @@ void indicators_on_lanes(const batch_kernels& k, const chain& c, std::span<const
   };
   const auto done = [&](double* x, std::size_t l, lane_slot& s) -> std::optional<double> {
     for (std::size_t j = 0; j < vectors; ++j) {
-      double squares = 0;
-      for (std::size_t i = 0; i < d; ++i) {
-        const double v = x[rk.at(sys.vector(j) + i, l)];
-        squares += v * v;
-      }
-      const double norm = std::sqrt(squares);
+      const double norm = std::sqrt(lane_squares(rk, x, sys.vector(j), d, l));
       if (!std::isfinite(norm) || norm == 0 || !std::isfinite(x[rk.at(0, l)]))
         return std::numeric_limits<double>::quiet_NaN();
-      for (std::size_t i = 0; i < d; ++i) x[rk.at(sys.vector(j) + i, l)] /= norm;
+      divide_lane(rk, x, sys.vector(j), d, l, norm);
       if (j == 0) {
         s.sum += std::log(norm);
         s.peak = std::max(s.peak, s.sum);
@@ -230,7 +259,7 @@ void final_coordinates_on_lanes(const batch_kernels& k, const chain& c,
                                 const std::vector<std::size_t>& queue,
                                 const map_cell_options& o, std::vector<double>& out) {
   const auto m = static_cast<std::size_t>(c.state_size());
-  const auto steps = static_cast<long long>(std::floor(o.t_end / o.dt + 1e-9));
+  const auto steps = whole_steps(o.t_end, o.dt);
   const double rest = o.t_end - static_cast<double>(steps) * o.dt;
   std::vector<double> ends(starts.begin(), starts.end());  // each cell's state, advanced
   std::vector<double> unused(out.size());
@@ -271,16 +300,11 @@ std::vector<double> flip_times(const chain& c, std::span<const double> starts,
   check_flip_options(o);
   energy_forbids_flip(c, std::vector<double>(m, 0.0), o.link);  // its checks, even for no cells
   const std::size_t count = starts.size() / m;
-  std::vector<double> out(count, std::numeric_limits<double>::quiet_NaN());
   const batch_kernels* k = lane_kernels(c);
-  if (k == nullptr) {
-    for (std::size_t i = 0; i < count; ++i) try {
-        out[i] = flip_time(c, starts.subspan(i * m, m), o);
-      } catch (const integration_error&) {
-        out[i] = std::numeric_limits<double>::quiet_NaN();
-      }
-    return out;
-  }
+  if (k == nullptr)
+    return cell_by_cell(starts, m,
+                        [&](std::span<const double> x0) { return flip_time(c, x0, o); });
+  std::vector<double> out(count, std::numeric_limits<double>::quiet_NaN());
   // What flip_time settles without integrating; the rest queue for the lanes.
   std::vector<std::size_t> queue;
   for (std::size_t i = 0; i < count; ++i) {
@@ -384,7 +408,7 @@ double final_coordinate(const chain& c, std::span<const double> x0, const map_ce
   std::vector<double> x(x0.begin(), x0.end());
   boost::numeric::odeint::runge_kutta4<std::vector<double>> stepper;
   const chain_system system(c);
-  const auto steps = static_cast<long long>(std::floor(o.t_end / o.dt + 1e-9));
+  const auto steps = whole_steps(o.t_end, o.dt);
   for (long long k = 1; k <= steps; ++k)
     stepper.do_step(system, x, static_cast<double>(k - 1) * o.dt, o.dt);
   const double rest = o.t_end - static_cast<double>(steps) * o.dt;
@@ -393,15 +417,6 @@ double final_coordinate(const chain& c, std::span<const double> x0, const map_ce
     if (!std::isfinite(v))
       throw integration_error("state: the state became non-finite; try a smaller dt", o.t_end);
   return x[static_cast<std::size_t>(o.component)];
-}
-
-// The library's check of a start (maximal_lyapunov_exponent's, or chaos_indicators' with
-// their `prefix`), for the cells that run on the lanes.
-void check_finite_start(std::span<const double> x0, std::string_view prefix = "") {
-  for (std::size_t i = 0; i < x0.size(); ++i)
-    if (!std::isfinite(x0[i]))
-      throw std::invalid_argument(
-          fmt::format("{}start state entry {} is not finite", prefix, i + 1));
 }
 
 // A flip map's value: the flip time, NaN where the energy rules a flip out. flip_times
@@ -462,60 +477,41 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
         fmt::format("{}: the {}-link chain needs states of {} one after another, got {} numbers",
                     map_quantity_name(options.quantity), c.links(), m, starts.size()));
   std::vector<double> out(starts.size() / m);
+  const batch_kernels* k = lane_kernels(c);
+  const auto check_starts = [&](std::string_view prefix) {
+    for (std::size_t i = 0; i < out.size(); ++i)
+      detail::require_finite_start(starts.subspan(i * m, m), prefix);
+  };
   if (options.quantity == map_quantity::lyapunov) {
     const lyapunov_options lo = map_lyapunov_options(options);
-    if (const batch_kernels* k = lane_kernels(c)) {
-      lo.validate();
-      lo.integration.validate();
-      std::vector<std::size_t> queue(out.size());
-      for (std::size_t i = 0; i < out.size(); ++i) {
-        check_finite_start(starts.subspan(i * m, m));
-        queue[i] = i;
-      }
-      lyapunov_on_lanes(*k, c, starts, queue, lo, out);
-      return out;
-    }
-    for (std::size_t i = 0; i < out.size(); ++i) try {
-        out[i] = maximal_lyapunov_exponent(c, starts.subspan(i * m, m), lo).exponents.front();
-      } catch (const integration_error&) {
-        out[i] = std::numeric_limits<double>::quiet_NaN();
-      }
-    return out;
+    if (k == nullptr)
+      return cell_by_cell(starts, m, [&](std::span<const double> x0) {
+        return maximal_lyapunov_exponent(c, x0, lo).exponents.front();
+      });
+    lo.validate();
+    lo.integration.validate();
+    check_starts("");
+    lyapunov_on_lanes(*k, c, starts, all_cells(out.size()), lo, out);
+  } else if (is_indicator(options.quantity)) {
+    if (k == nullptr)
+      return cell_by_cell(starts, m, [&](std::span<const double> x0) {
+        return indicator_cell(c, x0, options);
+      });
+    options.validate(c);
+    check_starts("chaos indicators: ");
+    const auto pick = [&](const chaos_indicator_sample& sample) {
+      return indicator_value(options.quantity, sample);
+    };
+    indicators_on_lanes(*k, c, starts, all_cells(out.size()), options.t_end, options.dt,
+                        indicator_vectors(c, options), pick, out);
+  } else {
+    options.validate(c);
+    if (k == nullptr)
+      return cell_by_cell(starts, m, [&](std::span<const double> x0) {
+        return final_coordinate(c, x0, options);
+      });
+    final_coordinates_on_lanes(*k, c, starts, all_cells(out.size()), options, out);
   }
-  if (is_indicator(options.quantity)) {
-    if (const batch_kernels* k = lane_kernels(c)) {
-      options.validate(c);
-      std::vector<std::size_t> queue(out.size());
-      for (std::size_t i = 0; i < out.size(); ++i) {
-        check_finite_start(starts.subspan(i * m, m), "chaos indicators: ");
-        queue[i] = i;
-      }
-      const auto pick = [&](const chaos_indicator_sample& sample) {
-        return indicator_value(options.quantity, sample);
-      };
-      indicators_on_lanes(*k, c, starts, queue, options.t_end, options.dt,
-                          indicator_vectors(c, options), pick, out);
-      return out;
-    }
-    for (std::size_t i = 0; i < out.size(); ++i) try {
-        out[i] = indicator_cell(c, starts.subspan(i * m, m), options);
-      } catch (const integration_error&) {
-        out[i] = std::numeric_limits<double>::quiet_NaN();
-      }
-    return out;
-  }
-  options.validate(c);
-  if (const batch_kernels* k = lane_kernels(c)) {
-    std::vector<std::size_t> queue(out.size());
-    for (std::size_t i = 0; i < out.size(); ++i) queue[i] = i;
-    final_coordinates_on_lanes(*k, c, starts, queue, options, out);
-    return out;
-  }
-  for (std::size_t i = 0; i < out.size(); ++i) try {
-      out[i] = final_coordinate(c, starts.subspan(i * m, m), options);
-    } catch (const integration_error&) {
-      out[i] = std::numeric_limits<double>::quiet_NaN();
-    }
   return out;
 }
 

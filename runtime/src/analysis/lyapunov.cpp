@@ -11,6 +11,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "detail/argument_checks.hpp"
 #include "detail/explicit_system.hpp"
 #include "npend/analysis/energy_drift.hpp"
 #include "npend/chain_system.hpp"
@@ -140,9 +141,7 @@ void check_start(const chain& c, std::span<const double> x0) {
   if (x0.size() != d)
     throw std::invalid_argument(fmt::format(
         "start state x0 has {} entries; the {}-link chain needs {}", x0.size(), c.links(), d));
-  for (std::size_t i = 0; i < d; ++i)
-    if (!std::isfinite(x0[i]))
-      throw std::invalid_argument(fmt::format("start state entry {} is not finite", i + 1));
+  detail::require_finite_start(x0);
 }
 
 lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const lyapunov_options& o,

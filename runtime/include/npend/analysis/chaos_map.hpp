@@ -38,10 +38,10 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
 
 /// flip_time of many start states at once: `starts` holds count = starts.size() / 2n states,
 /// one after another (dim count × 2n); returns the count flip times. On a point-mass chain
-/// with batch kernels (batch_lanes > 0) the rk4 steps run on batch_lanes lanes,
-/// blocks of the batch kernels' W (npend/batch_math.hpp), a lane refilled from the queue of
-/// starts as soon as its cell is done; otherwise flip_time cell by cell. Each value depends on its own start only, never
-/// on its slot or on the other starts. The lanes take the same rk4 steps as flip_time
+/// with batch kernels (batch_lanes > 0) the rk4 steps run on batch_lanes lanes, blocks of
+/// the batch kernels' W (npend/batch_math.hpp), a lane refilled from the queue of starts as
+/// soon as its cell is done; otherwise flip_time cell by cell. Each value depends on its own
+/// start only, never on its slot or on the other starts. The lanes take the same rk4 steps as flip_time
 /// (odeint's runge_kutta4, the same sums in the same order) with SLEEF's sines and cosines
 /// (within 1 ulp) for std::sin's, so a cell's time equals flip_time's whenever the sines do,
 /// and differs by a step at most on regular cells. Where flip_time would throw

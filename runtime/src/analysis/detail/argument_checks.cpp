@@ -8,6 +8,13 @@
 
 namespace npend::detail {
 
+void require_finite_start(std::span<const double> x0, std::string_view prefix) {
+  for (std::size_t i = 0; i < x0.size(); ++i)
+    if (!std::isfinite(x0[i]))
+      throw std::invalid_argument(
+          fmt::format("{}start state entry {} is not finite", prefix, i + 1));
+}
+
 void require_finite_series(std::span<const double> series, std::string_view name,
                            std::size_t minimum) {
   if (series.size() < minimum)

@@ -12,6 +12,11 @@ namespace npend::detail {
 void require_finite_series(std::span<const double> series, std::string_view name,
                            std::size_t minimum);
 
+/// "<prefix>start state entry <i> is not finite" for the first entry (1-based) that is not:
+/// the start checks of maximal_lyapunov_exponent (no prefix), chaos_indicators and the maps'
+/// batch lanes.
+void require_finite_start(std::span<const double> x0, std::string_view prefix = "");
+
 /// "dt must be positive and finite, got <dt>".
 void require_sample_spacing(double dt);
 
