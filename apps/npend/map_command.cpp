@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <filesystem>
@@ -897,9 +898,15 @@ int run_map_command(const map_command_options& o) {
     const mpi::session mpi;
     try {
       return run_map_on_ranks(o, mpi);
-    } catch (const cli::input_error&) {
-      if (mpi.rank() != 0) return 2;  // rank 0 says it
-      throw;
+    } catch (const cli::input_error& e) {
+      // Rank 0 says it, and before MPI_Finalize: once the other ranks have exited with 2,
+      // mpirun may end rank 0 at any moment, so a message printed after the session (by
+      // main, as for one process) was sometimes lost.
+      if (mpi.rank() == 0) {
+        fmt::print(stderr, "npend map: error: {}\n", e.what());
+        std::fflush(stderr);
+      }
+      return 2;
     }
   }
 #endif
