@@ -47,6 +47,7 @@ namespace fs = std::filesystem;
 struct map_command_options {
   cli::chain_options chain;
   std::string x, y, quantity = "flip", component, phi, p, dphi, out, part;
+  std::string stepper, abs_tol, rel_tol;  // as typed; empty: rk4, tolerances 1e-10
   double t_end = 100, dt = 0.01;
   int flip_link = 0, gali_order = 0, threads = 0, tile = 16;
   bool resume = false, json = false;
@@ -191,7 +192,7 @@ nlohmann::json run_identity(const map_command_options& o, const chain& c, const 
   const auto spec = [](const axis& a) {
     return nlohmann::json{{"name", a.name}, {"from", a.from}, {"to", a.to}, {"count", a.count}};
   };
-  return {{"links", c.links()},
+  nlohmann::json identity = {{"links", c.links()},
           {"packed_parameters", c.packed_parameters()},
           {"x", spec(grid.x)},
           {"y", spec(grid.y)},
@@ -204,6 +205,13 @@ nlohmann::json run_identity(const map_command_options& o, const chain& c, const 
           {"tile", o.tile},
           {"base_angles", grid.angles},
           {grid.velocities ? "base_velocities" : "base_momenta", grid.momenta}};
+  // rk4 maps keep the identity they had before dopri5 came, so that their folders resume.
+  if (cell.stepping.stepper == stepper_kind::dopri5) {
+    identity["stepper"] = "dopri5";
+    identity["abs_tol"] = cell.stepping.abs_tol;
+    identity["rel_tol"] = cell.stepping.rel_tol;
+  }
+  return identity;
 }
 
 // The options as typed (the chain file's values filled in), stored in run.json beside the
@@ -225,7 +233,10 @@ constexpr std::pair<const char*, std::string map_command_options::*> map_texts[]
     {"component", &map_command_options::component},
     {"phi", &map_command_options::phi},
     {"p", &map_command_options::p},
-    {"dphi", &map_command_options::dphi}};
+    {"dphi", &map_command_options::dphi},
+    {"stepper", &map_command_options::stepper},
+    {"abs_tol", &map_command_options::abs_tol},
+    {"rel_tol", &map_command_options::rel_tol}};
 
 nlohmann::json options_record(const map_command_options& o) {
   const cli::chain_options chain = o.chain.with_file();
@@ -248,8 +259,43 @@ map_command_options options_from_record(const nlohmann::json& j) {
   o.gali_order = j.at("gali_order").get<int>();
   o.tile = j.at("tile").get<int>();
   for (const auto& [key, member] : chain_texts) o.chain.*member = j.at(key).get<std::string>();
-  for (const auto& [key, member] : map_texts) o.*member = j.at(key).get<std::string>();
+  // Records written before a key existed lack it: the option was not given.
+  for (const auto& [key, member] : map_texts) o.*member = j.value(key, std::string());
   return o;
+}
+
+// --stepper, --abs-tol and --rel-tol. Throws input_error naming the option.
+map_stepping map_stepping_of(const map_command_options& o, map_quantity quantity) {
+  map_stepping stepping;
+  if (!o.stepper.empty()) {
+    try {
+      stepping.stepper = parse_stepper_kind(o.stepper);
+    } catch (const std::invalid_argument& e) {
+      throw cli::input_error(fmt::format("--stepper: {}", e.what()));
+    }
+    if (stepping.stepper != stepper_kind::rk4 && stepping.stepper != stepper_kind::dopri5)
+      throw cli::input_error(fmt::format(
+          "--stepper: a map integrates with rk4 or dopri5, not {}", o.stepper));
+  }
+  if (stepping.stepper == stepper_kind::dopri5 && quantity != map_quantity::flip &&
+      quantity != map_quantity::lyapunov && quantity != map_quantity::state)
+    throw cli::input_error(fmt::format(
+        "--stepper: the chaos indicators ({}) integrate with rk4 only; dopri5 takes flip, "
+        "lyapunov and state",
+        map_quantity_name(quantity)));
+  const auto tolerance = [&](const std::string& text, const char* option, double& value) {
+    if (text.empty()) return;
+    if (stepping.stepper != stepper_kind::dopri5)
+      throw cli::input_error(
+          fmt::format("{}: only with --stepper dopri5 (rk4 takes a fixed --dt)", option));
+    value = cli::parse_number(text, option);
+    if (value < 0) throw cli::input_error(fmt::format("{}: must not be negative, got {}", option, value));
+  };
+  tolerance(o.abs_tol, "--abs-tol", stepping.abs_tol);
+  tolerance(o.rel_tol, "--rel-tol", stepping.rel_tol);
+  if (stepping.abs_tol == 0 && stepping.rel_tol == 0)
+    throw cli::input_error("--abs-tol/--rel-tol: both are 0; at least one must be positive");
+  return stepping;
 }
 
 // What each cell computes. Throws input_error for an unknown quantity or component.
@@ -264,6 +310,7 @@ map_cell_options cell_options(const map_command_options& o, int links) {
   cell.dt = o.dt;
   cell.flip_link = o.flip_link;
   cell.gali_order = o.gali_order;
+  cell.stepping = map_stepping_of(o, cell.quantity);
   if (cell.quantity == map_quantity::state)
     cell.component = static_cast<int>(
         cli::parse_coordinate(o.component.empty() ? "phi1" : o.component, links, "--component"));
@@ -708,6 +755,7 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
   if (o.quantity == "flip") summary["no_flip"] = never;
   // The batch lanes the cells ran on (0: cell by cell), and the ISA they were built for.
   summary["batch"] = {{"isa", batch_isa()}, {"lanes", batch_lanes(run.c)}};
+  summary["stepper"] = stepper_name(run.cell.stepping.stepper);
   summary["wall_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   summary["resumed"] = o.resume;
@@ -960,7 +1008,13 @@ void add_map_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--dphi", o->dphi,
                   "The start's velocities instead of momenta (rad/s; p = A(phi) dphi per cell)");
   cmd->add_option("--t-end", o->t_end, "Integration time per cell in s (default 100)");
-  cmd->add_option("--dt", o->dt, "rk4's step in s (default 0.01)");
+  cmd->add_option("--dt", o->dt, "rk4's step in s; dopri5's first trial step (default 0.01)");
+  cmd->add_option("--stepper", o->stepper,
+                  "rk4 (default: fixed step --dt) or dopri5 (adaptive, each cell under its own "
+                  "step control; flip times located inside the step by its dense output; flip, "
+                  "lyapunov and state only)");
+  cmd->add_option("--abs-tol", o->abs_tol, "dopri5: absolute error tolerance (default 1e-10)");
+  cmd->add_option("--rel-tol", o->rel_tol, "dopri5: relative error tolerance (default 1e-10)");
   cmd->add_option("--flip-link", o->flip_link, "flip: only arm K counts (default 0: any arm)");
   cmd->add_option("--threads", o->threads, "Threads (default: every core; per rank under MPI)");
   cmd->add_option("--tile", o->tile, "Cells per tile side (default 16)");

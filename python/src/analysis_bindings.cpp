@@ -159,10 +159,24 @@ std::vector<double> cells_in_parallel(const chain& c, const state_batch& starts,
                             });
 }
 
+// The map's stepping: rk4, or dopri5 under the tolerances (checked by map_cell_options).
+map_stepping stepping_of(const std::string& stepper, double abs_tol, double rel_tol) {
+  map_stepping s;
+  try {
+    s.stepper = parse_stepper_kind(stepper);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(fmt::format("stepper: {}", e.what()));
+  }
+  s.abs_tol = abs_tol;
+  s.rel_tol = rel_tol;
+  return s;
+}
+
 map_cell_options cell_options(const chain& c, const std::string& quantity, double t_end,
                               double dt, int flip_link, int gali_order,
-                              const std::string& component) {
+                              const std::string& component, const map_stepping& stepping) {
   map_cell_options o;
+  o.stepping = stepping;
   o.gali_order = gali_order;
   o.quantity = parse_map_quantity(quantity);
   o.t_end = t_end;
@@ -183,9 +197,11 @@ void check_finite(const state_batch& b) {
 
 py::array_t<double> map_cells(const chain& c, const py::handle& x, const std::string& quantity,
                               double t_end, double dt, int flip_link, int gali_order,
-                              const std::string& component, int threads) {
+                              const std::string& component, const std::string& stepper,
+                              double abs_tol, double rel_tol, int threads) {
   const state_batch b = to_states(x, c.state_size(), "x");
-  const auto o = cell_options(c, quantity, t_end, dt, flip_link, gali_order, component);
+  const auto o = cell_options(c, quantity, t_end, dt, flip_link, gali_order, component,
+                              stepping_of(stepper, abs_tol, rel_tol));
   o.validate(c);
   check_finite(b);
   python_interrupt interrupt;
@@ -225,7 +241,8 @@ std::vector<double> grid_in_parallel(const map_grid& grid, const map_cell_option
 py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
                         const std::string& quantity, double t_end, double dt, int flip_link,
                         int gali_order, const std::string& component, const py::object& x0,
-                        const py::object& velocities, int threads) {
+                        const py::object& velocities, const std::string& stepper,
+                        double abs_tol, double rel_tol, int threads) {
   const auto n = static_cast<std::size_t>(c.links());
   map_grid grid;
   grid.parameters = c.parameters();
@@ -243,7 +260,8 @@ py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple
     grid.momenta = to_vector(velocities, n, "velocities");
     grid.velocities = true;
   }
-  const auto o = cell_options(c, quantity, t_end, dt, flip_link, gali_order, component);
+  const auto o = cell_options(c, quantity, t_end, dt, flip_link, gali_order, component,
+                              stepping_of(stepper, abs_tol, rel_tol));
   grid.validate(o);
   python_interrupt interrupt;
   auto values = grid_in_parallel(grid, o, threads, interrupt);
@@ -287,6 +305,7 @@ void bind_maps(py::module_& m) {
   m.def("map_cells", &map_cells, py::arg("chain"), py::arg("x"), py::kw_only(),
         py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
         py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("component") = "phi1",
+        py::arg("stepper") = "rk4", py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10,
         py::arg("threads") = 0,
         R"(One map value per start state (x of shape (2n,) or (k, 2n)), computed on `threads`
 cores (0: all) as `npend map` computes its cells: quantity "flip" (time to the first flip of
@@ -294,11 +313,15 @@ an arm, or arm flip_link; +inf if none by t_end, NaN where the energy rules a fl
 "lyapunov" (the maximal exponent, rk4 at dt to t_end), the indicators of chaos_indicators at
 t_end: "fli", "megno" (<Y>), "sali", "gali" (GALI_k, k = gali_order, 0: n + 1), or "state"
 (coordinate `component`, phi1..phin or p1..pn, at t_end; angles not wrapped). NaN for a cell
-whose integration failed.)");
+whose integration failed. stepper "rk4" steps dt; "dopri5" (flip, lyapunov, state) steps
+adaptively under abs_tol and rel_tol, dt its first trial step, and locates a flip inside the
+step by its dense output.)");
   m.def("map", &map, py::arg("chain"), py::arg("x"), py::arg("y"), py::kw_only(),
         py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
         py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("component") = "phi1",
-        py::arg("x0") = py::none(), py::arg("velocities") = py::none(), py::arg("threads") = 0,
+        py::arg("x0") = py::none(), py::arg("velocities") = py::none(),
+        py::arg("stepper") = "rk4", py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10,
+        py::arg("threads") = 0,
         R"(A chaos map over a grid, as `npend map`: x and y are (name, from, to, count), count
 values from `from` to `to` both included, with name a start coordinate (phi1..phin, p1..pn,
 or dphi1..dphin when `velocities` gives the start's velocities), "energy" (the start's
@@ -307,7 +330,7 @@ k1..kn and b1..bn: the joints' stiffness and damping, drive-amplitude and drive-
 a chain whose pivot has a built-in drive). The rest of the start comes from x0 (default 0) or, with velocities (n values),
 from x0's angles and those velocities. Returns an array of shape (y count, x count), row 0
 the first y value, NaN where the energy rules a cell out: the same numbers as npend map's
-map.npy.)");
+map.npy. stepper, abs_tol and rel_tol as for map_cells.)");
 }
 
 }  // namespace npend::python

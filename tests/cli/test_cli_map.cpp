@@ -132,6 +132,52 @@ TEST_CASE("npend map: the fast indicators, every cell the library's") {
         npend::test::read_text((dir / "gali3" / "map.npy").string()));
 }
 
+TEST_CASE("npend map --stepper dopri5: every cell the library's dopri5 value, the run named") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-dopri5"));
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  for (const std::string quantity : {"flip", "lyapunov", "state"}) {
+    const auto r = run_npend("map --links 2 --x phi1:-3:3:5 --y phi2:-2:3:4 --t-end 10 --p 0,1 "
+                             "--stepper dopri5 --abs-tol 1e-9 --rel-tol 1e-8 --json --quantity " +
+                             quantity + " --out " + (dir / quantity).string());
+    REQUIRE(r.exit_code == 0);
+    const auto j = nlohmann::json::parse(r.out);
+    CHECK(j["stepper"] == "dopri5");
+    CHECK(j["abs_tol"] == 1e-9);
+    CHECK(j["rel_tol"] == 1e-8);
+    const npy m = read_npy(dir / quantity / "map.npy");
+    REQUIRE(m.values.size() == 20);
+    npend::map_cell_options o;
+    o.quantity = npend::parse_map_quantity(quantity);
+    o.t_end = 10;
+    o.stepping = {npend::stepper_kind::dopri5, 1e-9, 1e-8};
+    int finite = 0;
+    for (int row = 0; row < 4; ++row)
+      for (int col = 0; col < 5; ++col) {
+        const std::vector<double> x{npend::grid_value(-3, 3, 5, col),
+                                    npend::grid_value(-2, 3, 4, row), 0, 1};
+        INFO(quantity << ", row " << row << ", column " << col);
+        const double got = m.values[static_cast<std::size_t>(row * 5 + col)];
+        const double want = npend::map_cell(c, x, o);
+        CHECK((got == want || (std::isnan(got) && std::isnan(want))));
+        finite += std::isfinite(got) ? 1 : 0;
+      }
+    CHECK(finite > 0);
+  }
+  // The stepper and tolerances are part of the map's identity: an rk4 part is refused in a
+  // dopri5 run's folder; the dopri5 parts, merged, give the single run's grid.
+  const std::string parted = "map --links 2 --x phi1:-3:3:5 --y phi2:-2:3:4 --t-end 10 --p 0,1 "
+                             "--tile 2 --out " + (dir / "parted").string();
+  const std::string tolerances = " --stepper dopri5 --abs-tol 1e-9 --rel-tol 1e-8";
+  REQUIRE(run_npend(parted + tolerances + " --part 1/2").exit_code == 0);
+  const auto rk4_part = run_npend(parted + " --part 2/2");
+  CHECK(rk4_part.exit_code == 2);
+  CHECK(rk4_part.err.find("holds a different map") != std::string::npos);
+  REQUIRE(run_npend(parted + tolerances + " --part 2/2").exit_code == 0);
+  REQUIRE(run_npend("map merge " + (dir / "parted").string()).exit_code == 0);
+  CHECK(npend::test::read_text((dir / "parted" / "map.npy").string()) ==
+        npend::test::read_text((dir / "flip" / "map.npy").string()));
+}
+
 TEST_CASE("npend map: energy, mass and length axes start each cell as the closed form says") {
   // The hanging double pendulum pushed with p = s (l1, l2) has the kinetic energy ½ pᵀA⁻¹p,
   // which for l1 = l2 = 1 and m1 = 1 is s² / (2 m2); so the energy axis must start each cell at

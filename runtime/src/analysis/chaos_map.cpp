@@ -60,6 +60,7 @@ void check_flip_options(const flip_options& o) {
   if (!(o.dt > 0) || !(o.t_end >= o.dt) || !std::isfinite(o.t_end))
     throw std::invalid_argument(
         fmt::format("flip: need 0 < dt <= t_end, got dt = {}, t_end = {}", o.dt, o.t_end));
+  o.stepping.validate("flip");
 }
 
 // The whole rk4 steps of dt up to t_end (a last shorter step, where a quantity takes one,
@@ -77,7 +78,71 @@ bool has_flipped(const double* x, std::size_t n, const flip_options& o) {
   return false;
 }
 
+// The flip time inside a step from t0 (not flipped) to t1 (flipped), flipped_at(t) telling
+// the dense output's verdict: bisection down to adjacent doubles, the first time found
+// flipped. The scalar path and the lanes bisect alike, so that they agree to round-off.
+template <class Flipped>
+double locate_flip(double t0, double t1, const Flipped& flipped_at) {
+  for (;;) {
+    const double mid = t0 + 0.5 * (t1 - t0);
+    if (mid <= t0 || mid >= t1) return t1;
+    (flipped_at(mid) ? t1 : t0) = mid;
+  }
+}
+
+// dopri5 from x0 as npend::integrate runs it (first trial step dt, the options' tolerances),
+// calling on_step(step) after every accepted step until it returns true or a step ends at
+// or past t_end. The steps do not depend on integrate's output grid, which is only laid
+// past t_end so that the steps, not the grid, end the run.
+template <class OnStep>
+void dopri5_steps(const chain& c, std::span<const double> x0, double t_end, double dt,
+                  const map_stepping& stepping, const OnStep& on_step) {
+  integration_options io;
+  io.stepper = stepper_kind::dopri5;
+  io.dt = dt;
+  io.t_end = dt * (std::ceil(t_end / dt) + 1);
+  io.abs_tol = stepping.abs_tol;
+  io.rel_tol = stepping.rel_tol;
+  integrate(c, x0, io, {}, [&](const integration_step& step) {
+    return on_step(step) || step.t_end() >= t_end ? observer_action::stop
+                                                  : observer_action::proceed;
+  });
+}
+
+double flip_time_dopri5(const chain& c, std::span<const double> x0, const flip_options& o) {
+  const auto n = static_cast<std::size_t>(c.links());
+  double found = std::numeric_limits<double>::infinity();
+  std::vector<double> x(2 * n);
+  dopri5_steps(c, x0, o.t_end, o.dt, o.stepping, [&](const integration_step& step) {
+    if (!has_flipped(step.x_end().data(), n, o)) return false;
+    const double t = locate_flip(step.t_begin(), step.t_end(), [&](double at) {
+      step.state_at(at, x);
+      return has_flipped(x.data(), n, o);
+    });
+    if (t <= o.t_end) found = t;
+    return true;
+  });
+  return found;
+}
+
 }  // namespace
+
+void map_stepping::validate(std::string_view what) const {
+  if (stepper != stepper_kind::rk4 && stepper != stepper_kind::dopri5)
+    throw std::invalid_argument(fmt::format(
+        "{}: maps integrate with rk4 or dopri5, not {}", what, stepper_name(stepper)));
+  if (stepper == stepper_kind::rk4) return;
+  const auto check = [&](double tol, std::string_view name) {
+    if (!(tol >= 0) || !std::isfinite(tol))
+      throw std::invalid_argument(
+          fmt::format("{}: {} must be finite and not negative, got {}", what, name, tol));
+  };
+  check(abs_tol, "abs_tol");
+  check(rel_tol, "rel_tol");
+  if (abs_tol == 0 && rel_tol == 0)
+    throw std::invalid_argument(
+        fmt::format("{}: abs_tol and rel_tol are both 0; at least one must be positive", what));
+}
 
 double flip_time(const chain& c, std::span<const double> x0, const flip_options& o) {
   const auto n = static_cast<std::size_t>(c.links());
@@ -90,6 +155,7 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
   const auto flipped = [&](const std::vector<double>& x) { return has_flipped(x.data(), n, o); };
   std::vector<double> x(x0.begin(), x0.end());
   if (flipped(x)) return 0;
+  if (o.stepping.stepper == stepper_kind::dopri5) return flip_time_dopri5(c, x0, o);
   boost::numeric::odeint::runge_kutta4<std::vector<double>> stepper;
   const chain_system system(c);
   const auto steps = whole_steps(o.t_end, o.dt);
@@ -127,6 +193,7 @@ std::vector<std::size_t> all_cells(std::size_t count) {
   return queue;
 }
 
+using detail::lane_dopri5;
 using detail::lane_kernels;
 using detail::lane_rk4;
 using detail::lane_slot;
@@ -134,7 +201,8 @@ using detail::lane_system;
 using detail::run_on_lanes;
 
 // Σ v_i² of the vector at coordinates first .. first + d - 1 of lane l.
-double lane_squares(const lane_rk4& rk, const double* x, std::size_t first, std::size_t d,
+template <class Stepper>
+double lane_squares(const Stepper& rk, const double* x, std::size_t first, std::size_t d,
                     std::size_t l) {
   double squares = 0;
   for (std::size_t i = 0; i < d; ++i) {
@@ -145,7 +213,8 @@ double lane_squares(const lane_rk4& rk, const double* x, std::size_t first, std:
 }
 
 // That vector divided by `norm`.
-void divide_lane(const lane_rk4& rk, double* x, std::size_t first, std::size_t d, std::size_t l,
+template <class Stepper>
+void divide_lane(const Stepper& rk, double* x, std::size_t first, std::size_t d, std::size_t l,
                  double norm) {
   for (std::size_t i = 0; i < d; ++i) x[rk.at(first + i, l)] /= norm;
 }
@@ -168,6 +237,51 @@ void flip_on_lanes(const batch_kernels& k, const chain& c, std::span<const doubl
     if (has_flipped(lane_state, n, o)) return static_cast<double>(s.steps) * o.dt;
     if (!std::isfinite(lane_state[0])) return std::numeric_limits<double>::quiet_NaN();
     if (s.steps == steps) return std::numeric_limits<double>::infinity();
+    return std::nullopt;
+  };
+  run_on_lanes(rk, queue, start, done, out);
+}
+
+// Where a dopri5 lane's step has gone wrong, as npend::integrate finds it: too many tries,
+// a non-finite state (its first `checked` coordinates), a collapsed step size.
+bool dopri5_lane_failed(const lane_dopri5& rk, const double* x, std::size_t l,
+                        std::size_t checked, double min_step) {
+  if (rk.tries(l) >= lane_dopri5::max_tries) return true;
+  if (!rk.accepted(l)) return false;
+  for (std::size_t i = 0; i < checked; ++i)
+    if (!std::isfinite(x[rk.at(i, l)])) return true;
+  return rk.step_size(l) < min_step;
+}
+
+// flip_on_lanes with dopri5: each lane under its own step control, the flip located in the
+// step where it happens as flip_time_dopri5 locates it.
+void flip_on_dopri5_lanes(const batch_kernels& k, const chain& c, std::span<const double> starts,
+                          const std::vector<std::size_t>& queue, const flip_options& o,
+                          std::vector<double>& out) {
+  const auto n = static_cast<std::size_t>(c.links());
+  const std::size_t m = 2 * n;
+  lane_dopri5 rk(lane_system(k, c.packed_parameters().data(), c.links(), 0, false),
+                 o.stepping.abs_tol, o.stepping.rel_tol);
+  const double min_step = integration_options{}.min_step_ratio * o.dt;
+  double angles[chain_layout::max_links];
+  const auto start = [&](double* x, std::size_t l, std::size_t cell) {
+    for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = starts[cell * m + i];
+    rk.restart(l, 0, o.dt);
+  };
+  const auto done = [&](const double* x, std::size_t l,
+                        const lane_slot&) -> std::optional<double> {
+    if (dopri5_lane_failed(rk, x, l, m, min_step))
+      return std::numeric_limits<double>::quiet_NaN();
+    if (!rk.accepted(l)) return std::nullopt;
+    for (std::size_t i = 0; i < n; ++i) angles[i] = x[rk.at(i, l)];
+    if (has_flipped(angles, n, o)) {
+      const double t = locate_flip(rk.step_begin(l), rk.time(l), [&](double at) {
+        rk.state_at(l, at, 0, n, angles);
+        return has_flipped(angles, n, o);
+      });
+      return t <= o.t_end ? t : std::numeric_limits<double>::infinity();
+    }
+    if (rk.time(l) >= o.t_end) return std::numeric_limits<double>::infinity();
     return std::nullopt;
   };
   run_on_lanes(rk, queue, start, done, out);
@@ -203,6 +317,56 @@ void lyapunov_on_lanes(const batch_kernels& k, const chain& c, std::span<const d
     s.sum += std::log(norm);
     divide_lane(rk, x, m, m, l, norm);
     if (s.steps == total) return s.sum / t_total;
+    return std::nullopt;
+  };
+  run_on_lanes(rk, queue, start, done, out);
+}
+
+// lyapunov_on_lanes with dopri5, as maximal_lyapunov_exponent runs it: each renormalisation
+// interval (round(interval / dt) steps of dt, the last one shorter) is a run of its own —
+// the stepper restarted with the trial step dt, the state and tangent taken from its dense
+// output at the interval's end, then the tangent renormalised.
+void lyapunov_on_dopri5_lanes(const batch_kernels& k, const chain& c,
+                              std::span<const double> starts,
+                              const std::vector<std::size_t>& queue, const lyapunov_options& lo,
+                              std::vector<double>& out) {
+  const auto m = static_cast<std::size_t>(c.state_size());
+  const double dt = lo.integration.dt;
+  lane_dopri5 rk(lane_system(k, c.packed_parameters().data(), c.links(), 1, false),
+                 lo.integration.abs_tol, lo.integration.rel_tol);
+  const auto total = static_cast<long long>(output_steps(lo.integration));
+  const long long chunk =
+      std::max<long long>(1, std::llround(lo.renormalisation_interval / dt));
+  const double t_total = static_cast<double>(total) * dt;
+  const double min_step = lo.integration.min_step_ratio * dt;
+  const double w0 = 1.0 / std::sqrt(static_cast<double>(m));
+  std::vector<double> y(2 * m);
+  const auto start = [&](double* x, std::size_t l, std::size_t cell) {
+    for (std::size_t i = 0; i < m; ++i) {
+      x[rk.at(i, l)] = starts[cell * m + i];
+      x[rk.at(m + i, l)] = w0;
+    }
+    rk.restart(l, 0, dt);
+  };
+  const auto done = [&](double* x, std::size_t l, lane_slot& s) -> std::optional<double> {
+    if (dopri5_lane_failed(rk, x, l, 2 * m, min_step))
+      return std::numeric_limits<double>::quiet_NaN();
+    if (!rk.accepted(l)) return std::nullopt;
+    const long long steps = std::min(chunk, total - s.reached);
+    const double target =
+        static_cast<double>(s.reached) * dt + static_cast<double>(steps) * dt;
+    if (rk.time(l) < target) return std::nullopt;
+    rk.state_at(l, target, 0, 2 * m, y.data());
+    for (std::size_t i = 0; i < 2 * m; ++i) {
+      if (!std::isfinite(y[i])) return std::numeric_limits<double>::quiet_NaN();
+      x[rk.at(i, l)] = y[i];
+    }
+    s.reached += steps;
+    const double norm = std::sqrt(lane_squares(rk, x, m, m, l));
+    s.sum += std::log(norm);
+    divide_lane(rk, x, m, m, l, norm);
+    if (s.reached == total) return s.sum / t_total;
+    rk.restart(l, static_cast<double>(s.reached) * dt, dt);
     return std::nullopt;
   };
   run_on_lanes(rk, queue, start, done, out);
@@ -286,6 +450,35 @@ void final_coordinates_on_lanes(const batch_kernels& k, const chain& c,
   }
 }
 
+// final_coordinates_on_lanes with dopri5: each lane steps under its own control until a
+// step ends at or past t_end, and the value is the dense output at t_end, as
+// final_coordinate_dopri5 takes it.
+void final_coordinates_on_dopri5_lanes(const batch_kernels& k, const chain& c,
+                                       std::span<const double> starts,
+                                       const std::vector<std::size_t>& queue,
+                                       const map_cell_options& o, std::vector<double>& out) {
+  const auto m = static_cast<std::size_t>(c.state_size());
+  lane_dopri5 rk(lane_system(k, c.packed_parameters().data(), c.links(), 0, false),
+                 o.stepping.abs_tol, o.stepping.rel_tol);
+  const double min_step = integration_options{}.min_step_ratio * o.dt;
+  std::vector<double> y(m);
+  const auto start = [&](double* x, std::size_t l, std::size_t cell) {
+    for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = starts[cell * m + i];
+    rk.restart(l, 0, o.dt);
+  };
+  const auto done = [&](const double* x, std::size_t l,
+                        const lane_slot&) -> std::optional<double> {
+    if (dopri5_lane_failed(rk, x, l, m, min_step))
+      return std::numeric_limits<double>::quiet_NaN();
+    if (!rk.accepted(l) || rk.time(l) < o.t_end) return std::nullopt;
+    rk.state_at(l, o.t_end, 0, m, y.data());
+    return std::all_of(y.begin(), y.end(), [](double v) { return std::isfinite(v); })
+               ? y[static_cast<std::size_t>(o.component)]
+               : std::numeric_limits<double>::quiet_NaN();
+  };
+  run_on_lanes(rk, queue, start, done, out);
+}
+
 }  // namespace
 
 int batch_lanes(const chain& c) { return lane_kernels(c) != nullptr ? lane_rk4::lanes : 0; }
@@ -316,7 +509,10 @@ std::vector<double> flip_times(const chain& c, std::span<const double> starts,
     else
       queue.push_back(i);
   }
-  flip_on_lanes(*k, c, starts, queue, o, out);
+  if (o.stepping.stepper == stepper_kind::dopri5)
+    flip_on_dopri5_lanes(*k, c, starts, queue, o, out);
+  else
+    flip_on_lanes(*k, c, starts, queue, o, out);
   return out;
 }
 
@@ -359,12 +555,14 @@ map_quantity parse_map_quantity(std::string_view name) {
 
 namespace {
 
-// What a Lyapunov map integrates: rk4 at dt, one tangent vector.
+// What a Lyapunov map integrates: rk4 at dt (or dopri5), one tangent vector.
 lyapunov_options map_lyapunov_options(const map_cell_options& o) {
   lyapunov_options lo;
-  lo.integration.stepper = stepper_kind::rk4;
+  lo.integration.stepper = o.stepping.stepper;
   lo.integration.t_end = o.t_end;
   lo.integration.dt = o.dt;
+  lo.integration.abs_tol = o.stepping.abs_tol;
+  lo.integration.rel_tol = o.stepping.rel_tol;
   return lo;
 }
 
@@ -403,8 +601,20 @@ double indicator_cell(const chain& c, std::span<const double> x0, const map_cell
 }
 
 // Coordinate o.component of the state at t_end: rk4 steps of dt (the last one shortened to
-// land on t_end), as the other quantities integrate.
+// land on t_end), as the other quantities integrate, or dopri5's dense output at t_end.
 double final_coordinate(const chain& c, std::span<const double> x0, const map_cell_options& o) {
+  if (o.stepping.stepper == stepper_kind::dopri5) {
+    std::vector<double> x(x0.size());
+    dopri5_steps(c, x0, o.t_end, o.dt, o.stepping, [&](const integration_step& step) {
+      if (step.t_end() < o.t_end) return false;
+      step.state_at(o.t_end, x);
+      return true;
+    });
+    for (const double v : x)
+      if (!std::isfinite(v))
+        throw integration_error("state: the state became non-finite", o.t_end);
+    return x[static_cast<std::size_t>(o.component)];
+  }
   std::vector<double> x(x0.begin(), x0.end());
   boost::numeric::odeint::runge_kutta4<std::vector<double>> stepper;
   const chain_system system(c);
@@ -435,6 +645,11 @@ void map_cell_options::validate(const chain& c) const {
   if (!(dt > 0) || !(t_end >= dt) || !std::isfinite(t_end))
     throw std::invalid_argument(fmt::format("{}: need 0 < dt <= t_end, got dt = {}, t_end = {}",
                                             map_quantity_name(quantity), dt, t_end));
+  stepping.validate(map_quantity_name(quantity));
+  if (is_indicator(quantity) && stepping.stepper != stepper_kind::rk4)
+    throw std::invalid_argument(
+        fmt::format("{}: the chaos indicators integrate with rk4 only, not {}",
+                    map_quantity_name(quantity), stepper_name(stepping.stepper)));
   if (quantity == map_quantity::flip) {
     energy_forbids_flip(c, std::vector<double>(static_cast<std::size_t>(c.state_size()), 0.0),
                         flip_link);
@@ -467,7 +682,8 @@ double map_cell(const chain& c, std::span<const double> x0, const map_cell_optio
 std::vector<double> map_cells(const chain& c, std::span<const double> starts,
                               const map_cell_options& options) {
   if (options.quantity == map_quantity::flip) {
-    auto times = flip_times(c, starts, {options.t_end, options.dt, options.flip_link});
+    auto times = flip_times(c, starts,
+                            {options.t_end, options.dt, options.flip_link, options.stepping});
     mark_forbidden(c, starts, options.flip_link, times);
     return times;
   }
@@ -476,6 +692,7 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
     throw std::invalid_argument(
         fmt::format("{}: the {}-link chain needs states of {} one after another, got {} numbers",
                     map_quantity_name(options.quantity), c.links(), m, starts.size()));
+  options.validate(c);
   std::vector<double> out(starts.size() / m);
   const batch_kernels* k = lane_kernels(c);
   const auto check_starts = [&](std::string_view prefix) {
@@ -488,16 +705,16 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
       return cell_by_cell(starts, m, [&](std::span<const double> x0) {
         return maximal_lyapunov_exponent(c, x0, lo).exponents.front();
       });
-    lo.validate();
-    lo.integration.validate();
     check_starts("");
-    lyapunov_on_lanes(*k, c, starts, all_cells(out.size()), lo, out);
+    if (options.stepping.stepper == stepper_kind::dopri5)
+      lyapunov_on_dopri5_lanes(*k, c, starts, all_cells(out.size()), lo, out);
+    else
+      lyapunov_on_lanes(*k, c, starts, all_cells(out.size()), lo, out);
   } else if (is_indicator(options.quantity)) {
     if (k == nullptr)
       return cell_by_cell(starts, m, [&](std::span<const double> x0) {
         return indicator_cell(c, x0, options);
       });
-    options.validate(c);
     check_starts("chaos indicators: ");
     const auto pick = [&](const chaos_indicator_sample& sample) {
       return indicator_value(options.quantity, sample);
@@ -505,12 +722,14 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
     indicators_on_lanes(*k, c, starts, all_cells(out.size()), options.t_end, options.dt,
                         indicator_vectors(c, options), pick, out);
   } else {
-    options.validate(c);
     if (k == nullptr)
       return cell_by_cell(starts, m, [&](std::span<const double> x0) {
         return final_coordinate(c, x0, options);
       });
-    final_coordinates_on_lanes(*k, c, starts, all_cells(out.size()), options, out);
+    if (options.stepping.stepper == stepper_kind::dopri5)
+      final_coordinates_on_dopri5_lanes(*k, c, starts, all_cells(out.size()), options, out);
+    else
+      final_coordinates_on_lanes(*k, c, starts, all_cells(out.size()), options, out);
   }
   return out;
 }

@@ -11,6 +11,7 @@
 #include "npend/analysis/chaos_indicators.hpp"
 #include "npend/analysis/lyapunov.hpp"
 #include "npend/chain.hpp"
+#include "npend/stepper_kind.hpp"
 
 namespace npend {
 
@@ -23,17 +24,35 @@ namespace npend {
 /// chain is never ruled out (false). Throws std::invalid_argument for an arm not 0..n.
 bool energy_forbids_flip(const chain& c, std::span<const double> x0, int link = 0);
 
+/// How the cells of a map are integrated: rk4 at a fixed step dt (the default), or dopri5
+/// (Dormand–Prince 5(4), adaptive, under abs_tol and rel_tol, first trial step dt), as
+/// npend::integrate runs them.
+struct map_stepping {
+  stepper_kind stepper = stepper_kind::rk4;
+  double abs_tol = 1e-10;  ///< dopri5 only
+  double rel_tol = 1e-10;  ///< dopri5 only
+
+  /// Throws std::invalid_argument ("<what>: …") for a stepper other than rk4 and dopri5,
+  /// or (dopri5) tolerances that are negative, not finite, or both zero.
+  void validate(std::string_view what) const;
+};
+
 struct flip_options {
   double t_end = 100;  ///< give up after this time (s): the cell is +inf
-  double dt = 0.01;    ///< rk4's step (s); the flip time is resolved to a step
+  double dt = 0.01;    ///< rk4's step (s); dopri5's first trial step
   int link = 0;        ///< 0: any arm; k ≥ 1: arm k only
+  map_stepping stepping = {};
 };
 
 /// The time (s) at which an arm (or arm `link`) of the chain started at x0 first passes the
-/// upright position, |φ_k| ≥ π (the angles are not wrapped): the end of the first rk4 step
-/// of `dt` at which it does. +inf if it does not by t_end, or if energy_forbids_flip (then
+/// upright position, |φ_k| ≥ π (the angles are not wrapped). With rk4: the end of the first
+/// step of `dt` at which it does, so resolved to a step. With dopri5: located inside the
+/// first accepted step that ends past the upright, by bisection on the stepper's dense
+/// output down to adjacent doubles (an arm that passes π and falls back within one step
+/// is missed, as with rk4). +inf if it does not by t_end, or if energy_forbids_flip (then
 /// without integrating). Throws std::invalid_argument for bad options or a non-conservative
-/// chain, npend::integration_error if the state becomes non-finite.
+/// chain, npend::integration_error if the state becomes non-finite (or dopri5's step
+/// collapses).
 double flip_time(const chain& c, std::span<const double> x0, const flip_options& options);
 
 /// flip_time of many start states at once: `starts` holds count = starts.size() / 2n states,
@@ -41,10 +60,11 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
 /// with batch kernels (batch_lanes > 0) the rk4 steps run on batch_lanes lanes, blocks of
 /// the batch kernels' W (npend/batch_math.hpp), a lane refilled from the queue of starts as
 /// soon as its cell is done; otherwise flip_time cell by cell. Each value depends on its own
-/// start only, never on its slot or on the other starts. The lanes take the same rk4 steps as flip_time
-/// (odeint's runge_kutta4, the same sums in the same order) with SLEEF's sines and cosines
-/// (within 1 ulp) for std::sin's, so a cell's time equals flip_time's whenever the sines do,
-/// and differs by a step at most on regular cells. Where flip_time would throw
+/// start only, never on its slot or on the other starts. The lanes take the same steps as
+/// flip_time (odeint's runge_kutta4, or its dopri5 with each lane's own step control and
+/// dense output, the same sums in the same order) with SLEEF's sines and cosines (within 1
+/// ulp) for std::sin's, so a cell's time equals flip_time's up to round-off (rk4: to a step
+/// at most on regular cells). Where flip_time would throw
 /// integration_error (the state became non-finite) the value is NaN. Throws
 /// std::invalid_argument as flip_time, and for a size that is not a multiple of 2n.
 std::vector<double> flip_times(const chain& c, std::span<const double> starts,
@@ -73,7 +93,10 @@ map_quantity parse_map_quantity(std::string_view name);
 struct map_cell_options {
   map_quantity quantity = map_quantity::flip;
   double t_end = 100;  ///< s
-  double dt = 0.01;    ///< rk4's step (s)
+  double dt = 0.01;    ///< rk4's step (s); dopri5's first trial step
+  /// rk4 or dopri5; the chaos indicators (fli, megno, sali, gali) take rk4 only, as
+  /// chaos_indicators does.
+  map_stepping stepping = {};
   int flip_link = 0;   ///< flip: 0 any arm, k ≥ 1 arm k
   /// gali: k of GALI_k, 2..2n; 0 means n + 1, the least k beyond the dimension n of a
   /// torus, where regular cells fall as a power of t and chaotic ones exponentially.
@@ -90,12 +113,13 @@ struct map_cell_options {
 
 /// One cell of a map: the flip time (flip_times of this one start, so on the batch lanes
 /// where the chain has them, with flip_options from `options`), the maximal Lyapunov
-/// exponent (1/s) of maximal_lyapunov_exponent with rk4 at dt up to t_end (on the batch
+/// exponent (1/s) of maximal_lyapunov_exponent with rk4 at dt (or dopri5, restarted at
+/// every renormalisation as the library does) up to t_end (on the batch
 /// lanes where the chain has them: the same rk4, renormalisations and sum, with the lanes'
 /// tangent kernel and SLEEF's sines, so equal to the library's up to round-off), an indicator
 /// of chaos_indicators (rk4 at dt, to t_end; on the batch lanes likewise), or a coordinate
-/// of the state at t_end (rk4 at dt, a last shorter step landing on t_end; on the batch
-/// lanes likewise); NaN when the integration fails (an integration_error) and, for a flip
+/// of the state at t_end (rk4 at dt, a last shorter step landing on t_end; dopri5's dense
+/// output at t_end; on the batch lanes likewise); NaN when the integration fails (an integration_error) and, for a flip
 /// map, where the energy rules a flip out (energy_forbids_flip: a map marks those cells
 /// apart from the +inf of cells that were integrated to t_end without flipping). Throws
 /// std::invalid_argument as flip_time and maximal_lyapunov_exponent do.

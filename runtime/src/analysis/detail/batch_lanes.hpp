@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstddef>
+#include <initializer_list>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -102,6 +103,9 @@ class lane_rk4 {
   /// One rk4 step of dt for the first `blocks` blocks.
   void step(int blocks);
 
+  /// Lane `to` takes lane `from`'s coordinates.
+  void copy_lane(std::size_t to, std::size_t from);
+
  private:
   void rhs(int blocks, const double* x, double* dxdt);
 
@@ -111,33 +115,99 @@ class lane_rk4 {
   double m_half, m_zero, m_full, m_sixth, m_third;
 };
 
+// Dormand–Prince 5(4) on lane_blocks blocks of a lane_system's lanes (laid out as
+// lane_rk4's), each lane with its own time and step size: what npend::integrate runs for
+// stepper_kind::dopri5 (odeint's make_dense_output of runge_kutta_dopri5), step for step.
+// A step() is one attempt per lane — odeint's try_step with its error norm
+// max_i |err_i| / (abs_tol + rel_tol (|x_i| + |h| |f_i|)) and its step adjustment — so a lane
+// either advances (accepted) or keeps its state with a shorter step; state_at is the
+// stepper's own dense output over the lane's last accepted step.
+class lane_dopri5 {
+ public:
+  static constexpr int W = batch_width;
+  static constexpr int lanes = W * lane_blocks;
+  /// odeint gives up a step after this many tries (its failed_step_checker).
+  static constexpr int max_tries = 500;
+
+  lane_dopri5(lane_system system, double abs_tol, double rel_tol);
+
+  const lane_system& system() const { return m_system; }
+  double* state() { return m_x.data(); }
+  std::size_t coordinates() const { return m_system.coordinates(); }
+  std::size_t at(std::size_t i, std::size_t l) const {
+    return (l / W) * m_block + i * W + l % W;
+  }
+
+  /// Lane l starts from the state now in its coordinates, at time t with a first trial
+  /// step h (odeint's initialize: the derivative is evaluated on the next step).
+  void restart(std::size_t l, double t, double h);
+
+  /// One attempt of every lane of the first `blocks` blocks.
+  void step(int blocks);
+
+  /// Whether lane l's last attempt was accepted; the attempts of its current step so far.
+  bool accepted(std::size_t l) const { return m_lane[l].accepted; }
+  int tries(std::size_t l) const { return m_lane[l].tries; }
+  /// Lane l's time, and the step it tries next.
+  double time(std::size_t l) const { return m_lane[l].t; }
+  /// Where lane l's last accepted step began.
+  double step_begin(std::size_t l) const { return m_lane[l].t_old; }
+  double step_size(std::size_t l) const { return m_lane[l].h; }
+
+  /// The dense output of lane l's last accepted step at time t within it: coordinates
+  /// first .. first + count - 1 into out.
+  void state_at(std::size_t l, double t, std::size_t first, std::size_t count,
+                double* out) const;
+
+  /// Lane `to` takes lane `from`'s state, derivative, time and step.
+  void copy_lane(std::size_t to, std::size_t from);
+
+ private:
+  struct lane {
+    double t = 0, h = 0, t_old = 0;
+    int tries = 0;
+    bool fresh = true, accepted = false;
+  };
+  void rhs(int blocks, const double* x, double* dxdt);
+  // out = x + Σ h_l c_j k_j, term after term as odeint's scale_sum (coefficient j of lane l
+  // at m_coefficient[j * lanes + l]).
+  void combine(int blocks, double* out, const double* x,
+               std::initializer_list<std::pair<const double*, int>> terms);
+
+  lane_system m_system;
+  std::size_t m_block;
+  double m_abs_tol, m_rel_tol;
+  std::array<lane, lanes> m_lane{};
+  std::vector<double> m_x, m_f, m_x_old, m_f_old, m_k2, m_k3, m_k4, m_k5, m_k6, m_tmp, m_out,
+      m_f_out, m_err, m_coefficient;
+};
+
 // What a lane carries besides its coordinates.
 struct lane_slot {
   std::size_t cell = 0;  // index of its start in the queue's `starts`
-  long long steps = 0;   // rk4 steps taken from the start
+  long long steps = 0;   // steps (dopri5: attempts) taken from the start
+  long long reached = 0; // dopri5 Lyapunov lanes: the steps of dt whose end the lane passed
   double sum = 0;        // Σ ln of the (first) tangent vector's growth
   double peak = 0;       // the indicators' FLI: the running maximum of `sum`
 };
 
-// Runs the cells `queue` on rk's lanes: start(x, l, cell) writes cell's start into lane l
-// of x = rk.state(); after every step, done(x, l, slot) — slot.steps already counted —
+// Runs the cells `queue` on the lanes of rk (a lane_rk4 or lane_dopri5): start(x, l, cell)
+// writes cell's start into lane l of x = rk.state(); after every step, done(x, l, slot) —
+// slot.steps (the steps, or the attempts, taken) already counted —
 // returns the cell's value once it is finished, std::nullopt otherwise; the value goes to
 // out[slot.cell] and the lane takes the next cell. Once the
 // queue is empty the live lanes move down into the lowest blocks, so that only
 // ceil(live / W) blocks are stepped; the idle lanes of the last of them run a copy of a live
 // lane (results unused), so that every lane stepped holds a finite state. A lane's
 // arithmetic does not depend on its slot, so moving a lane changes nothing.
-template <class Start, class Done>
-void run_on_lanes(lane_rk4& rk, const std::vector<std::size_t>& queue, const Start& start,
+template <class Stepper, class Start, class Done>
+void run_on_lanes(Stepper& rk, const std::vector<std::size_t>& queue, const Start& start,
                   const Done& done, std::vector<double>& out) {
-  constexpr std::size_t lanes = lane_rk4::lanes, W = lane_rk4::W;
-  const std::size_t coordinates = rk.coordinates();
+  constexpr std::size_t lanes = Stepper::lanes, W = Stepper::W;
   double* x = rk.state();
   std::array<std::optional<lane_slot>, lanes> slot{};
   std::size_t next = 0;
-  const auto copy_lane = [&](std::size_t to, std::size_t from) {
-    for (std::size_t i = 0; i < coordinates; ++i) x[rk.at(i, to)] = x[rk.at(i, from)];
-  };
+  const auto copy_lane = [&](std::size_t to, std::size_t from) { rk.copy_lane(to, from); };
   const auto load = [&](std::size_t l) {
     slot[l].reset();
     if (next == queue.size()) return;
