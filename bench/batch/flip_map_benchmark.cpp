@@ -9,9 +9,12 @@
 // With --lyapunov 1, the same for a map of the maximal Lyapunov exponent (rk4 at dt 0.01):
 // maximal_lyapunov_exponent cell by cell against map_cells on the lanes (tangent_batch);
 // it prints the largest difference between the two maps instead of the cells differing.
+// With --dopri5 TOL, the flip map by dopri5 at abs_tol = rel_tol = TOL instead of rk4: each
+// lane under its own step control against flip_time's dopri5 cell by cell; it prints the
+// largest relative difference of the flip times both runs find.
 //
-//   npend_bench_flip_map [--count N] [--t-end T] [--rounds R] [--lyapunov 0|1]
-//                        (defaults 256, 1000, 3, 0)
+//   npend_bench_flip_map [--count N] [--t-end T] [--rounds R] [--lyapunov 0|1] [--dopri5 TOL]
+//                        (defaults 256, 1000, 3, 0, 0: rk4)
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -33,6 +36,7 @@ struct settings {
   double t_end = 1000;
   int rounds = 3;
   bool lyapunov = false;
+  double dopri5 = 0;  // the tolerance; 0: rk4
 };
 
 settings parse(int argc, char** argv) {
@@ -48,13 +52,15 @@ settings parse(int argc, char** argv) {
     else if (a == "--t-end") s.t_end = v;
     else if (a == "--rounds") s.rounds = static_cast<int>(v);
     else if (a == "--lyapunov") s.lyapunov = v != 0;
+    else if (a == "--dopri5") s.dopri5 = v;
     else {
       std::fprintf(stderr, "npend_bench_flip_map: unknown option %s\n", a.c_str());
       std::exit(2);
     }
   }
-  if (s.count < 1 || s.count > 4096 || !(s.t_end > 0) || s.rounds < 1) {
-    std::fprintf(stderr, "npend_bench_flip_map: need 1 <= count <= 4096, t-end > 0, rounds >= 1\n");
+  if (s.count < 1 || s.count > 4096 || !(s.t_end > 0) || s.rounds < 1 || !(s.dopri5 >= 0)) {
+    std::fprintf(stderr, "npend_bench_flip_map: need 1 <= count <= 4096, t-end > 0, rounds >= 1, "
+                         "dopri5 >= 0\n");
     std::exit(2);
   }
   return s;
@@ -165,21 +171,29 @@ int main(int argc, char** argv) {
   const settings s = parse(argc, argv);
   const npend::chain c(npend::chain_parameters::uniform(2));
   if (s.lyapunov) return lyapunov_maps(c, s);
-  const npend::flip_options o{s.t_end, 0.01, 0};
+  npend::flip_options o{s.t_end, 0.01, 0};
+  if (s.dopri5 > 0) o.stepping = {npend::stepper_kind::dopri5, s.dopri5, s.dopri5};
   std::vector<double> scalar_seconds, lane_seconds, scalar, lanes;
   for (int r = 0; r < s.rounds; ++r) {
     scalar_seconds.push_back(seconds_of([&] { return scalar_map(c, s, o); }, scalar));
     lane_seconds.push_back(seconds_of([&] { return lane_map(c, s, o); }, lanes));
   }
   long differing = 0;
-  for (std::size_t k = 0; k < scalar.size(); ++k)
+  double largest = 0;  // relative, over the cells both runs see flip
+  for (std::size_t k = 0; k < scalar.size(); ++k) {
     differing += (scalar[k] == lanes[k] || (std::isinf(scalar[k]) && std::isinf(lanes[k]))) ? 0 : 1;
+    if (std::isfinite(scalar[k]) && std::isfinite(lanes[k]) && scalar[k] > 0)
+      largest = std::max(largest, std::fabs(scalar[k] - lanes[k]) / scalar[k]);
+  }
   std::printf(
       "%s\n",
-      fmt::format("{{\"count\": {}, \"t_end\": {}, \"rounds\": {}, \"isa\": \"{}\", \"lanes\": {}, "
-                  "\"scalar_seconds\": {}, \"lane_seconds\": {}, \"cells_differing\": {}}}",
-                  s.count, s.t_end, s.rounds, npend::batch_isa(), npend::batch_lanes(c),
-                  list(scalar_seconds), list(lane_seconds), differing)
+      fmt::format("{{\"count\": {}, \"t_end\": {}, \"rounds\": {}, \"stepper\": \"{}\", "
+                  "\"tolerance\": {}, \"isa\": \"{}\", \"lanes\": {}, "
+                  "\"scalar_seconds\": {}, \"lane_seconds\": {}, \"cells_differing\": {}, "
+                  "\"largest_relative_difference\": {}}}",
+                  s.count, s.t_end, s.rounds, s.dopri5 > 0 ? "dopri5" : "rk4", s.dopri5,
+                  npend::batch_isa(), npend::batch_lanes(c), list(scalar_seconds),
+                  list(lane_seconds), differing, largest)
           .c_str());
   return 0;
 }

@@ -150,7 +150,8 @@ lane_dopri5::lane_dopri5(lane_system system, double abs_tol, double rel_tol)
       m_coefficient(static_cast<std::size_t>(coefficient_count) * lanes) {}
 
 void lane_dopri5::restart(std::size_t l, double t, double h) {
-  m_lane[l] = lane{t, h, t, 0, true, false};
+  m_lane[l] = lane{t, t, 0, true, false};
+  m_h[l] = h;
 }
 
 void lane_dopri5::rhs(int blocks, const double* x, double* dxdt) {
@@ -160,20 +161,23 @@ void lane_dopri5::rhs(int blocks, const double* x, double* dxdt) {
   }
 }
 
+template <std::size_t K>
 void lane_dopri5::combine(int blocks, double* out, const double* x,
-                          std::initializer_list<std::pair<const double*, int>> terms) {
+                          const std::array<std::pair<const double*, int>, K>& terms) {
   const std::size_t d = coordinates();
   for (int b = 0; b < blocks; ++b) {
     const std::size_t block = m_block * static_cast<std::size_t>(b);
+    std::array<const double*, K> c;
+    for (std::size_t t = 0; t < K; ++t)
+      c[t] = m_coefficient.data() + static_cast<std::size_t>(terms[t].second) * lanes +
+             static_cast<std::size_t>(b) * W;
     for (std::size_t i = 0; i < d; ++i) {
       const std::size_t o = block + i * W;
 #pragma omp simd
-      for (std::size_t l = 0; l < W; ++l) out[o + l] = x[o + l];
-      for (const auto& [k, j] : terms) {
-        const double* c = m_coefficient.data() + static_cast<std::size_t>(j) * lanes +
-                          static_cast<std::size_t>(b) * W;
-#pragma omp simd
-        for (std::size_t l = 0; l < W; ++l) out[o + l] = out[o + l] + c[l] * k[o + l];
+      for (std::size_t l = 0; l < W; ++l) {
+        double v = x[o + l];
+        for (std::size_t t = 0; t < K; ++t) v = v + c[t][l] * terms[t].first[o + l];
+        out[o + l] = v;
       }
     }
   }
@@ -199,59 +203,83 @@ void lane_dopri5::step(int blocks) {
     lane& s = m_lane[l];
     if (s.accepted) s.tries = 0;
     ++s.tries;
-    for (int j = 0; j < coefficient_count; ++j)
-      m_coefficient[static_cast<std::size_t>(j) * lanes + l] = s.h * tableau[static_cast<std::size_t>(j)];
+  }
+  for (int j = 0; j < coefficient_count; ++j) {
+    double* c = m_coefficient.data() + static_cast<std::size_t>(j) * lanes;
+    const double tj = tableau[static_cast<std::size_t>(j)];
+#pragma omp simd
+    for (std::size_t l = 0; l < used; ++l) c[l] = m_h[l] * tj;
   }
   const double *x = m_x.data(), *f = m_f.data();
   double *k2 = m_k2.data(), *k3 = m_k3.data(), *k4 = m_k4.data(), *k5 = m_k5.data(),
          *k6 = m_k6.data(), *tmp = m_tmp.data(), *out = m_out.data(), *f_out = m_f_out.data();
-  combine(blocks, tmp, x, {{f, b21}});
+  combine<1>(blocks, tmp, x, {{{f, b21}}});
   rhs(blocks, tmp, k2);
-  combine(blocks, tmp, x, {{f, b31}, {k2, b32}});
+  combine<2>(blocks, tmp, x, {{{f, b31}, {k2, b32}}});
   rhs(blocks, tmp, k3);
-  combine(blocks, tmp, x, {{f, b41}, {k2, b42}, {k3, b43}});
+  combine<3>(blocks, tmp, x, {{{f, b41}, {k2, b42}, {k3, b43}}});
   rhs(blocks, tmp, k4);
-  combine(blocks, tmp, x, {{f, b51}, {k2, b52}, {k3, b53}, {k4, b54}});
+  combine<4>(blocks, tmp, x, {{{f, b51}, {k2, b52}, {k3, b53}, {k4, b54}}});
   rhs(blocks, tmp, k5);
-  combine(blocks, tmp, x, {{f, b61}, {k2, b62}, {k3, b63}, {k4, b64}, {k5, b65}});
+  combine<5>(blocks, tmp, x, {{{f, b61}, {k2, b62}, {k3, b63}, {k4, b64}, {k5, b65}}});
   rhs(blocks, tmp, k6);
-  combine(blocks, out, x, {{f, c1}, {k3, c3}, {k4, c4}, {k5, c5}, {k6, c6}});
+  combine<5>(blocks, out, x, {{{f, c1}, {k3, c3}, {k4, c4}, {k5, c5}, {k6, c6}}});
   rhs(blocks, out, f_out);
-  // The error estimate, summed as odeint sums it (its first term dt·dc1·f, not x + …).
-  double* err = m_err.data();
-  std::fill(err, err + m_block * static_cast<std::size_t>(blocks), 0.0);
-  for (std::size_t l = 0; l < used; ++l)
+  // The error estimate, summed as odeint sums it (from dt·dc1·f, not x + …), and its norm
+  // max_i |err_i| / (abs_tol + rel_tol (|x_i| + |h| |f_i|)) per lane.
+  const auto coefficient = [&](int j, int b) {
+    return m_coefficient.data() + static_cast<std::size_t>(j) * lanes +
+           static_cast<std::size_t>(b) * W;
+  };
+  const double abs_tol = m_abs_tol, rel_tol = m_rel_tol;
+  std::fill(m_error.begin(), m_error.end(), 0.0);
+  for (int b = 0; b < blocks; ++b) {
+    const double *e1 = coefficient(dc1, b), *e3 = coefficient(dc3, b), *e4 = coefficient(dc4, b),
+                 *e5 = coefficient(dc5, b), *e6 = coefficient(dc6, b), *e7 = coefficient(dc7, b);
+    const double* h = m_h.data() + static_cast<std::size_t>(b) * W;
+    double* error = m_error.data() + static_cast<std::size_t>(b) * W;
     for (std::size_t i = 0; i < d; ++i) {
-      const std::size_t a = at(i, l);
-      const double* c = m_coefficient.data() + l;
-      const auto coef = [&](int j) { return c[static_cast<std::size_t>(j) * lanes]; };
-      err[a] = coef(dc1) * f[a] + coef(dc3) * k3[a] + coef(dc4) * k4[a] + coef(dc5) * k5[a] +
-               coef(dc6) * k6[a] + coef(dc7) * f_out[a];
+      const std::size_t o = m_block * static_cast<std::size_t>(b) + i * W;
+#pragma omp simd
+      for (std::size_t l = 0; l < W; ++l) {
+        const std::size_t a = o + l;
+        const double err = e1[l] * f[a] + e3[l] * k3[a] + e4[l] * k4[a] + e5[l] * k5[a] +
+                           e6[l] * k6[a] + e7[l] * f_out[a];
+        const double scaled =
+            std::fabs(err) / (abs_tol + rel_tol * (std::fabs(x[a]) + std::fabs(h[l]) * std::fabs(f[a])));
+        error[l] = error[l] < scaled ? scaled : error[l];
+      }
     }
+  }
+  // Accept or reject each lane's attempt, and size its next one, as odeint's controller.
   for (std::size_t l = 0; l < used; ++l) {
     lane& s = m_lane[l];
-    double error = 0;
-    for (std::size_t i = 0; i < d; ++i) {
-      const std::size_t a = at(i, l);
-      const double e = std::fabs(err[a]) /
-                       (m_abs_tol + m_rel_tol * (std::fabs(x[a]) + std::fabs(s.h) * std::fabs(f[a])));
-      error = std::max(error, e);
-    }
-    s.accepted = !(error > 1.0);
+    s.accepted = !(m_error[l] > 1.0);
+    m_accept[l] = s.accepted ? 1.0 : 0.0;
     if (!s.accepted) {
-      s.h = decreased_step(s.h, error);
+      m_h[l] = decreased_step(m_h[l], m_error[l]);
       continue;
     }
-    for (std::size_t i = 0; i < d; ++i) {
-      const std::size_t a = at(i, l);
-      m_x_old[a] = x[a];
-      m_f_old[a] = f[a];
-      m_x[a] = out[a];
-      m_f[a] = f_out[a];
-    }
     s.t_old = s.t;
-    s.t += s.h;
-    s.h = increased_step(s.h, error);
+    s.t += m_h[l];
+    m_h[l] = increased_step(m_h[l], m_error[l]);
+  }
+  // The accepted lanes move on; the old state and derivative stay for the dense output.
+  double *x_old = m_x_old.data(), *f_old = m_f_old.data(), *xs = m_x.data(), *fs = m_f.data();
+  for (int b = 0; b < blocks; ++b) {
+    const double* accept = m_accept.data() + static_cast<std::size_t>(b) * W;
+    for (std::size_t i = 0; i < d; ++i) {
+      const std::size_t o = m_block * static_cast<std::size_t>(b) + i * W;
+#pragma omp simd
+      for (std::size_t l = 0; l < W; ++l) {
+        const std::size_t a = o + l;
+        const bool move = accept[l] != 0;
+        x_old[a] = move ? xs[a] : x_old[a];
+        f_old[a] = move ? fs[a] : f_old[a];
+        xs[a] = move ? out[a] : xs[a];
+        fs[a] = move ? f_out[a] : fs[a];
+      }
+    }
   }
 }
 
@@ -293,6 +321,7 @@ void lane_dopri5::copy_lane(std::size_t to, std::size_t from) {
     m_f[at(i, to)] = m_f[at(i, from)];
   }
   m_lane[to] = m_lane[from];
+  m_h[to] = m_h[from];
 }
 
 }  // namespace npend::detail

@@ -9,7 +9,6 @@
 
 #include <array>
 #include <cstddef>
-#include <initializer_list>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -152,7 +151,7 @@ class lane_dopri5 {
   double time(std::size_t l) const { return m_lane[l].t; }
   /// Where lane l's last accepted step began.
   double step_begin(std::size_t l) const { return m_lane[l].t_old; }
-  double step_size(std::size_t l) const { return m_lane[l].h; }
+  double step_size(std::size_t l) const { return m_h[l]; }
 
   /// The dense output of lane l's last accepted step at time t within it: coordinates
   /// first .. first + count - 1 into out.
@@ -164,20 +163,23 @@ class lane_dopri5 {
 
  private:
   struct lane {
-    double t = 0, h = 0, t_old = 0;
+    double t = 0, t_old = 0;
     int tries = 0;
     bool fresh = true, accepted = false;
   };
   void rhs(int blocks, const double* x, double* dxdt);
   // out = x + Σ h_l c_j k_j, term after term as odeint's scale_sum (coefficient j of lane l
   // at m_coefficient[j * lanes + l]).
+  template <std::size_t K>
   void combine(int blocks, double* out, const double* x,
-               std::initializer_list<std::pair<const double*, int>> terms);
+               const std::array<std::pair<const double*, int>, K>& terms);
 
   lane_system m_system;
   std::size_t m_block;
   double m_abs_tol, m_rel_tol;
   std::array<lane, lanes> m_lane{};
+  // Per lane, for the vector loops: the step it tries, its error norm, 1 where accepted.
+  std::array<double, lanes> m_h{}, m_error{}, m_accept{};
   std::vector<double> m_x, m_f, m_x_old, m_f_old, m_k2, m_k3, m_k4, m_k5, m_k6, m_tmp, m_out,
       m_f_out, m_err, m_coefficient;
 };
