@@ -32,11 +32,39 @@ void tangent_batch(const double* x, const double* w, const double* params, doubl
   }
 }
 
+void tangents_batch(const double* x, const double* ws, int count, const double* params,
+                    double* dxdt, double* dws) noexcept {
+  constexpr int W = batch_width;
+  double s[1 * W], c[1 * W], v[3 * W];
+  for (int i = 0; i < 1; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);
+#pragma omp simd
+  for (int l = 0; l < W; ++l) {
+    const double t0 = 1.0 / params[1];
+    const double t1 = 1.0 / params[0];
+    const double t2 = params[2] * (params[0] * params[1]);
+    dxdt[0 * W + l] = t0 * (t0 * x[1 * W + l] * t1);
+    dxdt[1 * W + l] = -(s[0 * W + l] * t2);
+    v[0 * W + l] = t0;
+    v[1 * W + l] = t1;
+    v[2 * W + l] = t2;
+  }
+  for (int j = 0; j < count; ++j) {
+    const double* w = ws + j * 2 * W;
+    double* dwdt = dws + j * 2 * W;
+#pragma omp simd
+    for (int l = 0; l < W; ++l) {
+      dwdt[0 * W + l] = v[0 * W + l] * (v[1 * W + l] * (v[0 * W + l] * w[1 * W + l]));
+      dwdt[1 * W + l] = -(v[2 * W + l] * (c[0 * W + l] * w[0 * W + l]));
+    }
+  }
+}
+
 const batch_kernels kernels = {
     .links = links,
     .width = batch_width,
     .rhs_batch = &rhs_batch,
     .tangent_batch = &tangent_batch,
+    .tangents_batch = &tangents_batch,
 };
 
 }  // namespace npend::generated::batch_1

@@ -127,11 +127,150 @@ void tangent_batch(const double* x, const double* w, const double* params, doubl
   }
 }
 
+void tangents_batch(const double* x, const double* ws, int count, const double* params,
+                    double* dxdt, double* dws) noexcept {
+  constexpr int W = batch_width;
+  double s[3 * W], c[3 * W], v[36 * W];
+  for (int i = 0; i < 3; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);
+#pragma omp simd
+  for (int l = 0; l < W; ++l) {
+    const double t0 = 1.0 / params[3];
+    const double t1 = c[1 * W + l] * s[2 * W + l] - s[1 * W + l] * c[2 * W + l];
+    const double t2 = params[1] + params[2] * (t1 * t1);
+    const double t3 = 1.0 / t2;
+    const double t4 = params[1] + params[2];
+    const double t5 = params[1] * t4;
+    const double t6 = t3 * t5;
+    const double t7 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
+    const double t8 = t7 * t7;
+    const double t9 = params[0] + t6 * t8;
+    const double t10 = 1.0 / t9;
+    const double t11 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
+    const double t12 = 1.0 / params[4];
+    const double t13 = t12 * x[4 * W + l];
+    const double t14 = s[1 * W + l] * s[2 * W + l] + c[1 * W + l] * c[2 * W + l];
+    const double t15 = params[2] * (t14 * t1);
+    const double t16 = 1.0 / params[5];
+    const double t17 = t16 * x[5 * W + l];
+    const double t18 = t13 - t14 * t17;
+    const double t19 = t3 * t18;
+    const double t20 = t15 * t19 - t1 * t17;
+    const double t21 = t0 * x[3 * W + l] - t11 * t13 - t7 * t20;
+    const double t22 = t10 * t21;
+    const double t23 = t3 * t15;
+    const double t24 = t7 * t22;
+    const double t25 = t19 - t23 * t24;
+    const double t26 = t25 - t11 * t22;
+    const double t27 = 1.0 / params[2];
+    const double t28 = t17 * t27 - (t14 * t25 - t1 * t24);
+    const double t29 = t11 * t7;
+    const double t30 = t6 * t29;
+    const double t31 = t30 * t22 + (t11 * t20 - t7 * t13);
+    const double t32 = params[6] * (params[3] * (params[0] + t4));
+    const double t33 = t20 + t6 * t24;
+    const double t34 = params[6] * (params[4] * t4);
+    const double t35 = params[2] * (t14 * t24 + t1 * t25);
+    const double t36 = params[6] * (params[2] * params[5]);
+    dxdt[0 * W + l] = t0 * t22;
+    dxdt[1 * W + l] = t12 * t26;
+    dxdt[2 * W + l] = t16 * t28;
+    dxdt[3 * W + l] = -(t22 * t31) - s[0 * W + l] * t32;
+    dxdt[4 * W + l] = -(t26 * t33) - s[1 * W + l] * t34;
+    dxdt[5 * W + l] = -(t28 * t35) - s[2 * W + l] * t36;
+    v[0 * W + l] = t0;
+    v[1 * W + l] = t1;
+    v[2 * W + l] = t2;
+    v[3 * W + l] = t3;
+    v[4 * W + l] = t5;
+    v[5 * W + l] = t6;
+    v[6 * W + l] = t7;
+    v[7 * W + l] = t8;
+    v[8 * W + l] = t9;
+    v[9 * W + l] = t10;
+    v[10 * W + l] = t11;
+    v[11 * W + l] = t12;
+    v[12 * W + l] = t13;
+    v[13 * W + l] = t14;
+    v[14 * W + l] = t15;
+    v[15 * W + l] = t16;
+    v[16 * W + l] = t17;
+    v[17 * W + l] = t18;
+    v[18 * W + l] = t19;
+    v[19 * W + l] = t20;
+    v[20 * W + l] = t21;
+    v[21 * W + l] = t22;
+    v[22 * W + l] = t23;
+    v[23 * W + l] = t24;
+    v[24 * W + l] = t25;
+    v[25 * W + l] = t26;
+    v[26 * W + l] = t27;
+    v[27 * W + l] = t28;
+    v[28 * W + l] = t29;
+    v[29 * W + l] = t30;
+    v[30 * W + l] = t31;
+    v[31 * W + l] = t32;
+    v[32 * W + l] = t33;
+    v[33 * W + l] = t34;
+    v[34 * W + l] = t35;
+    v[35 * W + l] = t36;
+  }
+  for (int j = 0; j < count; ++j) {
+    const double* w = ws + j * 6 * W;
+    double* dwdt = dws + j * 6 * W;
+#pragma omp simd
+    for (int l = 0; l < W; ++l) {
+      const double t37 = v[11 * W + l] * w[4 * W + l];
+      const double t38 = c[1 * W + l] * w[1 * W + l];
+      const double t39 = c[0 * W + l] * w[0 * W + l];
+      const double t40 = s[0 * W + l] * w[0 * W + l];
+      const double t41 = s[1 * W + l] * w[1 * W + l];
+      const double t42 = s[0 * W + l] * t38 + s[1 * W + l] * t39 + (-(c[1 * W + l] * t40) - c[0 * W + l] * t41);
+      const double t43 = v[0 * W + l] * w[3 * W + l] - (v[10 * W + l] * t37 + v[12 * W + l] * t42);
+      const double t44 = v[15 * W + l] * w[5 * W + l];
+      const double t45 = c[2 * W + l] * w[2 * W + l];
+      const double t46 = s[2 * W + l] * w[2 * W + l];
+      const double t47 = s[1 * W + l] * t45 + s[2 * W + l] * t38 + (-(c[2 * W + l] * t41) - c[1 * W + l] * t46);
+      const double t48 = v[3 * W + l] * (t37 - (v[13 * W + l] * t44 + v[16 * W + l] * t47));
+      const double t49 = c[1 * W + l] * t45 - s[2 * W + l] * t41 - (c[2 * W + l] * t38 - s[1 * W + l] * t46);
+      const double t50 = v[1 * W + l] * t49;
+      const double t51 = v[3 * W + l] * (params[2] * (t50 + t50)) / v[2 * W + l];
+      const double t52 = t48 - v[17 * W + l] * t51;
+      const double t53 = params[2] * (v[13 * W + l] * t49 + v[1 * W + l] * t47);
+      const double t54 = v[14 * W + l] * t52 + v[18 * W + l] * t53 - (v[1 * W + l] * t44 + v[16 * W + l] * t49);
+      const double t55 = c[0 * W + l] * t38 - s[1 * W + l] * t40 - (c[1 * W + l] * t39 - s[0 * W + l] * t41);
+      const double t56 = v[9 * W + l] * (t43 - (v[6 * W + l] * t54 + v[19 * W + l] * t55));
+      const double t57 = v[6 * W + l] * t55;
+      const double t58 = v[4 * W + l] * t51;
+      const double t59 = v[9 * W + l] * (v[5 * W + l] * (t57 + t57) - v[7 * W + l] * t58) / v[8 * W + l];
+      const double t60 = t56 - v[20 * W + l] * t59;
+      const double t61 = v[6 * W + l] * t60 + v[21 * W + l] * t55;
+      const double t62 = v[22 * W + l] * t61 + v[23 * W + l] * (v[3 * W + l] * t53 - v[14 * W + l] * t51);
+      const double t63 = t52 - t62;
+      const double t64 = t63 - (v[10 * W + l] * t60 + v[21 * W + l] * t42);
+      const double t65 = v[13 * W + l] * t63 + v[24 * W + l] * t47 - (v[1 * W + l] * t61 + v[23 * W + l] * t49);
+      const double t66 = v[26 * W + l] * t44 - t65;
+      const double t67 = v[5 * W + l] * (v[10 * W + l] * t55 + v[6 * W + l] * t42) - v[28 * W + l] * t58;
+      const double t68 = v[10 * W + l] * t54 + v[19 * W + l] * t42 - (v[6 * W + l] * t37 + v[12 * W + l] * t55);
+      const double t69 = v[21 * W + l] * (v[29 * W + l] * t60 + v[21 * W + l] * t67 + t68);
+      const double t70 = v[25 * W + l] * (t54 + (v[5 * W + l] * t61 - v[23 * W + l] * t58));
+      const double t71 = v[13 * W + l] * t61 + v[23 * W + l] * t47 + (v[1 * W + l] * t63 + v[24 * W + l] * t49);
+      const double t72 = -(v[27 * W + l] * (params[2] * t71) + v[34 * W + l] * t66) - v[35 * W + l] * t45;
+      dwdt[0 * W + l] = v[0 * W + l] * t60;
+      dwdt[1 * W + l] = v[11 * W + l] * t64;
+      dwdt[2 * W + l] = v[15 * W + l] * t66;
+      dwdt[3 * W + l] = -(t69 + v[30 * W + l] * t60) - v[31 * W + l] * t39;
+      dwdt[4 * W + l] = -(t70 + v[32 * W + l] * t64) - v[33 * W + l] * t38;
+      dwdt[5 * W + l] = t72;
+    }
+  }
+}
+
 const batch_kernels kernels = {
     .links = links,
     .width = batch_width,
     .rhs_batch = &rhs_batch,
     .tangent_batch = &tangent_batch,
+    .tangents_batch = &tangents_batch,
 };
 
 }  // namespace npend::generated::batch_3

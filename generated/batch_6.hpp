@@ -21,6 +21,12 @@ void rhs_batch(const double* x, const double* params, double* dxdt) noexcept;
 void tangent_batch(const double* x, const double* w, const double* params, double* dxdt,
                    double* dwdt) noexcept;
 
+/// tangent_batch for `count` tangent vectors at once: ws and dws hold them one after
+/// another (vector j at ws + j*2n*W); f(x) and the values the tangents share are
+/// computed once, each vector's J(x) w as tangent_batch computes it.
+void tangents_batch(const double* x, const double* ws, int count, const double* params,
+                    double* dxdt, double* dws) noexcept;
+
 /// This link count's entry of the runtime's batch kernel table.
 extern const batch_kernels kernels;
 

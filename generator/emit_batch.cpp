@@ -59,33 +59,33 @@ int trig_angle(const expr_graph& g, const node& nd) {
   return arg.index;
 }
 
-// The loop body over lanes: a straight-line program of the state (the scalar rhs's, or it
-// with its tangent), with the state, the tangent vector w and output k (lane("dxdt", k),
-// then lane("dwdt", k - 2n)) indexed by lane and the sines and cosines read from the arrays
-// s and c.
-std::string lane_body(int n, const expr_graph& g, const std::vector<sx>& outputs) {
-  const std::vector<int> order = evaluation_order(g, outputs);
-  std::vector<int> uses(u(g.size()), 0);
-  for (const int id : order) {
-    const node& nd = g.at(id);
-    if (nd.lhs >= 0) ++uses[u(nd.lhs)];
-    if (nd.rhs >= 0) ++uses[u(nd.rhs)];
+// Prints the nodes of a straight-line program over lanes, one statement at a time: the state,
+// the tangent vector w and the parameters as inputs, the sines and cosines read from the
+// arrays s and c. A node used more than once, or too long to inline, becomes a temporary.
+class lane_printer {
+ public:
+  lane_printer(int n, const expr_graph& g, const std::vector<int>& order,
+               const std::vector<sx>& outputs)
+      : m_n(n), m_g(g), m_uses(u(g.size()), 0) {
+    for (const int id : order) {
+      const node& nd = g.at(id);
+      if (nd.lhs >= 0) ++m_uses[u(nd.lhs)];
+      if (nd.rhs >= 0) ++m_uses[u(nd.rhs)];
+    }
+    for (const sx out : outputs) ++m_uses[u(out.id)];
   }
-  for (const sx out : outputs) ++uses[u(out.id)];
 
-  std::string text;
-  std::map<int, printed> done;
-  int temporaries = 0;
-  for (const int id : order) {
-    const node& nd = g.at(id);
+  // Prints node id (its operands printed before) into text; `temporary` forces a named one.
+  void print(int id, std::string& text, bool temporary = false) {
+    const node& nd = m_g.at(id);
     printed p;
-    auto child = [&](int c) -> const printed& { return done.at(c); };
+    auto child = [&](int c) -> const printed& { return m_done.at(c); };
     switch (nd.kind) {
       case op::constant:
         p = {constant_literal(nd.value), nd.value < 0 ? int{unary} : int{atom}};
         break;
       case op::input:
-        p = {input_text(n, nd), atom};
+        p = {input_text(m_n, nd), atom};
         break;
       case op::neg:
         p = {"-" + wrap(child(nd.lhs), unary), unary};
@@ -104,34 +104,59 @@ std::string lane_body(int n, const expr_graph& g, const std::vector<sx>& outputs
         break;
       }
       case op::sin:
-        p = {lane("s", trig_angle(g, nd)), atom};
+        p = {lane("s", trig_angle(m_g, nd)), atom};
         break;
       case op::cos:
-        p = {lane("c", trig_angle(g, nd)), atom};
+        p = {lane("c", trig_angle(m_g, nd)), atom};
         break;
     }
-    const bool leaf =
-        nd.kind == op::constant || nd.kind == op::input || nd.kind == op::sin || nd.kind == op::cos;
-    if (!leaf && (uses[u(id)] > 1 || p.text.size() > max_inline_length)) {
-      const std::string name = fmt::format("t{}", temporaries++);
+    if (!is_leaf(id) &&
+        (temporary || m_uses[u(id)] > 1 || p.text.size() > max_inline_length)) {
+      const std::string name = fmt::format("t{}", m_temporaries++);
       text += fmt::format("    const double {} = {};\n", name, p.text);
       p = {name, atom};
     }
-    done[id] = p;
+    m_done[id] = p;
   }
+
+  // What node id prints as from now on (a value the tangent loop reads back from v).
+  void rename(int id, std::string text) { m_done[id] = {std::move(text), atom}; }
+  const std::string& text_of(int id) const { return m_done.at(id).text; }
+  bool is_leaf(int id) const {
+    const op k = m_g.at(id).kind;
+    return k == op::constant || k == op::input || k == op::sin || k == op::cos;
+  }
+
+ private:
+  int m_n;
+  const expr_graph& m_g;
+  std::vector<int> m_uses;
+  std::map<int, printed> m_done;
+  int m_temporaries = 0;
+};
+
+// Output k of a lane body: lane("dxdt", k), then lane("dwdt", k - 2n).
+std::string output_target(int n, int k) {
   const int d = chain_layout::state_size(n);
-  for (std::size_t i = 0; i < outputs.size(); ++i) {
-    const int k = static_cast<int>(i);
-    text += fmt::format("    {} = {};\n", k < d ? lane("dxdt", k) : lane("dwdt", k - d),
-                        done.at(outputs[i].id).text);
-  }
+  return k < d ? lane("dxdt", k) : lane("dwdt", k - d);
+}
+
+// The loop body over lanes: a straight-line program of the state (the scalar rhs's, or it
+// with its tangent), with output k written to output_target(n, k).
+std::string lane_body(int n, const expr_graph& g, const std::vector<sx>& outputs) {
+  const std::vector<int> order = evaluation_order(g, outputs);
+  lane_printer printer(n, g, order, outputs);
+  std::string text;
+  for (const int id : order) printer.print(id, text);
+  for (std::size_t i = 0; i < outputs.size(); ++i)
+    text += fmt::format("    {} = {};\n", output_target(n, static_cast<int>(i)),
+                        printer.text_of(outputs[i].id));
   return text;
 }
 
-// The rhs's program followed by its tangent along w: J(x) w by forward mode through the same
-// straight-line program (forward_diff.hpp), in a copy of the rhs's graph.
-std::string tangent_lane_body(int n, const emitted_function& rhs) {
-  expr_graph g = *rhs.graph;
+// The rhs's outputs followed by its tangent along w: J(x) w by forward mode through the same
+// straight-line program (forward_diff.hpp), added to g (a copy of the rhs's graph).
+std::vector<sx> with_tangent(int n, expr_graph& g, const emitted_function& rhs) {
   std::vector<sx> outputs;
   for (const sx out : rhs.outputs) outputs.push_back(sx{&g, out.id});
   std::vector<std::pair<sx, sx>> seeds;
@@ -141,7 +166,82 @@ std::string tangent_lane_body(int n, const emitted_function& rhs) {
     seeds.emplace_back(g.input(input_kind::p, i), g.input(input_kind::tangent, n + i));
   const std::vector<sx> tangents = tangent_along(g, outputs, seeds);
   outputs.insert(outputs.end(), tangents.begin(), tangents.end());
+  return outputs;
+}
+
+std::string tangent_lane_body(int n, const emitted_function& rhs) {
+  expr_graph g = *rhs.graph;
+  const std::vector<sx> outputs = with_tangent(n, g, rhs);
   return lane_body(n, g, outputs);
+}
+
+// Every line of text two more spaces in.
+std::string indent(const std::string& text) {
+  std::string out;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const std::size_t end = text.find('\n', start);
+    out += "  " + text.substr(start, end - start + 1);
+    start = end + 1;
+  }
+  return out;
+}
+
+// The body of tangents_batch: tangent_batch's program split in two. The statements that do
+// not read w run once — they give dxdt, and the values the tangent statements read are kept
+// per lane in v — and the statements that read w run once per vector, in their own lane
+// loop. Each vector's arithmetic is tangent_batch's, in the same order.
+std::string tangents_body(int n, const emitted_function& rhs) {
+  expr_graph g = *rhs.graph;
+  const std::vector<sx> outputs = with_tangent(n, g, rhs);
+  const std::vector<int> order = evaluation_order(g, outputs);
+  std::vector<char> reads_w(u(g.size()), 0), kept(u(g.size()), 0);
+  for (const int id : order) {
+    const node& nd = g.at(id);
+    reads_w[u(id)] = (nd.kind == op::input && nd.input == input_kind::tangent) ||
+                     (nd.lhs >= 0 && reads_w[u(nd.lhs)]) || (nd.rhs >= 0 && reads_w[u(nd.rhs)]);
+  }
+  lane_printer printer(n, g, order, outputs);
+  for (const int id : order) {
+    const node& nd = g.at(id);
+    if (!reads_w[u(id)]) continue;
+    for (const int operand : {nd.lhs, nd.rhs})
+      if (operand >= 0 && !reads_w[u(operand)] && !printer.is_leaf(operand)) kept[u(operand)] = 1;
+  }
+  const int d = chain_layout::state_size(n);
+  for (std::size_t i = u(d); i < outputs.size(); ++i)  // a tangent that does not read w
+    if (!reads_w[u(outputs[i].id)] && !printer.is_leaf(outputs[i].id)) kept[u(outputs[i].id)] = 1;
+  std::string values, stores, tangents;
+  std::vector<int> slots;
+  for (const int id : order)
+    if (!reads_w[u(id)]) printer.print(id, values, kept[u(id)] != 0);
+  for (int k = 0; k < d; ++k)
+    values += fmt::format("    {} = {};\n", output_target(n, k), printer.text_of(outputs[u(k)].id));
+  for (const int id : order)
+    if (kept[u(id)]) {
+      const int slot = static_cast<int>(slots.size());
+      slots.push_back(id);
+      stores += fmt::format("    v[{} * W + l] = {};\n", slot, printer.text_of(id));
+      printer.rename(id, fmt::format("v[{} * W + l]", slot));
+    }
+  for (const int id : order)
+    if (reads_w[u(id)]) printer.print(id, tangents);
+  for (std::size_t i = u(d); i < outputs.size(); ++i)
+    tangents += fmt::format("    {} = {};\n", output_target(n, static_cast<int>(i)),
+                            printer.text_of(outputs[i].id));
+  return fmt::format(
+      "  constexpr int W = batch_width;\n"
+      "  double s[{0} * W], c[{0} * W], v[{1} * W];\n"
+      "  for (int i = 0; i < {0}; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);\n"
+      "#pragma omp simd\n"
+      "  for (int l = 0; l < W; ++l) {{\n{2}{3}  }}\n"
+      "  for (int j = 0; j < count; ++j) {{\n"
+      "    const double* w = ws + j * {4} * W;\n"
+      "    double* dwdt = dws + j * {4} * W;\n"
+      "#pragma omp simd\n"
+      "    for (int l = 0; l < W; ++l) {{\n{5}    }}\n"
+      "  }}\n",
+      n, std::max<std::size_t>(slots.size(), 1), values, stores, d, indent(tangents));
 }
 
 const char* batch_signature =
@@ -149,6 +249,9 @@ const char* batch_signature =
 const char* tangent_signature =
     "void tangent_batch(const double* x, const double* w, const double* params, double* dxdt,\n"
     "                   double* dwdt) noexcept";
+const char* tangents_signature =
+    "void tangents_batch(const double* x, const double* ws, int count, const double* params,\n"
+    "                    double* dxdt, double* dws) noexcept";
 
 // The body's head: W, and the lanes' sines and cosines of the n angles.
 std::string lane_sines(int n) {
@@ -193,6 +296,11 @@ chain_sources emit_batch(int n, const emitted_function& rhs) {
       "/// forward mode through rhs_batch's program.\n{};\n\n",
       tangent_signature);
   out.header += fmt::format(
+      "/// tangent_batch for `count` tangent vectors at once: ws and dws hold them one after\n"
+      "/// another (vector j at ws + j*2n*W); f(x) and the values the tangents share are\n"
+      "/// computed once, each vector's J(x) w as tangent_batch computes it.\n{};\n\n",
+      tangents_signature);
+  out.header += fmt::format(
       "/// This link count's entry of the runtime's batch kernel table.\n"
       "extern const batch_kernels kernels;\n\n}}  // namespace npend::generated::{}\n",
       stem);
@@ -203,9 +311,11 @@ chain_sources emit_batch(int n, const emitted_function& rhs) {
                 lane_body(n, *rhs.graph, rhs.outputs) + "  }\n}\n";
   out.source += fmt::format("\n{} {{\n", tangent_signature) + lane_sines(n) +
                 tangent_lane_body(n, rhs) + "  }\n}\n";
+  out.source += fmt::format("\n{} {{\n", tangents_signature) + tangents_body(n, rhs) + "}\n";
   out.source += fmt::format(
       "\nconst batch_kernels kernels = {{\n    .links = links,\n    .width = batch_width,\n"
-      "    .rhs_batch = &rhs_batch,\n    .tangent_batch = &tangent_batch,\n}};\n\n"
+      "    .rhs_batch = &rhs_batch,\n    .tangent_batch = &tangent_batch,\n"
+      "    .tangents_batch = &tangents_batch,\n}};\n\n"
       "}}  // namespace npend::generated::{}\n",
       stem);
   return out;

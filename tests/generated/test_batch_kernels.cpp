@@ -191,3 +191,41 @@ TEST_CASE("tangent_batch: f as rhs_batch, and J w as the scalar Jacobian times w
     CHECK(worst_f <= 1e-14);
   }
 }
+
+TEST_CASE("tangents_batch: k vectors at once, each bit for bit tangent_batch's, 1 to 6 links") {
+  // The same program split in two (what the vectors share once, each vector's statements in
+  // their own loop): no operation changes, so neither may a bit.
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> direction(-1, 1);
+  for (int n = 1; n <= 6; ++n) {
+    CAPTURE(n);
+    const npend::batch_kernels& batch = *npend::generated::find_batch(n);
+    REQUIRE(static_cast<bool>(batch.tangents_batch));
+    const auto block = static_cast<std::size_t>(2 * n * lanes);
+    const problem p = random_problem(n, 50 * lanes, rng);
+    long compared = 0, differing = 0;
+    for (int gi = 0; gi < 50; ++gi) {
+      const int count = 1 + gi % (2 * n);  // 1 .. 2n vectors, as GALI_k takes
+      std::vector<double> x(block), ws(block * static_cast<std::size_t>(count)),
+          dws(ws.size()), dx(block), dx_one(block), dw_one(block);
+      for (int l = 0; l < lanes; ++l)
+        for (int i = 0; i < 2 * n; ++i)
+          x[static_cast<std::size_t>(i * lanes + l)] =
+              p.states[static_cast<std::size_t>((gi * lanes + l) * 2 * n + i)];
+      for (double& v : ws) v = direction(rng);
+      batch.tangents_batch(x.data(), ws.data(), count, p.params.data(), dx.data(), dws.data());
+      for (int j = 0; j < count; ++j) {
+        const std::size_t offset = block * static_cast<std::size_t>(j);
+        batch.tangent_batch(x.data(), ws.data() + offset, p.params.data(), dx_one.data(),
+                            dw_one.data());
+        for (std::size_t i = 0; i < block; ++i) {
+          ++compared;
+          differing += dws[offset + i] == dw_one[i] ? 0 : 1;
+          if (j == 0) differing += dx[i] == dx_one[i] ? 0 : 1;
+        }
+      }
+    }
+    MESSAGE("n = " << n << ": " << compared << " tangent coordinates compared");
+    CHECK(differing == 0);
+  }
+}

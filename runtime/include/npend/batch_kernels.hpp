@@ -21,6 +21,11 @@ struct batch_kernels {
   /// J(x) w for the tangent vectors w_soa (dim 2n*width, the same layout).
   void (*tangent_batch)(const double* x_soa, const double* w_soa, const double* params,
                         double* dxdt_soa, double* dwdt_soa) noexcept;
+  /// tangent_batch for `count` tangent vectors: ws_soa and dws_soa hold them one after
+  /// another (vector j at [j*2n*width]); f(x) and what the vectors share is computed once,
+  /// and each dws is bit for bit tangent_batch's dwdt for that vector.
+  void (*tangents_batch)(const double* x_soa, const double* ws_soa, int count,
+                         const double* params, double* dxdt_soa, double* dws_soa) noexcept;
 };
 
 }  // namespace npend

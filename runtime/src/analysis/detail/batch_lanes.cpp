@@ -20,10 +20,12 @@ void lane_system::operator()(const double* x, double* dxdt) {
     return;
   }
   const auto at = [](std::size_t i) { return i * W; };
-  m_kernels.tangent_batch(x, x + at(vector(0)), m_params, dxdt, dxdt + at(vector(0)));
-  for (std::size_t j = 1; j < m_tangent; ++j)
-    m_kernels.tangent_batch(x, x + at(vector(j)), m_params, m_scratch.data(),
-                            dxdt + at(vector(j)));
+  // The vectors lie one after another, as tangents_batch takes them.
+  if (m_tangent == 1)
+    m_kernels.tangent_batch(x, x + at(vector(0)), m_params, dxdt, dxdt + at(vector(0)));
+  else
+    m_kernels.tangents_batch(x, x + at(vector(0)), static_cast<int>(m_tangent), m_params, dxdt,
+                             dxdt + at(vector(0)));
   if (!m_indicators) return;
   const double* w = x + at(vector(0));
   const double* dw = dxdt + at(vector(0));

@@ -28,7 +28,7 @@ const batch_kernels* lane_kernels(const chain& c);
 constexpr int lane_blocks = 4;
 
 // What the lanes integrate, one block of W lanes at a time (W = batch_width): the chain's
-// state alone (rhs_batch), or with tangent vectors (tangent_batch). A block holds the
+// state alone (rhs_batch), or with tangent vectors (tangent_batch, tangents_batch). A block holds the
 // `coordinates` of its W lanes in the kernels' structure-of-arrays layout, coordinate i of
 // the block's lane l at [i*W + l]: the state's 2n coordinates first, then
 //   tangent = 1: one tangent vector (2n), the Lyapunov map's;
@@ -44,8 +44,7 @@ class lane_system {
         m_params(params),
         m_d(static_cast<std::size_t>(2 * n)),
         m_tangent(static_cast<std::size_t>(tangent)),
-        m_indicators(indicators),
-        m_scratch(tangent > 1 ? m_d * W : 0) {}
+        m_indicators(indicators) {}
 
   std::size_t coordinates() const { return m_d * (1 + m_tangent) + (m_indicators ? 3 : 0); }
   std::size_t vector(std::size_t j) const { return m_d * (1 + j); }  // its first coordinate
@@ -61,7 +60,6 @@ class lane_system {
   const double* m_params;
   std::size_t m_d, m_tangent;
   bool m_indicators;
-  std::vector<double> m_scratch;  // the state's derivative again, for vectors 2..k
 };
 
 // rk4 on lane_blocks blocks of a lane_system's lanes. Block b holds lanes b*W .. b*W + W-1:
