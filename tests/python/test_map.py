@@ -118,3 +118,32 @@ def test_drive_axes_match_npend_map(tmp_path):
     assert np.array_equal(m, np.load(tmp_path / "d" / "map.npy"), equal_nan=True)
     assert not np.isnan(m).any()
     assert math.isinf(m[0, 0]) and np.isfinite(m).any()
+
+
+def test_dopri5_maps(tmp_path):
+    # dopri5 on the batch lanes: the numbers of `npend map --stepper dopri5`, and the single
+    # pendulum's flip time located inside the step, where rk4 reports the end of a step.
+    c = npend.Chain(2)
+    kw = dict(t_end=10, stepper="dopri5", abs_tol=1e-9, rel_tol=1e-9, threads=2)
+    m = npend.map(c, ("phi1", -3, 3, 8), ("phi2", -2.5, 3, 6), **kw)
+    run_npend("map", "--links", 2, "--x", "phi1:-3:3:8", "--y", "phi2:-2.5:3:6", "--t-end", 10,
+              "--stepper", "dopri5", "--abs-tol", 1e-9, "--rel-tol", 1e-9, "--out", tmp_path / "m")
+    assert np.array_equal(m, np.load(tmp_path / "m" / "map.npy"), equal_nan=True)
+    # One link from the bottom with phi_dot0^2 = 1.5 * 4 g/l: phi_dot^2 = phi_dot0^2 - 2 (g/l)(1 - cos phi),
+    # so the time to the top is the integral of dphi / phi_dot from 0 to pi.
+    g = 9.81
+    rate0 = math.sqrt(1.5 * 4 * g)
+    phi = np.linspace(0, math.pi, 200001)
+    exact = np.trapz(1 / np.sqrt(rate0 ** 2 - 2 * g * (1 - np.cos(phi))), phi)
+    one = npend.Chain(1, g=g)
+    located = npend.map_cells(one, [0, rate0], t_end=5, stepper="dopri5", abs_tol=1e-12,
+                              rel_tol=1e-12)
+    stepped = npend.map_cells(one, [0, rate0], t_end=5, dt=0.01)
+    assert located == pytest.approx(exact, abs=1e-9)
+    assert exact <= stepped < exact + 0.01
+    with pytest.raises(ValueError, match="rk4 or dopri5"):
+        npend.map_cells(c, [1, 1, 0, 0], stepper="gauss6")
+    with pytest.raises(ValueError, match="rk4 only"):
+        npend.map_cells(c, [1, 1, 0, 0], quantity="megno", stepper="dopri5")
+    with pytest.raises(ValueError, match="stepper"):
+        npend.map_cells(c, [1, 1, 0, 0], stepper="euler")
