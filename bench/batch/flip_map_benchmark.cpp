@@ -22,12 +22,16 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
+#include <numbers>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "npend/analysis/chaos_map.hpp"
 #include "npend/batch_math.hpp"
 #include "npend/chain.hpp"
+#include "npend/integrate.hpp"
 
 namespace {
 
@@ -69,6 +73,32 @@ settings parse(int argc, char** argv) {
 std::vector<double> start_of(const settings& s, int i, int j) {
   return {npend::grid_value(-3.14, 3.14, s.count, i), npend::grid_value(-3.14, 3.14, s.count, j),
           0, 0};
+}
+
+// The baseline: npend::integrate per cell (rk4 at dt), an observer stopping the run at
+// the first grid point where an arm is upright; the cells the energy rules out are skipped,
+// as the other two runs skip them.
+std::vector<double> integrate_map(const npend::chain& c, const settings& s,
+                                  const npend::flip_options& o) {
+  std::vector<double> map;
+  npend::integration_options io;
+  io.stepper = npend::stepper_kind::rk4;
+  io.t_end = s.t_end;
+  io.dt = o.dt;
+  for (int j = 0; j < s.count; ++j)
+    for (int i = 0; i < s.count; ++i) {
+      const std::vector<double> x0 = start_of(s, i, j);
+      double flipped = std::numeric_limits<double>::infinity();
+      if (!npend::energy_forbids_flip(c, x0))
+        npend::integrate(c, x0, io, [&](double t, std::span<const double> x) {
+          if (std::fabs(x[0]) < std::numbers::pi && std::fabs(x[1]) < std::numbers::pi)
+            return npend::observer_action::proceed;
+          flipped = t;
+          return npend::observer_action::stop;
+        });
+      map.push_back(flipped);
+    }
+  return map;
 }
 
 std::vector<double> scalar_map(const npend::chain& c, const settings& s,
@@ -173,11 +203,17 @@ int main(int argc, char** argv) {
   if (s.lyapunov) return lyapunov_maps(c, s);
   npend::flip_options o{s.t_end, 0.01, 0};
   if (s.dopri5 > 0) o.stepping = {npend::stepper_kind::dopri5, s.dopri5, s.dopri5};
-  std::vector<double> scalar_seconds, lane_seconds, scalar, lanes;
+  std::vector<double> scalar_seconds, lane_seconds, integrate_seconds, scalar, lanes, integrated;
   for (int r = 0; r < s.rounds; ++r) {
     scalar_seconds.push_back(seconds_of([&] { return scalar_map(c, s, o); }, scalar));
     lane_seconds.push_back(seconds_of([&] { return lane_map(c, s, o); }, lanes));
+    if (s.dopri5 == 0)
+      integrate_seconds.push_back(seconds_of([&] { return integrate_map(c, s, o); }, integrated));
   }
+  // integrate's observer sees the same rk4 steps as flip_time: the same times.
+  long integrate_differing = 0;
+  for (std::size_t k = 0; k < integrated.size(); ++k)
+    integrate_differing += integrated[k] == scalar[k] ? 0 : 1;
   long differing = 0;
   double largest = 0;  // relative, over the cells both runs see flip
   for (std::size_t k = 0; k < scalar.size(); ++k) {
@@ -190,10 +226,12 @@ int main(int argc, char** argv) {
       fmt::format("{{\"count\": {}, \"t_end\": {}, \"rounds\": {}, \"stepper\": \"{}\", "
                   "\"tolerance\": {}, \"isa\": \"{}\", \"lanes\": {}, "
                   "\"scalar_seconds\": {}, \"lane_seconds\": {}, \"cells_differing\": {}, "
-                  "\"largest_relative_difference\": {}}}",
+                  "\"largest_relative_difference\": {}, \"integrate_seconds\": {}, "
+                  "\"integrate_cells_differing\": {}}}",
                   s.count, s.t_end, s.rounds, s.dopri5 > 0 ? "dopri5" : "rk4", s.dopri5,
                   npend::batch_isa(), npend::batch_lanes(c), list(scalar_seconds),
-                  list(lane_seconds), differing, largest)
+                  list(lane_seconds), differing, largest, list(integrate_seconds),
+                  integrate_differing)
           .c_str());
   return 0;
 }
