@@ -206,8 +206,9 @@ nlohmann::json run_identity(const map_command_options& o, const chain& c, const 
           {"base_angles", grid.angles},
           {grid.velocities ? "base_velocities" : "base_momenta", grid.momenta}};
   // rk4 maps keep the identity they had before dopri5 came, so that their folders resume.
+  if (cell.stepping.stepper != stepper_kind::rk4)
+    identity["stepper"] = stepper_name(cell.stepping.stepper);
   if (cell.stepping.stepper == stepper_kind::dopri5) {
-    identity["stepper"] = "dopri5";
     identity["abs_tol"] = cell.stepping.abs_tol;
     identity["rel_tol"] = cell.stepping.rel_tol;
   }
@@ -273,21 +274,23 @@ map_stepping map_stepping_of(const map_command_options& o, map_quantity quantity
     } catch (const std::invalid_argument& e) {
       throw cli::input_error(fmt::format("--stepper: {}", e.what()));
     }
-    if (stepping.stepper != stepper_kind::rk4 && stepping.stepper != stepper_kind::dopri5)
+    const stepper_kind k = stepping.stepper;
+    if (k != stepper_kind::rk4 && k != stepper_kind::dopri5 && k != stepper_kind::gauss4 &&
+        k != stepper_kind::gauss6)
       throw cli::input_error(fmt::format(
-          "--stepper: a map integrates with rk4 or dopri5, not {}", o.stepper));
+          "--stepper: a map integrates with rk4, dopri5, gauss4 or gauss6, not {}", o.stepper));
   }
-  if (stepping.stepper == stepper_kind::dopri5 && quantity != map_quantity::flip &&
+  if (stepping.stepper != stepper_kind::rk4 && quantity != map_quantity::flip &&
       quantity != map_quantity::lyapunov && quantity != map_quantity::state)
     throw cli::input_error(fmt::format(
-        "--stepper: the chaos indicators ({}) integrate with rk4 only; dopri5 takes flip, "
+        "--stepper: the chaos indicators ({}) integrate with rk4 only; {} takes flip, "
         "lyapunov and state",
-        map_quantity_name(quantity)));
+        map_quantity_name(quantity), o.stepper));
   const auto tolerance = [&](const std::string& text, const char* option, double& value) {
     if (text.empty()) return;
     if (stepping.stepper != stepper_kind::dopri5)
       throw cli::input_error(
-          fmt::format("{}: only with --stepper dopri5 (rk4 takes a fixed --dt)", option));
+          fmt::format("{}: only with --stepper dopri5 (the others take a fixed --dt)", option));
     value = cli::parse_number(text, option);
     if (value < 0) throw cli::input_error(fmt::format("{}: must not be negative, got {}", option, value));
   };
@@ -1008,11 +1011,14 @@ void add_map_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--dphi", o->dphi,
                   "The start's velocities instead of momenta (rad/s; p = A(phi) dphi per cell)");
   cmd->add_option("--t-end", o->t_end, "Integration time per cell in s (default 100)");
-  cmd->add_option("--dt", o->dt, "rk4's step in s; dopri5's first trial step (default 0.01)");
+  cmd->add_option("--dt", o->dt,
+                  "The step in s of rk4, gauss4 and gauss6; dopri5's first trial step (default "
+                  "0.01)");
   cmd->add_option("--stepper", o->stepper,
-                  "rk4 (default: fixed step --dt) or dopri5 (adaptive, each cell under its own "
-                  "step control; flip times located inside the step by its dense output; flip, "
-                  "lyapunov and state only)");
+                  "rk4 (default: fixed step --dt), dopri5 (adaptive, each cell under its own "
+                  "step control; flip times located inside the step by its dense output), or "
+                  "the symplectic gauss4 or gauss6 (fixed step --dt); other than rk4 for flip, "
+                  "lyapunov and state only");
   cmd->add_option("--abs-tol", o->abs_tol, "dopri5: absolute error tolerance (default 1e-10)");
   cmd->add_option("--rel-tol", o->rel_tol, "dopri5: relative error tolerance (default 1e-10)");
   cmd->add_option("--flip-link", o->flip_link, "flip: only arm K counts (default 0: any arm)");

@@ -9,12 +9,14 @@
 // With --lyapunov 1, the same for a map of the maximal Lyapunov exponent (rk4 at dt 0.01):
 // maximal_lyapunov_exponent cell by cell against map_cells on the lanes (tangent_batch);
 // it prints the largest difference between the two maps instead of the cells differing.
+// With --gauss6 1, the flip map by gauss6 at dt 0.01: the lanes' fixed-point stage iteration
+// against the library's Newton (flip_time cell by cell).
 // With --dopri5 TOL, the flip map by dopri5 at abs_tol = rel_tol = TOL instead of rk4: each
 // lane under its own step control against flip_time's dopri5 cell by cell; it prints the
 // largest relative difference of the flip times both runs find.
 //
 //   npend_bench_flip_map [--count N] [--t-end T] [--rounds R] [--lyapunov 0|1] [--dopri5 TOL]
-//                        (defaults 256, 1000, 3, 0, 0: rk4)
+//                        [--gauss6 0|1]  (defaults 256, 1000, 3, 0, 0: rk4, 0)
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -41,6 +43,7 @@ struct settings {
   int rounds = 3;
   bool lyapunov = false;
   double dopri5 = 0;  // the tolerance; 0: rk4
+  bool gauss6 = false;
 };
 
 settings parse(int argc, char** argv) {
@@ -57,6 +60,7 @@ settings parse(int argc, char** argv) {
     else if (a == "--rounds") s.rounds = static_cast<int>(v);
     else if (a == "--lyapunov") s.lyapunov = v != 0;
     else if (a == "--dopri5") s.dopri5 = v;
+    else if (a == "--gauss6") s.gauss6 = v != 0;
     else {
       std::fprintf(stderr, "npend_bench_flip_map: unknown option %s\n", a.c_str());
       std::exit(2);
@@ -203,11 +207,12 @@ int main(int argc, char** argv) {
   if (s.lyapunov) return lyapunov_maps(c, s);
   npend::flip_options o{s.t_end, 0.01, 0};
   if (s.dopri5 > 0) o.stepping = {npend::stepper_kind::dopri5, s.dopri5, s.dopri5};
+  if (s.gauss6) o.stepping.stepper = npend::stepper_kind::gauss6;
   std::vector<double> scalar_seconds, lane_seconds, integrate_seconds, scalar, lanes, integrated;
   for (int r = 0; r < s.rounds; ++r) {
     scalar_seconds.push_back(seconds_of([&] { return scalar_map(c, s, o); }, scalar));
     lane_seconds.push_back(seconds_of([&] { return lane_map(c, s, o); }, lanes));
-    if (s.dopri5 == 0)
+    if (o.stepping.stepper == npend::stepper_kind::rk4)
       integrate_seconds.push_back(seconds_of([&] { return integrate_map(c, s, o); }, integrated));
   }
   // integrate's observer sees the same rk4 steps as flip_time: the same times.
@@ -228,7 +233,7 @@ int main(int argc, char** argv) {
                   "\"scalar_seconds\": {}, \"lane_seconds\": {}, \"cells_differing\": {}, "
                   "\"largest_relative_difference\": {}, \"integrate_seconds\": {}, "
                   "\"integrate_cells_differing\": {}}}",
-                  s.count, s.t_end, s.rounds, s.dopri5 > 0 ? "dopri5" : "rk4", s.dopri5,
+                  s.count, s.t_end, s.rounds, npend::stepper_name(o.stepping.stepper), s.dopri5,
                   npend::batch_isa(), npend::batch_lanes(c), list(scalar_seconds),
                   list(lane_seconds), differing, largest, list(integrate_seconds),
                   integrate_differing)

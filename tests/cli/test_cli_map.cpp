@@ -178,6 +178,37 @@ TEST_CASE("npend map --stepper dopri5: every cell the library's dopri5 value, th
         npend::test::read_text((dir / "flip" / "map.npy").string()));
 }
 
+TEST_CASE("npend map --stepper gauss6: every cell the library's Gauss-Legendre value") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-gauss"));
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  for (const std::string quantity : {"flip", "state"}) {
+    const auto r = run_npend("map --links 2 --x phi1:-3:3:6 --y phi2:-2:3:4 --t-end 10 "
+                             "--stepper gauss6 --json --quantity " + quantity + " --out " +
+                             (dir / quantity).string());
+    REQUIRE(r.exit_code == 0);
+    CHECK(nlohmann::json::parse(r.out)["stepper"] == "gauss6");
+    const npy m = read_npy(dir / quantity / "map.npy");
+    REQUIRE(m.values.size() == 24);
+    npend::map_cell_options o;
+    o.quantity = npend::parse_map_quantity(quantity);
+    o.t_end = 10;
+    o.stepping.stepper = npend::stepper_kind::gauss6;
+    for (int row = 0; row < 4; ++row)
+      for (int col = 0; col < 6; ++col) {
+        const std::vector<double> x{npend::grid_value(-3, 3, 6, col),
+                                    npend::grid_value(-2, 3, 4, row), 0, 0};
+        INFO(quantity << ", row " << row << ", column " << col);
+        const double got = m.values[static_cast<std::size_t>(row * 6 + col)];
+        const double want = npend::map_cell(c, x, o);
+        CHECK((got == want || (std::isnan(got) && std::isnan(want))));
+      }
+  }
+  CHECK(npend::test::is_input_error(
+      run_npend("map --links 2 --x phi1:-3:3:6 --y phi2:-2:3:4 --stepper gauss6 --rel-tol 1e-9 "
+                "--out " + (dir / "tol").string()),
+      "--rel-tol: only with --stepper dopri5"));
+}
+
 TEST_CASE("npend map: energy, mass and length axes start each cell as the closed form says") {
   // The hanging double pendulum pushed with p = s (l1, l2) has the kinetic energy ½ pᵀA⁻¹p,
   // which for l1 = l2 = 1 and m1 = 1 is s² / (2 m2); so the energy axis must start each cell at

@@ -141,8 +141,16 @@ def test_dopri5_maps(tmp_path):
     stepped = npend.map_cells(one, [0, rate0], t_end=5, dt=0.01)
     assert located == pytest.approx(exact, abs=1e-9)
     assert exact <= stepped < exact + 0.01
-    with pytest.raises(ValueError, match="rk4 or dopri5"):
-        npend.map_cells(c, [1, 1, 0, 0], stepper="gauss6")
+    # gauss6 on the lanes (fixed-point stage iteration) against simulate's gauss6 (Newton).
+    c3 = npend.Chain(3)
+    x0 = [0.5, -0.4, 0.3, 0.2, 0.1, -0.1]
+    t, X = npend.simulate(c3, x0, t_end=2, dt=0.01, stepper="gauss6")
+    for k, name in enumerate(["phi1", "phi2", "phi3", "p1", "p2", "p3"]):
+        value = npend.map_cells(c3, x0, quantity="state", component=name, t_end=2, dt=0.01,
+                                stepper="gauss6")
+        assert value == pytest.approx(X[-1, k], rel=1e-10, abs=1e-12)
+    with pytest.raises(ValueError, match="rk4, dopri5, gauss4 or gauss6"):
+        npend.map_cells(c, [1, 1, 0, 0], stepper="bs")
     with pytest.raises(ValueError, match="rk4 only"):
         npend.map_cells(c, [1, 1, 0, 0], quantity="megno", stepper="dopri5")
     with pytest.raises(ValueError, match="stepper"):

@@ -18,6 +18,7 @@
 #include "detail/batch_lanes.hpp"
 #include "npend/batch_kernels.hpp"
 #include "npend/chain_system.hpp"
+#include "npend/gauss_legendre.hpp"
 #include "npend/integrate.hpp"
 #include "npend/integration_error.hpp"
 
@@ -109,6 +110,23 @@ void dopri5_steps(const chain& c, std::span<const double> x0, double t_end, doub
   });
 }
 
+// flip_time with a Gauss–Legendre stepper, through npend::integrate's grid of dt: the first
+// grid point at which an arm is upright.
+double flip_time_gauss(const chain& c, std::span<const double> x0, const flip_options& o) {
+  const auto n = static_cast<std::size_t>(c.links());
+  integration_options io;
+  io.stepper = o.stepping.stepper;
+  io.dt = o.dt;
+  io.t_end = o.t_end;
+  double found = std::numeric_limits<double>::infinity();
+  integrate(c, x0, io, [&](double t, std::span<const double> x) {
+    if (t == 0 || !has_flipped(x.data(), n, o)) return observer_action::proceed;
+    found = t;
+    return observer_action::stop;
+  });
+  return found;
+}
+
 double flip_time_dopri5(const chain& c, std::span<const double> x0, const flip_options& o) {
   const auto n = static_cast<std::size_t>(c.links());
   double found = std::numeric_limits<double>::infinity();
@@ -127,11 +145,20 @@ double flip_time_dopri5(const chain& c, std::span<const double> x0, const flip_o
 
 }  // namespace
 
+namespace {
+
+bool is_gauss(stepper_kind stepper) {
+  return stepper == stepper_kind::gauss4 || stepper == stepper_kind::gauss6;
+}
+
+}  // namespace
+
 void map_stepping::validate(std::string_view what) const {
-  if (stepper != stepper_kind::rk4 && stepper != stepper_kind::dopri5)
-    throw std::invalid_argument(fmt::format(
-        "{}: maps integrate with rk4 or dopri5, not {}", what, stepper_name(stepper)));
-  if (stepper == stepper_kind::rk4) return;
+  if (stepper != stepper_kind::rk4 && stepper != stepper_kind::dopri5 && !is_gauss(stepper))
+    throw std::invalid_argument(
+        fmt::format("{}: maps integrate with rk4, dopri5, gauss4 or gauss6, not {}", what,
+                    stepper_name(stepper)));
+  if (stepper != stepper_kind::dopri5) return;
   const auto check = [&](double tol, std::string_view name) {
     if (!(tol >= 0) || !std::isfinite(tol))
       throw std::invalid_argument(
@@ -156,6 +183,7 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
   std::vector<double> x(x0.begin(), x0.end());
   if (flipped(x)) return 0;
   if (o.stepping.stepper == stepper_kind::dopri5) return flip_time_dopri5(c, x0, o);
+  if (is_gauss(o.stepping.stepper)) return flip_time_gauss(c, x0, o);
   boost::numeric::odeint::runge_kutta4<std::vector<double>> stepper;
   const chain_system system(c);
   const auto steps = whole_steps(o.t_end, o.dt);
@@ -287,6 +315,44 @@ void flip_on_dopri5_lanes(const batch_kernels& k, const chain& c, std::span<cons
   run_on_lanes(rk, queue, start, done, out);
 }
 
+// flip_on_lanes with Gauss–Legendre (Stages 2: gauss4, 3: gauss6): the flip at the end of a
+// step of dt, as flip_time_gauss finds it. A cell whose lane could not solve its stage
+// equations by fixed-point iteration goes to flip_time (the library's Newton iteration).
+template <int Stages>
+void flip_on_gauss_lanes(const batch_kernels& k, const chain& c, std::span<const double> starts,
+                         const std::vector<std::size_t>& queue, const flip_options& o,
+                         std::vector<double>& out) {
+  const auto n = static_cast<std::size_t>(c.links());
+  const std::size_t m = 2 * n;
+  detail::lane_gauss<Stages> rk(lane_system(k, c.packed_parameters().data(), c.links(), 0, false),
+                                o.dt);
+  const long long steps = whole_steps(o.t_end, o.dt);
+  double angles[chain_layout::max_links];
+  std::vector<std::size_t> to_library;
+  const auto start = [&](double* x, std::size_t l, std::size_t cell) {
+    for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = starts[cell * m + i];
+    rk.restart(l);
+  };
+  const auto done = [&](const double* x, std::size_t l,
+                        const lane_slot& s) -> std::optional<double> {
+    if (rk.failed(l)) {
+      to_library.push_back(s.cell);
+      return std::numeric_limits<double>::quiet_NaN();
+    }
+    for (std::size_t i = 0; i < n; ++i) angles[i] = x[rk.at(i, l)];
+    if (has_flipped(angles, n, o)) return static_cast<double>(s.steps) * o.dt;
+    if (!std::isfinite(angles[0])) return std::numeric_limits<double>::quiet_NaN();
+    if (s.steps == steps) return std::numeric_limits<double>::infinity();
+    return std::nullopt;
+  };
+  run_on_lanes(rk, queue, start, done, out);
+  for (const std::size_t cell : to_library) try {
+      out[cell] = flip_time(c, starts.subspan(cell * m, m), o);
+    } catch (const integration_error&) {
+      out[cell] = std::numeric_limits<double>::quiet_NaN();
+    }
+}
+
 // The maximal Lyapunov exponents of the starts `queue` on the lanes, as
 // maximal_lyapunov_exponent computes them with `lo` (rk4, no transient): the tangent vector
 // starts as (1, …, 1)/√(2n) and is renormalised every round(interval / dt) steps and at the
@@ -414,35 +480,58 @@ void indicators_on_lanes(const batch_kernels& k, const chain& c, std::span<const
   run_on_lanes(rk, queue, start, done, out);
 }
 
+// Whether lane l of rk failed (only a Gauss–Legendre lane's stage iteration can).
+bool lane_failed(const lane_rk4&, std::size_t) { return false; }
+template <int Stages>
+bool lane_failed(const detail::lane_gauss<Stages>& rk, std::size_t l) {
+  return rk.failed(l);
+}
+
 // Coordinate o.component of each start's state at o.t_end on the lanes, as final_coordinate
-// computes it: rk4 steps of dt, then — where t_end is not a whole number of steps — one
-// shorter step to land on t_end, a second pass on lanes whose step is that rest. NaN where
-// the state becomes non-finite (where final_coordinate throws integration_error).
-void final_coordinates_on_lanes(const batch_kernels& k, const chain& c,
-                                std::span<const double> starts,
-                                const std::vector<std::size_t>& queue,
-                                const map_cell_options& o, std::vector<double>& out) {
+// computes it: fixed steps of dt (rk4, or Gauss–Legendre), then — where t_end is not a whole
+// number of steps — one shorter step to land on t_end, a second pass on lanes whose step is
+// that rest; make(dt) makes the stepper. NaN where the state becomes non-finite (where
+// final_coordinate throws integration_error). The cells whose Gauss–Legendre lane failed are
+// left for the library: their indices go to `failed`.
+template <class Make>
+void final_coordinates_on_lanes(const chain& c, std::span<const double> starts,
+                                const std::vector<std::size_t>& queue, const map_cell_options& o,
+                                const Make& make, std::vector<double>& out,
+                                std::vector<std::size_t>& failed) {
   const auto m = static_cast<std::size_t>(c.state_size());
   const auto steps = whole_steps(o.t_end, o.dt);
   const double rest = o.t_end - static_cast<double>(steps) * o.dt;
   std::vector<double> ends(starts.begin(), starts.end());  // each cell's state, advanced
   std::vector<double> unused(out.size());
+  std::vector<char> lost(out.size(), 0);
   const auto advance = [&](double dt, long long count) {
-    lane_rk4 rk(lane_system(k, c.packed_parameters().data(), c.links(), 0, false), dt);
+    auto rk = make(dt);
     const auto start = [&](double* x, std::size_t l, std::size_t cell) {
       for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = ends[cell * m + i];
+      if constexpr (requires { rk.restart(l); }) rk.restart(l);
     };
     const auto done = [&](const double* x, std::size_t l,
                           const lane_slot& s) -> std::optional<double> {
+      if (lane_failed(rk, l)) {
+        lost[s.cell] = 1;
+        return 0.0;
+      }
       if (s.steps != count) return std::nullopt;
       for (std::size_t i = 0; i < m; ++i) ends[s.cell * m + i] = x[rk.at(i, l)];
       return 0.0;
     };
-    run_on_lanes(rk, queue, start, done, unused);
+    std::vector<std::size_t> live;
+    for (const std::size_t cell : queue)
+      if (!lost[cell]) live.push_back(cell);
+    run_on_lanes(rk, live, start, done, unused);
   };
   advance(o.dt, steps);
   if (rest > 1e-9 * o.dt) advance(rest, 1);
   for (const std::size_t cell : queue) {
+    if (lost[cell]) {
+      failed.push_back(cell);
+      continue;
+    }
     const std::span<const double> x(ends.data() + cell * m, m);
     out[cell] = std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); })
                     ? x[static_cast<std::size_t>(o.component)]
@@ -509,10 +598,19 @@ std::vector<double> flip_times(const chain& c, std::span<const double> starts,
     else
       queue.push_back(i);
   }
-  if (o.stepping.stepper == stepper_kind::dopri5)
-    flip_on_dopri5_lanes(*k, c, starts, queue, o, out);
-  else
-    flip_on_lanes(*k, c, starts, queue, o, out);
+  switch (o.stepping.stepper) {
+    case stepper_kind::dopri5:
+      flip_on_dopri5_lanes(*k, c, starts, queue, o, out);
+      break;
+    case stepper_kind::gauss4:
+      flip_on_gauss_lanes<2>(*k, c, starts, queue, o, out);
+      break;
+    case stepper_kind::gauss6:
+      flip_on_gauss_lanes<3>(*k, c, starts, queue, o, out);
+      break;
+    default:
+      flip_on_lanes(*k, c, starts, queue, o, out);
+  }
   return out;
 }
 
@@ -616,13 +714,23 @@ double final_coordinate(const chain& c, std::span<const double> x0, const map_ce
     return x[static_cast<std::size_t>(o.component)];
   }
   std::vector<double> x(x0.begin(), x0.end());
-  boost::numeric::odeint::runge_kutta4<std::vector<double>> stepper;
-  const chain_system system(c);
   const auto steps = whole_steps(o.t_end, o.dt);
-  for (long long k = 1; k <= steps; ++k)
-    stepper.do_step(system, x, static_cast<double>(k - 1) * o.dt, o.dt);
   const double rest = o.t_end - static_cast<double>(steps) * o.dt;
-  if (rest > 1e-9 * o.dt) stepper.do_step(system, x, static_cast<double>(steps) * o.dt, rest);
+  const auto run = [&](auto& stepper, const auto& system) {
+    for (long long k = 1; k <= steps; ++k)
+      stepper.do_step(system, x, static_cast<double>(k - 1) * o.dt, o.dt);
+    if (rest > 1e-9 * o.dt) stepper.do_step(system, x, static_cast<double>(steps) * o.dt, rest);
+  };
+  if (o.stepping.stepper == stepper_kind::gauss4) {
+    gauss_legendre4 stepper;
+    run(stepper, make_implicit_system(c));
+  } else if (o.stepping.stepper == stepper_kind::gauss6) {
+    gauss_legendre6 stepper;
+    run(stepper, make_implicit_system(c));
+  } else {
+    boost::numeric::odeint::runge_kutta4<std::vector<double>> stepper;
+    run(stepper, chain_system(c));
+  }
   for (const double v : x)
     if (!std::isfinite(v))
       throw integration_error("state: the state became non-finite; try a smaller dt", o.t_end);
@@ -701,7 +809,9 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
   };
   if (options.quantity == map_quantity::lyapunov) {
     const lyapunov_options lo = map_lyapunov_options(options);
-    if (k == nullptr)
+    // Gauss–Legendre's Lyapunov exponents come from its tangent map (the derivative of each
+    // step, lyapunov.cpp), which the lanes do not have: cell by cell.
+    if (k == nullptr || is_gauss(options.stepping.stepper))
       return cell_by_cell(starts, m, [&](std::span<const double> x0) {
         return maximal_lyapunov_exponent(c, x0, lo).exponents.front();
       });
@@ -726,10 +836,34 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
       return cell_by_cell(starts, m, [&](std::span<const double> x0) {
         return final_coordinate(c, x0, options);
       });
-    if (options.stepping.stepper == stepper_kind::dopri5)
-      final_coordinates_on_dopri5_lanes(*k, c, starts, all_cells(out.size()), options, out);
-    else
-      final_coordinates_on_lanes(*k, c, starts, all_cells(out.size()), options, out);
+    const auto params = c.packed_parameters().data();
+    const auto system = [&] { return lane_system(*k, params, c.links(), 0, false); };
+    std::vector<std::size_t> failed;
+    switch (options.stepping.stepper) {
+      case stepper_kind::dopri5:
+        final_coordinates_on_dopri5_lanes(*k, c, starts, all_cells(out.size()), options, out);
+        break;
+      case stepper_kind::gauss4:
+        final_coordinates_on_lanes(
+            c, starts, all_cells(out.size()), options,
+            [&](double dt) { return detail::lane_gauss<2>(system(), dt); }, out, failed);
+        break;
+      case stepper_kind::gauss6:
+        final_coordinates_on_lanes(
+            c, starts, all_cells(out.size()), options,
+            [&](double dt) { return detail::lane_gauss<3>(system(), dt); }, out, failed);
+        break;
+      default:
+        final_coordinates_on_lanes(
+            c, starts, all_cells(out.size()), options,
+            [&](double dt) { return lane_rk4(system(), dt); }, out, failed);
+    }
+    // Cells a Gauss–Legendre lane could not solve: the library's Newton iteration.
+    for (const std::size_t cell : failed) try {
+        out[cell] = final_coordinate(c, starts.subspan(cell * m, m), options);
+      } catch (const integration_error&) {
+        out[cell] = std::numeric_limits<double>::quiet_NaN();
+      }
   }
   return out;
 }

@@ -1,6 +1,11 @@
 #include "batch_lanes.hpp"
 
+#include "npend/detail/gauss_legendre_tableau.hpp"
+
 #include <batch_index.hpp>
+
+#include <Eigen/Dense>
+#include <limits>
 
 #include <algorithm>
 #include <cmath>
@@ -325,5 +330,173 @@ void lane_dopri5::copy_lane(std::size_t to, std::size_t from) {
   m_lane[to] = m_lane[from];
   m_h[to] = m_h[from];
 }
+
+template <int Stages>
+lane_gauss<Stages>::lane_gauss(lane_system system, double dt)
+    : m_system(std::move(system)),
+      m_block(m_system.coordinates() * W),
+      m_dt(dt),
+      m_x(m_block * lane_blocks),
+      m_tmp(m_x.size()) {
+  using tableau = gauss_legendre_tableau<Stages>;
+  for (int i = 0; i < s; ++i) {
+    m_z[static_cast<std::size_t>(i)].assign(m_x.size(), 0.0);
+    m_f[static_cast<std::size_t>(i)].assign(m_x.size(), 0.0);
+    m_f_kept[static_cast<std::size_t>(i)].assign(m_x.size(), 0.0);
+  }
+  // As gauss_legendre::init_coefficients forms them.
+  Eigen::Matrix<double, s, s> V, A;
+  Eigen::Matrix<double, 1, s> b;
+  for (int i = 0; i < s; ++i) {
+    b(i) = tableau::b[static_cast<std::size_t>(i)];
+    for (int k = 0; k < s; ++k) {
+      V(i, k) = std::pow(tableau::c[static_cast<std::size_t>(i)], k);
+      A(i, k) = tableau::a[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
+    }
+  }
+  const Eigen::Matrix<double, s, s> alpha = V.inverse();
+  const auto integrated = [&](int j, double theta) {
+    double sum = 0;
+    for (int k = 0; k < s; ++k) sum += alpha(k, j) * std::pow(theta, k + 1) / (k + 1);
+    return sum;
+  };
+  for (int i = 0; i < s; ++i)
+    for (int j = 0; j < s; ++j)
+      m_extrapolation[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] =
+          integrated(j, 1 + tableau::c[static_cast<std::size_t>(i)]) -
+          tableau::b[static_cast<std::size_t>(j)];
+  const Eigen::Matrix<double, 1, s> d = b * A.inverse();
+  for (int i = 0; i < s; ++i) m_d[static_cast<std::size_t>(i)] = d(i);
+}
+
+template <int Stages>
+void lane_gauss<Stages>::rhs(int blocks, const double* x, double* dxdt) {
+  for (int b = 0; b < blocks; ++b) {
+    const std::size_t o = m_block * static_cast<std::size_t>(b);
+    m_system(x + o, dxdt + o);
+  }
+}
+
+template <int Stages>
+void lane_gauss<Stages>::step(int blocks) {
+  using tableau = gauss_legendre_tableau<Stages>;
+  const std::size_t used = static_cast<std::size_t>(blocks) * W, d = coordinates(),
+                    size = m_block * static_cast<std::size_t>(blocks);
+  const double h = m_dt;
+  // gauss_legendre's limits: the rounding unit of the stage equations (16 eps, times dim/16
+  // beyond 16 coordinates) and the tolerance on the estimated remaining error.
+  const double round_off =
+      16 * std::numeric_limits<double>::epsilon() * std::max(1.0, static_cast<double>(d) / 16.0);
+  const double tolerance = 1e-3 * std::numeric_limits<double>::epsilon();
+  // The starting guess: the previous step's collocation polynomial continued, or Z = 0.
+  for (int i = 0; i < s; ++i) {
+    double* z = m_z[static_cast<std::size_t>(i)].data();
+    for (std::size_t l = 0; l < used; ++l)
+      for (std::size_t k = 0; k < d; ++k) {
+        const std::size_t a = at(k, l);
+        double guess = 0;
+        if (m_previous[l])
+          for (int j = 0; j < s; ++j)
+            guess += m_extrapolation[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] *
+                     m_f_kept[static_cast<std::size_t>(j)][a];
+        z[a] = m_previous[l] ? h * guess : 0.0;
+      }
+  }
+  for (std::size_t l = 0; l < used; ++l) {
+    double norm = 0;
+    for (std::size_t k = 0; k < d; ++k) norm = std::max(norm, std::fabs(m_x[at(k, l)]));
+    m_x_norm[l] = norm;
+    m_active[l] = m_failed[l] ? 0.0 : 1.0;
+    m_last_norm[l] = 0;
+  }
+  for (int iteration = 1;; ++iteration) {
+    bool any = false;
+    for (std::size_t l = 0; l < used; ++l) any |= m_active[l] != 0;
+    if (!any) break;
+    for (int i = 0; i < s; ++i) {
+      const double* z = m_z[static_cast<std::size_t>(i)].data();
+      double* tmp = m_tmp.data();
+      const double* x = m_x.data();
+#pragma omp simd
+      for (std::size_t a = 0; a < size; ++a) tmp[a] = x[a] + z[a];
+      rhs(blocks, m_tmp.data(), m_f[static_cast<std::size_t>(i)].data());
+    }
+    // Z_i += (h Σ_j a_ij f_j − Z_i) on the lanes still iterating; their correction norms.
+    std::array<double, lanes> norm{}, scale{};
+    for (std::size_t l = 0; l < used; ++l) scale[l] = m_x_norm[l];
+    for (int i = 0; i < s; ++i) {
+      double* z = m_z[static_cast<std::size_t>(i)].data();
+      for (std::size_t l = 0; l < used; ++l) {
+        if (m_active[l] == 0) continue;
+        for (std::size_t k = 0; k < d; ++k) {
+          const std::size_t a = at(k, l);
+          double sum = 0;
+          for (int j = 0; j < s; ++j)
+            sum += tableau::a[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] *
+                   m_f[static_cast<std::size_t>(j)][a];
+          const double dz = h * sum - z[a];
+          z[a] += dz;
+          norm[l] = std::max(norm[l], std::fabs(dz));
+          scale[l] = std::max(scale[l], std::fabs(z[a]));
+        }
+      }
+    }
+    for (std::size_t l = 0; l < used; ++l) {
+      if (m_active[l] == 0) continue;
+      bool done = false, failed = false;
+      if (!std::isfinite(norm[l]) || !std::isfinite(scale[l])) {
+        failed = true;
+      } else if (norm[l] == 0) {
+        done = true;
+      } else if (iteration >= 2) {
+        const double theta = norm[l] / m_last_norm[l];
+        if (theta < 1 && theta / (1 - theta) * norm[l] <= tolerance * scale[l])
+          done = true;
+        else if (norm[l] <= round_off * scale[l])
+          done = theta >= 0.5;
+      }
+      if (!done && !failed && iteration >= max_iterations) failed = true;
+      m_last_norm[l] = norm[l];
+      if (failed) {
+        m_failed[l] = 1;
+        m_active[l] = 0;
+      } else if (done) {
+        // The f of the iteration that converged, for the next step's guess, kept apart so
+        // that the neighbours' further iterations do not touch it.
+        for (int j = 0; j < s; ++j)
+          for (std::size_t k = 0; k < d; ++k)
+            m_f_kept[static_cast<std::size_t>(j)][at(k, l)] =
+                m_f[static_cast<std::size_t>(j)][at(k, l)];
+        m_active[l] = 0;
+      }
+    }
+  }
+  // x1 = x0 + Σ_i d_i Z_i.
+  for (std::size_t l = 0; l < used; ++l) {
+    for (std::size_t k = 0; k < d; ++k) {
+      const std::size_t a = at(k, l);
+      double increment = 0;
+      for (int i = 0; i < s; ++i)
+        increment += m_d[static_cast<std::size_t>(i)] * m_z[static_cast<std::size_t>(i)][a];
+      m_x[a] += increment;
+    }
+    m_previous[l] = 1;
+  }
+}
+
+template <int Stages>
+void lane_gauss<Stages>::copy_lane(std::size_t to, std::size_t from) {
+  for (std::size_t k = 0; k < coordinates(); ++k) {
+    m_x[at(k, to)] = m_x[at(k, from)];
+    for (int j = 0; j < s; ++j)
+      m_f_kept[static_cast<std::size_t>(j)][at(k, to)] =
+          m_f_kept[static_cast<std::size_t>(j)][at(k, from)];
+  }
+  m_previous[to] = m_previous[from];
+  m_failed[to] = m_failed[from];
+}
+
+template class lane_gauss<2>;
+template class lane_gauss<3>;
 
 }  // namespace npend::detail

@@ -182,6 +182,68 @@ class lane_dopri5 {
       m_f_out, m_err, m_coefficient;
 };
 
+// Gauss–Legendre with `Stages` stages (2: gauss4, 3: gauss6) at the fixed step dt on
+// lane_blocks blocks of a lane_system's lanes (laid out as lane_rk4's): what
+// npend::gauss_legendre computes, up to round-off. Every lane solves its stage equations
+// Z_i = h Σ_j a_ij f(x + Z_j) by fixed-point iteration — only rhs evaluations, which the lanes
+// do fast, where the library's simplified Newton needs a Jacobian and an LU factorisation
+// per lane — from the library's starting guess (its previous step's collocation polynomial,
+// after the first step) and to the library's stopping rule (the estimated remaining error
+// below 1e-3 of the rounding unit, or round-off noise). The solution of the stage equations
+// does not depend on the iteration that finds it, so the steps agree with the library's to
+// round-off. A lane stops iterating when it has converged, on its own, so its value does not
+// depend on its neighbours. A lane whose iteration does not converge in max_iterations
+// (h‖J‖ too large for a fixed point) is marked failed: its cell belongs to the library,
+// whose Newton iteration may still solve it.
+template <int Stages>
+class lane_gauss {
+ public:
+  static constexpr int W = batch_width;
+  static constexpr int lanes = W * lane_blocks;
+  static constexpr int s = Stages;
+  static constexpr int max_iterations = 60;
+
+  lane_gauss(lane_system system, double dt);
+
+  const lane_system& system() const { return m_system; }
+  double* state() { return m_x.data(); }
+  std::size_t coordinates() const { return m_system.coordinates(); }
+  std::size_t at(std::size_t i, std::size_t l) const {
+    return (l / W) * m_block + i * W + l % W;
+  }
+
+  /// Lane l starts from the state now in its coordinates: no previous step to extrapolate.
+  void restart(std::size_t l) {
+    m_previous[l] = 0;
+    m_failed[l] = 0;
+  }
+
+  /// One step of dt for every lane of the first `blocks` blocks.
+  void step(int blocks);
+
+  /// Whether lane l's stage iteration failed (in any step since its restart).
+  bool failed(std::size_t l) const { return m_failed[l] != 0; }
+
+  void copy_lane(std::size_t to, std::size_t from);
+
+ private:
+  void rhs(int blocks, const double* x, double* dxdt);
+
+  lane_system m_system;
+  std::size_t m_block;
+  double m_dt;
+  // Coefficients as gauss_legendre forms them: the starting guess's extrapolation of the
+  // previous step's collocation polynomial, and d = bᵀA⁻¹ (x1 = x0 + Σ d_i Z_i).
+  std::array<std::array<double, Stages>, Stages> m_extrapolation{};
+  std::array<double, Stages> m_d{};
+  std::vector<double> m_x, m_tmp;
+  std::array<std::vector<double>, Stages> m_z, m_f, m_f_kept;
+  // Per lane: a previous step to extrapolate from, failure, still iterating (1/0), and the
+  // iteration's last correction norm.
+  std::array<unsigned char, lanes> m_previous{}, m_failed{};
+  std::array<double, lanes> m_active{}, m_last_norm{}, m_x_norm{};
+};
+
 // What a lane carries besides its coordinates.
 struct lane_slot {
   std::size_t cell = 0;  // index of its start in the queue's `starts`
