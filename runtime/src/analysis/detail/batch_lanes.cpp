@@ -388,27 +388,49 @@ void lane_gauss<Stages>::step(int blocks) {
   const double round_off =
       16 * std::numeric_limits<double>::epsilon() * std::max(1.0, static_cast<double>(d) / 16.0);
   const double tolerance = 1e-3 * std::numeric_limits<double>::epsilon();
-  // The starting guess: the previous step's collocation polynomial continued, or Z = 0.
-  for (int i = 0; i < s; ++i) {
-    double* z = m_z[static_cast<std::size_t>(i)].data();
-    for (std::size_t l = 0; l < used; ++l)
-      for (std::size_t k = 0; k < d; ++k) {
-        const std::size_t a = at(k, l);
-        double guess = 0;
-        if (m_previous[l])
-          for (int j = 0; j < s; ++j)
-            guess += m_extrapolation[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] *
-                     m_f_kept[static_cast<std::size_t>(j)][a];
-        z[a] = m_previous[l] ? h * guess : 0.0;
-      }
+  // The loops below run block by block, coordinate by coordinate, over the W lanes of a
+  // block: element o + l of an array, per-lane value [first + l], first = b*W.
+  const auto each = [&](const auto& body) {
+    for (int b = 0; b < blocks; ++b)
+      for (std::size_t k = 0; k < d; ++k)
+        body(m_block * static_cast<std::size_t>(b) + k * W, static_cast<std::size_t>(b) * W);
+  };
+  std::array<const double*, Stages> f, kept;
+  for (int j = 0; j < s; ++j) {
+    f[static_cast<std::size_t>(j)] = m_f[static_cast<std::size_t>(j)].data();
+    kept[static_cast<std::size_t>(j)] = m_f_kept[static_cast<std::size_t>(j)].data();
   }
+  std::array<double, lanes> previous{};
   for (std::size_t l = 0; l < used; ++l) {
-    double norm = 0;
-    for (std::size_t k = 0; k < d; ++k) norm = std::max(norm, std::fabs(m_x[at(k, l)]));
-    m_x_norm[l] = norm;
+    previous[l] = m_previous[l] ? 1.0 : 0.0;
     m_active[l] = m_failed[l] ? 0.0 : 1.0;
+    m_x_norm[l] = 0;
     m_last_norm[l] = 0;
   }
+  // The starting guess: the previous step's collocation polynomial continued, or Z = 0.
+  const double* x = m_x.data();
+  for (int i = 0; i < s; ++i) {
+    double* z = m_z[static_cast<std::size_t>(i)].data();
+    const auto& e = m_extrapolation[static_cast<std::size_t>(i)];
+    each([&](std::size_t o, std::size_t first) {
+      const double* from = previous.data() + first;
+#pragma omp simd
+      for (std::size_t l = 0; l < W; ++l) {
+        double guess = 0;
+        for (int j = 0; j < s; ++j)
+          guess += e[static_cast<std::size_t>(j)] * kept[static_cast<std::size_t>(j)][o + l];
+        z[o + l] = from[l] != 0 ? h * guess : 0.0;
+      }
+    });
+  }
+  each([&](std::size_t o, std::size_t first) {
+    double* norm = m_x_norm.data() + first;
+#pragma omp simd
+    for (std::size_t l = 0; l < W; ++l) {
+      const double v = std::fabs(x[o + l]);
+      norm[l] = norm[l] < v ? v : norm[l];
+    }
+  });
   for (int iteration = 1;; ++iteration) {
     bool any = false;
     for (std::size_t l = 0; l < used; ++l) any |= m_active[l] != 0;
@@ -416,7 +438,6 @@ void lane_gauss<Stages>::step(int blocks) {
     for (int i = 0; i < s; ++i) {
       const double* z = m_z[static_cast<std::size_t>(i)].data();
       double* tmp = m_tmp.data();
-      const double* x = m_x.data();
 #pragma omp simd
       for (std::size_t a = 0; a < size; ++a) tmp[a] = x[a] + z[a];
       rhs(blocks, m_tmp.data(), m_f[static_cast<std::size_t>(i)].data());
@@ -426,20 +447,23 @@ void lane_gauss<Stages>::step(int blocks) {
     for (std::size_t l = 0; l < used; ++l) scale[l] = m_x_norm[l];
     for (int i = 0; i < s; ++i) {
       double* z = m_z[static_cast<std::size_t>(i)].data();
-      for (std::size_t l = 0; l < used; ++l) {
-        if (m_active[l] == 0) continue;
-        for (std::size_t k = 0; k < d; ++k) {
-          const std::size_t a = at(k, l);
+      const auto& a = tableau::a[static_cast<std::size_t>(i)];
+      each([&](std::size_t o, std::size_t first) {
+        const double* active = m_active.data() + first;
+        double *zo = z + o, *n = norm.data() + first, *sc = scale.data() + first;
+#pragma omp simd
+        for (std::size_t l = 0; l < W; ++l) {
           double sum = 0;
           for (int j = 0; j < s; ++j)
-            sum += tableau::a[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] *
-                   m_f[static_cast<std::size_t>(j)][a];
-          const double dz = h * sum - z[a];
-          z[a] += dz;
-          norm[l] = std::max(norm[l], std::fabs(dz));
-          scale[l] = std::max(scale[l], std::fabs(z[a]));
+            sum += a[static_cast<std::size_t>(j)] * f[static_cast<std::size_t>(j)][o + l];
+          const double dz = h * sum - zo[l];
+          const double moved = active[l] != 0 ? zo[l] + dz : zo[l];
+          const double change = active[l] != 0 ? std::fabs(dz) : 0.0;
+          zo[l] = moved;
+          n[l] = n[l] < change ? change : n[l];
+          sc[l] = sc[l] < std::fabs(moved) ? std::fabs(moved) : sc[l];
         }
-      }
+      });
     }
     for (std::size_t l = 0; l < used; ++l) {
       if (m_active[l] == 0) continue;
@@ -472,16 +496,19 @@ void lane_gauss<Stages>::step(int blocks) {
     }
   }
   // x1 = x0 + Σ_i d_i Z_i.
-  for (std::size_t l = 0; l < used; ++l) {
-    for (std::size_t k = 0; k < d; ++k) {
-      const std::size_t a = at(k, l);
+  double* xs = m_x.data();
+  std::array<const double*, Stages> zs;
+  for (int i = 0; i < s; ++i) zs[static_cast<std::size_t>(i)] = m_z[static_cast<std::size_t>(i)].data();
+  each([&](std::size_t o, std::size_t) {
+#pragma omp simd
+    for (std::size_t l = 0; l < W; ++l) {
       double increment = 0;
       for (int i = 0; i < s; ++i)
-        increment += m_d[static_cast<std::size_t>(i)] * m_z[static_cast<std::size_t>(i)][a];
-      m_x[a] += increment;
+        increment += m_d[static_cast<std::size_t>(i)] * zs[static_cast<std::size_t>(i)][o + l];
+      xs[o + l] += increment;
     }
-    m_previous[l] = 1;
-  }
+  });
+  for (std::size_t l = 0; l < used; ++l) m_previous[l] = 1;
 }
 
 template <int Stages>
