@@ -22,6 +22,46 @@
 
 namespace npend {
 
+namespace detail {
+
+/// What the s-stage Gauss–Legendre step derives from its tableau: the continuation of the
+/// previous step's collocation polynomial u(t0 + θh) = x0 + h Σ_j ∫_0^θ ℓ_j K_j into the next
+/// step, Z_i ≈ h Σ_j extrapolation(i, j) K_j (the next step's starting guess), and
+/// d = bᵀA⁻¹, with which x1 = x0 + Σ_i d_i Z_i needs no further evaluation.
+template <int Stages>
+struct gauss_legendre_coefficients {
+  Eigen::Matrix<double, Stages, Stages> extrapolation;
+  Eigen::Matrix<double, 1, Stages> d;
+
+  gauss_legendre_coefficients() {
+    using tableau = gauss_legendre_tableau<Stages>;
+    constexpr int s = Stages;
+    // Lagrange polynomials on the nodes in the monomial basis: V α = I, V_ik = c_i^k.
+    Eigen::Matrix<double, s, s> V;
+    for (int i = 0; i < s; ++i)
+      for (int k = 0; k < s; ++k) V(i, k) = std::pow(tableau::c[i], k);
+    const Eigen::Matrix<double, s, s> alpha = V.inverse();
+    // ∫_0^θ ℓ_j
+    const auto integrated = [&](int j, double theta) {
+      double sum = 0;
+      for (int k = 0; k < s; ++k) sum += alpha(k, j) * std::pow(theta, k + 1) / (k + 1);
+      return sum;
+    };
+    for (int i = 0; i < s; ++i)
+      for (int j = 0; j < s; ++j)
+        extrapolation(i, j) = integrated(j, 1 + tableau::c[i]) - tableau::b[j];
+    Eigen::Matrix<double, s, s> A;
+    Eigen::Matrix<double, 1, s> b;
+    for (int i = 0; i < s; ++i) {
+      b(i) = tableau::b[i];
+      for (int j = 0; j < s; ++j) A(i, j) = tableau::a[i][j];
+    }
+    d = b * A.inverse();
+  }
+};
+
+}  // namespace detail
+
 /// Work counters of a gauss_legendre stepper since its construction.
 struct gauss_legendre_statistics {
   std::size_t steps = 0;
@@ -181,30 +221,9 @@ class gauss_legendre {
   enum class matrix_state { none, stale, fresh, full };
 
   void init_coefficients() {
-    // Lagrange polynomials on the nodes in the monomial basis: V α = I, V_ik = c_i^k.
-    Eigen::Matrix<double, s, s> V;
-    for (int i = 0; i < s; ++i)
-      for (int k = 0; k < s; ++k) V(i, k) = std::pow(tableau::c[i], k);
-    const Eigen::Matrix<double, s, s> alpha = V.inverse();
-    // ∫_0^θ ℓ_j
-    const auto integrated = [&](int j, double theta) {
-      double sum = 0;
-      for (int k = 0; k < s; ++k) sum += alpha(k, j) * std::pow(theta, k + 1) / (k + 1);
-      return sum;
-    };
-    // The previous step's collocation polynomial u(t0 + θh) = x0 + h Σ_j ∫_0^θ ℓ_j K_j,
-    // continued into the next step: Z_i ≈ u(t0 + (1 + c_i)h) − u(t0 + h).
-    for (int i = 0; i < s; ++i)
-      for (int j = 0; j < s; ++j)
-        m_extrapolation(i, j) = integrated(j, 1 + tableau::c[i]) - tableau::b[j];
-    // x1 = x0 + Σ_i d_i Z_i with dᵀ = bᵀA⁻¹: uses the converged Z without more evaluations.
-    Eigen::Matrix<double, s, s> A;
-    Eigen::Matrix<double, 1, s> b;
-    for (int i = 0; i < s; ++i) {
-      b(i) = tableau::b[i];
-      for (int j = 0; j < s; ++j) A(i, j) = tableau::a[i][j];
-    }
-    m_d = b * A.inverse();
+    const detail::gauss_legendre_coefficients<Stages> coefficients;
+    m_extrapolation = coefficients.extrapolation;
+    m_d = coefficients.d;
   }
 
   void resize(std::size_t d) {

@@ -281,26 +281,41 @@ bool dopri5_lane_failed(const lane_dopri5& rk, const double* x, std::size_t l,
   return rk.step_size(l) < min_step;
 }
 
-// flip_on_lanes with dopri5: each lane under its own step control, the flip located in the
-// step where it happens as flip_time_dopri5 locates it.
-void flip_on_dopri5_lanes(const batch_kernels& k, const chain& c, std::span<const double> starts,
-                          const std::vector<std::size_t>& queue, const flip_options& o,
-                          std::vector<double>& out) {
-  const auto n = static_cast<std::size_t>(c.links());
-  const std::size_t m = 2 * n;
+// Runs the starts `queue` (the state alone) on dopri5 lanes, each from t = 0 with the
+// trial step dt under the tolerances of `stepping`: after every accepted step,
+// settle(rk, x, l) gives the cell's value or std::nullopt to go on. A lane whose step fails
+// (where npend::integrate would throw integration_error) gives NaN.
+template <class Settle>
+void run_dopri5_cells(const batch_kernels& k, const chain& c, std::span<const double> starts,
+                      const std::vector<std::size_t>& queue, const map_stepping& stepping,
+                      double dt, const Settle& settle, std::vector<double>& out) {
+  const auto m = static_cast<std::size_t>(c.state_size());
   lane_dopri5 rk(lane_system(k, c.packed_parameters().data(), c.links(), 0, false),
-                 o.stepping.abs_tol, o.stepping.rel_tol);
-  const double min_step = integration_options{}.min_step_ratio * o.dt;
-  double angles[chain_layout::max_links];
+                 stepping.abs_tol, stepping.rel_tol);
+  const double min_step = integration_options{}.min_step_ratio * dt;
   const auto start = [&](double* x, std::size_t l, std::size_t cell) {
     for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = starts[cell * m + i];
-    rk.restart(l, 0, o.dt);
+    rk.restart(l, 0, dt);
   };
   const auto done = [&](const double* x, std::size_t l,
                         const lane_slot&) -> std::optional<double> {
     if (dopri5_lane_failed(rk, x, l, m, min_step))
       return std::numeric_limits<double>::quiet_NaN();
     if (!rk.accepted(l)) return std::nullopt;
+    return settle(rk, x, l);
+  };
+  run_on_lanes(rk, queue, start, done, out);
+}
+
+// flip_on_lanes with dopri5: each lane under its own step control, the flip located in the
+// step where it happens as flip_time_dopri5 locates it.
+void flip_on_dopri5_lanes(const batch_kernels& k, const chain& c, std::span<const double> starts,
+                          const std::vector<std::size_t>& queue, const flip_options& o,
+                          std::vector<double>& out) {
+  const auto n = static_cast<std::size_t>(c.links());
+  double angles[chain_layout::max_links];
+  const auto settle = [&](const lane_dopri5& rk, const double* x,
+                          std::size_t l) -> std::optional<double> {
     for (std::size_t i = 0; i < n; ++i) angles[i] = x[rk.at(i, l)];
     if (has_flipped(angles, n, o)) {
       const double t = locate_flip(rk.step_begin(l), rk.time(l), [&](double at) {
@@ -312,7 +327,7 @@ void flip_on_dopri5_lanes(const batch_kernels& k, const chain& c, std::span<cons
     if (rk.time(l) >= o.t_end) return std::numeric_limits<double>::infinity();
     return std::nullopt;
   };
-  run_on_lanes(rk, queue, start, done, out);
+  run_dopri5_cells(k, c, starts, queue, o.stepping, o.dt, settle, out);
 }
 
 // flip_on_lanes with Gauss–Legendre (Stages 2: gauss4, 3: gauss6): the flip at the end of a
@@ -541,31 +556,21 @@ void final_coordinates_on_lanes(const chain& c, std::span<const double> starts,
 
 // final_coordinates_on_lanes with dopri5: each lane steps under its own control until a
 // step ends at or past t_end, and the value is the dense output at t_end, as
-// final_coordinate_dopri5 takes it.
+// final_coordinate takes it.
 void final_coordinates_on_dopri5_lanes(const batch_kernels& k, const chain& c,
                                        std::span<const double> starts,
                                        const std::vector<std::size_t>& queue,
                                        const map_cell_options& o, std::vector<double>& out) {
-  const auto m = static_cast<std::size_t>(c.state_size());
-  lane_dopri5 rk(lane_system(k, c.packed_parameters().data(), c.links(), 0, false),
-                 o.stepping.abs_tol, o.stepping.rel_tol);
-  const double min_step = integration_options{}.min_step_ratio * o.dt;
-  std::vector<double> y(m);
-  const auto start = [&](double* x, std::size_t l, std::size_t cell) {
-    for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = starts[cell * m + i];
-    rk.restart(l, 0, o.dt);
-  };
-  const auto done = [&](const double* x, std::size_t l,
-                        const lane_slot&) -> std::optional<double> {
-    if (dopri5_lane_failed(rk, x, l, m, min_step))
-      return std::numeric_limits<double>::quiet_NaN();
-    if (!rk.accepted(l) || rk.time(l) < o.t_end) return std::nullopt;
-    rk.state_at(l, o.t_end, 0, m, y.data());
+  std::vector<double> y(static_cast<std::size_t>(c.state_size()));
+  const auto settle = [&](const lane_dopri5& rk, const double*,
+                          std::size_t l) -> std::optional<double> {
+    if (rk.time(l) < o.t_end) return std::nullopt;
+    rk.state_at(l, o.t_end, 0, y.size(), y.data());
     return std::all_of(y.begin(), y.end(), [](double v) { return std::isfinite(v); })
                ? y[static_cast<std::size_t>(o.component)]
                : std::numeric_limits<double>::quiet_NaN();
   };
-  run_on_lanes(rk, queue, start, done, out);
+  run_dopri5_cells(k, c, starts, queue, o.stepping, o.dt, settle, out);
 }
 
 }  // namespace

@@ -1,10 +1,9 @@
 #include "batch_lanes.hpp"
 
-#include "npend/detail/gauss_legendre_tableau.hpp"
+#include "npend/gauss_legendre.hpp"
 
 #include <batch_index.hpp>
 
-#include <Eigen/Dense>
 #include <limits>
 
 #include <algorithm>
@@ -338,35 +337,19 @@ lane_gauss<Stages>::lane_gauss(lane_system system, double dt)
       m_dt(dt),
       m_x(m_block * lane_blocks),
       m_tmp(m_x.size()) {
-  using tableau = gauss_legendre_tableau<Stages>;
   for (int i = 0; i < s; ++i) {
     m_z[static_cast<std::size_t>(i)].assign(m_x.size(), 0.0);
     m_f[static_cast<std::size_t>(i)].assign(m_x.size(), 0.0);
     m_f_kept[static_cast<std::size_t>(i)].assign(m_x.size(), 0.0);
   }
-  // As gauss_legendre::init_coefficients forms them.
-  Eigen::Matrix<double, s, s> V, A;
-  Eigen::Matrix<double, 1, s> b;
+  // gauss_legendre's own coefficients.
+  const gauss_legendre_coefficients<Stages> coefficients;
   for (int i = 0; i < s; ++i) {
-    b(i) = tableau::b[static_cast<std::size_t>(i)];
-    for (int k = 0; k < s; ++k) {
-      V(i, k) = std::pow(tableau::c[static_cast<std::size_t>(i)], k);
-      A(i, k) = tableau::a[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
-    }
-  }
-  const Eigen::Matrix<double, s, s> alpha = V.inverse();
-  const auto integrated = [&](int j, double theta) {
-    double sum = 0;
-    for (int k = 0; k < s; ++k) sum += alpha(k, j) * std::pow(theta, k + 1) / (k + 1);
-    return sum;
-  };
-  for (int i = 0; i < s; ++i)
+    m_d[static_cast<std::size_t>(i)] = coefficients.d(i);
     for (int j = 0; j < s; ++j)
       m_extrapolation[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] =
-          integrated(j, 1 + tableau::c[static_cast<std::size_t>(i)]) -
-          tableau::b[static_cast<std::size_t>(j)];
-  const Eigen::Matrix<double, 1, s> d = b * A.inverse();
-  for (int i = 0; i < s; ++i) m_d[static_cast<std::size_t>(i)] = d(i);
+          coefficients.extrapolation(i, j);
+  }
 }
 
 template <int Stages>
