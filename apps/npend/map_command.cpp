@@ -274,14 +274,11 @@ map_stepping map_stepping_of(const map_command_options& o, map_quantity quantity
     } catch (const std::invalid_argument& e) {
       throw cli::input_error(fmt::format("--stepper: {}", e.what()));
     }
-    const stepper_kind k = stepping.stepper;
-    if (k != stepper_kind::rk4 && k != stepper_kind::dopri5 && k != stepper_kind::gauss4 &&
-        k != stepper_kind::gauss6)
+    if (!is_map_stepper(stepping.stepper))
       throw cli::input_error(fmt::format(
           "--stepper: a map integrates with rk4, dopri5, gauss4 or gauss6, not {}", o.stepper));
   }
-  if (stepping.stepper != stepper_kind::rk4 && quantity != map_quantity::flip &&
-      quantity != map_quantity::lyapunov && quantity != map_quantity::state)
+  if (!map_takes_stepper(quantity, stepping.stepper))
     throw cli::input_error(fmt::format(
         "--stepper: the chaos indicators ({}) integrate with rk4 only; {} takes flip, "
         "lyapunov and state",

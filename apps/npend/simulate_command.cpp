@@ -129,8 +129,7 @@ int run_simulate(const simulate_options& o) {
 
   // Damping, a moving pivot and a controller's torques all change H.
   const bool conserved = c.parameters().is_conservative() && !design;
-  if (!conserved &&
-      (options.stepper == stepper_kind::gauss4 || options.stepper == stepper_kind::gauss6))
+  if (!conserved && is_gauss_legendre(options.stepper))
     fmt::print(stderr,
                "npend simulate: note: the chain is {}, so {} is not symplectic here (it stays "
                "an implicit method of order {}) and H is not conserved\n",

@@ -50,6 +50,10 @@ std::string_view stepper_description(stepper_kind kind) { return info(kind).desc
 
 bool is_adaptive(stepper_kind kind) { return info(kind).adaptive; }
 
+bool is_gauss_legendre(stepper_kind kind) {
+  return kind == stepper_kind::gauss4 || kind == stepper_kind::gauss6;
+}
+
 std::string stepper_names(bool adaptive_only) {
   std::string out;
   for (const auto& i : infos) {

@@ -60,6 +60,26 @@ struct gauss_legendre_coefficients {
   }
 };
 
+// Corrections below this fraction of ‖x‖∞ can be round-off noise: evaluating the stage
+// equations loses a few units in the last place, more for long steps (h‖J‖ ~ 1), and the
+// solve with the Newton matrix adds rounding that grows with its dimension (a 100-link
+// chain stalled at 4e-15 with dt = 1e-3), hence the factor dim/16 beyond 16 coordinates.
+inline double gauss_legendre_round_off_level(std::size_t dim) {
+  return 16 * std::numeric_limits<double>::epsilon() *
+         std::max(1.0, static_cast<double>(dim) / 16.0);
+}
+
+// Whether a stage iteration may stop after a correction of size `norm` (∞-norm) that shrank
+// by theta against the one before, scale the size of the state and the stages: converged,
+// its estimated remaining error θ/(1−θ)‖ΔZ‖ below tolerance·scale; or at the level of
+// round-off in the stage equations (`round_off_level`·scale), where corrections that stop
+// shrinking (θ ≥ 0.5) are noise, which no iteration removes.
+inline bool stage_iteration_done(double theta, double norm, double scale, double tolerance,
+                                 double round_off_level) {
+  if (theta < 1 && theta / (1 - theta) * norm <= tolerance * scale) return true;
+  return norm <= round_off_level * scale && theta >= 0.5;
+}
+
 }  // namespace detail
 
 /// Work counters of a gauss_legendre stepper since its construction.
@@ -192,17 +212,10 @@ class gauss_legendre {
 
  private:
   static constexpr int s = Stages;
-  // Corrections below this fraction of ‖x‖∞ can be round-off noise: evaluating the stage
-  // equations loses a few units in the last place, more for long steps (h‖J‖ ~ 1), and the
-  // solve with the Newton matrix adds rounding that grows with its dimension (a 100-link
-  // chain stalled at 4e-15 with dt = 1e-3), hence the factor dim/16 beyond 16 coordinates.
-  static constexpr double round_off_unit = 16 * std::numeric_limits<double>::epsilon();
   // Full Newton's corrections below this fraction of ‖x‖∞ that stop shrinking are rounding,
   // not divergence (see solve_stages).
   static constexpr double stalled_level = 1e-11;
-  double round_off_level() const {
-    return round_off_unit * std::max(1.0, static_cast<double>(m_dim) / 16.0);
-  }
+  double round_off_level() const { return detail::gauss_legendre_round_off_level(m_dim); }
   // When to renew the Newton matrix: what one factorisation costs against one iteration
   // decides. Factoring the sd × sd matrix costs ~(sd)³·2/3 flops, an iteration's solve
   // ~2(sd)² and s right-hand sides (O(d) for the loop kernels), so from d = 48 on (chains of
@@ -347,12 +360,10 @@ class gauss_legendre {
       if (iteration >= 2) {
         theta = norm / previous_norm;
         if (norm > 100 * round_off_level() * scale) contraction = std::max(contraction, theta);
-        // Converged: the estimated remaining error is far below the rounding of the state.
-        if (theta < 1 && theta / (1 - theta) * norm <= m_tolerance * scale) break;
+        if (detail::stage_iteration_done(theta, norm, scale, m_tolerance, round_off_level()))
+          break;
         if (norm <= round_off_level() * scale) {
-          // At the level of round-off in the stage equations: once the corrections stop
-          // shrinking they are noise, which no iteration removes.
-          if (theta >= 0.5) break;
+          // At round-off and still shrinking: iterate on with the matrix as it is.
         } else if (m_matrix == matrix_state::stale && theta > stale_limit()) {
           // Too slow: an older matrix is renewed at x, ...
           factor_newton_matrix(sys, x, t, dt, matrix_state::fresh);

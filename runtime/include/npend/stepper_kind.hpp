@@ -33,6 +33,9 @@ stepper_kind parse_stepper_kind(std::string_view name);
 /// Whether the stepper chooses its own steps under abs/rel tolerances.
 bool is_adaptive(stepper_kind kind);
 
+/// Whether the stepper is one of the implicit Gauss–Legendre methods (gauss4, gauss6).
+bool is_gauss_legendre(stepper_kind kind);
+
 /// The valid names joined by ", " (for messages and help texts); with adaptive_only, the
 /// names of the adaptive steppers.
 std::string stepper_names(bool adaptive_only = false);

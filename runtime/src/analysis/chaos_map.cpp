@@ -145,16 +145,13 @@ double flip_time_dopri5(const chain& c, std::span<const double> x0, const flip_o
 
 }  // namespace
 
-namespace {
-
-bool is_gauss(stepper_kind stepper) {
-  return stepper == stepper_kind::gauss4 || stepper == stepper_kind::gauss6;
+bool is_map_stepper(stepper_kind stepper) {
+  return stepper == stepper_kind::rk4 || stepper == stepper_kind::dopri5 ||
+         is_gauss_legendre(stepper);
 }
 
-}  // namespace
-
 void map_stepping::validate(std::string_view what) const {
-  if (stepper != stepper_kind::rk4 && stepper != stepper_kind::dopri5 && !is_gauss(stepper))
+  if (!is_map_stepper(stepper))
     throw std::invalid_argument(
         fmt::format("{}: maps integrate with rk4, dopri5, gauss4 or gauss6, not {}", what,
                     stepper_name(stepper)));
@@ -183,7 +180,7 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
   std::vector<double> x(x0.begin(), x0.end());
   if (flipped(x)) return 0;
   if (o.stepping.stepper == stepper_kind::dopri5) return flip_time_dopri5(c, x0, o);
-  if (is_gauss(o.stepping.stepper)) return flip_time_gauss(c, x0, o);
+  if (is_gauss_legendre(o.stepping.stepper)) return flip_time_gauss(c, x0, o);
   boost::numeric::odeint::runge_kutta4<std::vector<double>> stepper;
   const chain_system system(c);
   const auto steps = whole_steps(o.t_end, o.dt);
@@ -201,17 +198,17 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
 
 namespace {
 
-// Each start's value by `cell` (the library's scalar path, one start after another; starts
-// of m numbers each), NaN where the integration fails (integration_error).
+// The values of the starts `cells` by `cell` (the library's scalar path; starts of m numbers
+// each, one after another) into out, NaN where the integration fails (integration_error).
 template <class Cell>
-std::vector<double> cell_by_cell(std::span<const double> starts, std::size_t m, const Cell& cell) {
-  std::vector<double> out(starts.size() / m);
-  for (std::size_t i = 0; i < out.size(); ++i) try {
+void by_library(std::span<const double> starts, std::size_t m,
+                const std::vector<std::size_t>& cells, const Cell& cell,
+                std::vector<double>& out) {
+  for (const std::size_t i : cells) try {
       out[i] = cell(starts.subspan(i * m, m));
     } catch (const integration_error&) {
       out[i] = std::numeric_limits<double>::quiet_NaN();
     }
-  return out;
 }
 
 // The queue of every start, in order: 0, 1, …, count - 1.
@@ -219,6 +216,32 @@ std::vector<std::size_t> all_cells(std::size_t count) {
   std::vector<std::size_t> queue(count);
   std::iota(queue.begin(), queue.end(), std::size_t{0});
   return queue;
+}
+
+// Each start's value by `cell`, one after another: by_library of every start.
+template <class Cell>
+std::vector<double> cell_by_cell(std::span<const double> starts, std::size_t m, const Cell& cell) {
+  std::vector<double> out(starts.size() / m);
+  by_library(starts, m, all_cells(out.size()), cell, out);
+  return out;
+}
+
+// Calls visit(make), make(dt) making the fixed-step lane stepper `stepper` names (rk4,
+// gauss4 or gauss6) on the chain's state alone.
+template <class Visit>
+void with_fixed_step_lanes(const batch_kernels& k, const chain& c, stepper_kind stepper,
+                           const Visit& visit) {
+  const auto system = [&] {
+    return detail::lane_system(k, c.packed_parameters().data(), c.links(), 0, false);
+  };
+  switch (stepper) {
+    case stepper_kind::gauss4:
+      return visit([&](double dt) { return detail::lane_gauss<2>(system(), dt); });
+    case stepper_kind::gauss6:
+      return visit([&](double dt) { return detail::lane_gauss<3>(system(), dt); });
+    default:
+      return visit([&](double dt) { return detail::lane_rk4(system(), dt); });
+  }
 }
 
 using detail::lane_dopri5;
@@ -247,27 +270,40 @@ void divide_lane(const Stepper& rk, double* x, std::size_t first, std::size_t d,
   for (std::size_t i = 0; i < d; ++i) x[rk.at(first + i, l)] /= norm;
 }
 
-// The flip times of the starts `queue` (indices of states in `starts`) on the lanes.
-void flip_on_lanes(const batch_kernels& k, const chain& c, std::span<const double> starts,
+// The flip times of the starts `queue` (indices of states in `starts`) on the lanes of a
+// fixed-step stepper (rk4 or Gauss–Legendre, made by make(dt)): the end of the first step
+// at which an arm is upright, as flip_time finds it. A cell whose Gauss–Legendre lane could
+// not solve its stage equations by fixed-point iteration goes to flip_time (the library's
+// Newton iteration).
+template <class Make>
+void flip_on_lanes(const chain& c, std::span<const double> starts,
                    const std::vector<std::size_t>& queue, const flip_options& o,
-                   std::vector<double>& out) {
+                   const Make& make, std::vector<double>& out) {
   const auto n = static_cast<std::size_t>(c.links());
   const std::size_t m = 2 * n;
-  lane_rk4 rk(lane_system(k, c.packed_parameters().data(), c.links(), 0, false), o.dt);
+  auto rk = make(o.dt);
   const long long steps = whole_steps(o.t_end, o.dt);
-  double lane_state[2 * chain_layout::max_links];
+  double angles[chain_layout::max_links];
+  std::vector<std::size_t> to_library;
   const auto start = [&](double* x, std::size_t l, std::size_t cell) {
     for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = starts[cell * m + i];
+    rk.restart(l);
   };
   const auto done = [&](const double* x, std::size_t l,
                         const lane_slot& s) -> std::optional<double> {
-    for (std::size_t i = 0; i < n; ++i) lane_state[i] = x[rk.at(i, l)];
-    if (has_flipped(lane_state, n, o)) return static_cast<double>(s.steps) * o.dt;
-    if (!std::isfinite(lane_state[0])) return std::numeric_limits<double>::quiet_NaN();
+    if (rk.failed(l)) {
+      to_library.push_back(s.cell);
+      return std::numeric_limits<double>::quiet_NaN();
+    }
+    for (std::size_t i = 0; i < n; ++i) angles[i] = x[rk.at(i, l)];
+    if (has_flipped(angles, n, o)) return static_cast<double>(s.steps) * o.dt;
+    if (!std::isfinite(angles[0])) return std::numeric_limits<double>::quiet_NaN();
     if (s.steps == steps) return std::numeric_limits<double>::infinity();
     return std::nullopt;
   };
   run_on_lanes(rk, queue, start, done, out);
+  by_library(starts, m, to_library,
+             [&](std::span<const double> x0) { return flip_time(c, x0, o); }, out);
 }
 
 // Where a dopri5 lane's step has gone wrong, as npend::integrate finds it: too many tries,
@@ -328,44 +364,6 @@ void flip_on_dopri5_lanes(const batch_kernels& k, const chain& c, std::span<cons
     return std::nullopt;
   };
   run_dopri5_cells(k, c, starts, queue, o.stepping, o.dt, settle, out);
-}
-
-// flip_on_lanes with Gauss–Legendre (Stages 2: gauss4, 3: gauss6): the flip at the end of a
-// step of dt, as flip_time_gauss finds it. A cell whose lane could not solve its stage
-// equations by fixed-point iteration goes to flip_time (the library's Newton iteration).
-template <int Stages>
-void flip_on_gauss_lanes(const batch_kernels& k, const chain& c, std::span<const double> starts,
-                         const std::vector<std::size_t>& queue, const flip_options& o,
-                         std::vector<double>& out) {
-  const auto n = static_cast<std::size_t>(c.links());
-  const std::size_t m = 2 * n;
-  detail::lane_gauss<Stages> rk(lane_system(k, c.packed_parameters().data(), c.links(), 0, false),
-                                o.dt);
-  const long long steps = whole_steps(o.t_end, o.dt);
-  double angles[chain_layout::max_links];
-  std::vector<std::size_t> to_library;
-  const auto start = [&](double* x, std::size_t l, std::size_t cell) {
-    for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = starts[cell * m + i];
-    rk.restart(l);
-  };
-  const auto done = [&](const double* x, std::size_t l,
-                        const lane_slot& s) -> std::optional<double> {
-    if (rk.failed(l)) {
-      to_library.push_back(s.cell);
-      return std::numeric_limits<double>::quiet_NaN();
-    }
-    for (std::size_t i = 0; i < n; ++i) angles[i] = x[rk.at(i, l)];
-    if (has_flipped(angles, n, o)) return static_cast<double>(s.steps) * o.dt;
-    if (!std::isfinite(angles[0])) return std::numeric_limits<double>::quiet_NaN();
-    if (s.steps == steps) return std::numeric_limits<double>::infinity();
-    return std::nullopt;
-  };
-  run_on_lanes(rk, queue, start, done, out);
-  for (const std::size_t cell : to_library) try {
-      out[cell] = flip_time(c, starts.subspan(cell * m, m), o);
-    } catch (const integration_error&) {
-      out[cell] = std::numeric_limits<double>::quiet_NaN();
-    }
 }
 
 // The maximal Lyapunov exponents of the starts `queue` on the lanes, as
@@ -495,13 +493,6 @@ void indicators_on_lanes(const batch_kernels& k, const chain& c, std::span<const
   run_on_lanes(rk, queue, start, done, out);
 }
 
-// Whether lane l of rk failed (only a Gauss–Legendre lane's stage iteration can).
-bool lane_failed(const lane_rk4&, std::size_t) { return false; }
-template <int Stages>
-bool lane_failed(const detail::lane_gauss<Stages>& rk, std::size_t l) {
-  return rk.failed(l);
-}
-
 // Coordinate o.component of each start's state at o.t_end on the lanes, as final_coordinate
 // computes it: fixed steps of dt (rk4, or Gauss–Legendre), then — where t_end is not a whole
 // number of steps — one shorter step to land on t_end, a second pass on lanes whose step is
@@ -523,11 +514,11 @@ void final_coordinates_on_lanes(const chain& c, std::span<const double> starts,
     auto rk = make(dt);
     const auto start = [&](double* x, std::size_t l, std::size_t cell) {
       for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = ends[cell * m + i];
-      if constexpr (requires { rk.restart(l); }) rk.restart(l);
+      rk.restart(l);
     };
     const auto done = [&](const double* x, std::size_t l,
                           const lane_slot& s) -> std::optional<double> {
-      if (lane_failed(rk, l)) {
+      if (rk.failed(l)) {
         lost[s.cell] = 1;
         return 0.0;
       }
@@ -603,19 +594,12 @@ std::vector<double> flip_times(const chain& c, std::span<const double> starts,
     else
       queue.push_back(i);
   }
-  switch (o.stepping.stepper) {
-    case stepper_kind::dopri5:
-      flip_on_dopri5_lanes(*k, c, starts, queue, o, out);
-      break;
-    case stepper_kind::gauss4:
-      flip_on_gauss_lanes<2>(*k, c, starts, queue, o, out);
-      break;
-    case stepper_kind::gauss6:
-      flip_on_gauss_lanes<3>(*k, c, starts, queue, o, out);
-      break;
-    default:
-      flip_on_lanes(*k, c, starts, queue, o, out);
-  }
+  if (o.stepping.stepper == stepper_kind::dopri5)
+    flip_on_dopri5_lanes(*k, c, starts, queue, o, out);
+  else
+    with_fixed_step_lanes(*k, c, o.stepping.stepper, [&](const auto& make) {
+      flip_on_lanes(c, starts, queue, o, make, out);
+    });
   return out;
 }
 
@@ -694,6 +678,14 @@ bool is_indicator(map_quantity quantity) {
          quantity == map_quantity::sali || quantity == map_quantity::gali;
 }
 
+}  // namespace
+
+bool map_takes_stepper(map_quantity quantity, stepper_kind stepper) {
+  return is_map_stepper(stepper) && (stepper == stepper_kind::rk4 || !is_indicator(quantity));
+}
+
+namespace {
+
 // FLI, MEGNO, SALI or GALI_k at t_end, cell by cell.
 double indicator_cell(const chain& c, std::span<const double> x0, const map_cell_options& o) {
   chaos_indicator_options io;
@@ -759,7 +751,7 @@ void map_cell_options::validate(const chain& c) const {
     throw std::invalid_argument(fmt::format("{}: need 0 < dt <= t_end, got dt = {}, t_end = {}",
                                             map_quantity_name(quantity), dt, t_end));
   stepping.validate(map_quantity_name(quantity));
-  if (is_indicator(quantity) && stepping.stepper != stepper_kind::rk4)
+  if (!map_takes_stepper(quantity, stepping.stepper))
     throw std::invalid_argument(
         fmt::format("{}: the chaos indicators integrate with rk4 only, not {}",
                     map_quantity_name(quantity), stepper_name(stepping.stepper)));
@@ -816,7 +808,7 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
     const lyapunov_options lo = map_lyapunov_options(options);
     // Gauss–Legendre's Lyapunov exponents come from its tangent map (the derivative of each
     // step, lyapunov.cpp), which the lanes do not have: cell by cell.
-    if (k == nullptr || is_gauss(options.stepping.stepper))
+    if (k == nullptr || is_gauss_legendre(options.stepping.stepper))
       return cell_by_cell(starts, m, [&](std::span<const double> x0) {
         return maximal_lyapunov_exponent(c, x0, lo).exponents.front();
       });
@@ -841,34 +833,18 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
       return cell_by_cell(starts, m, [&](std::span<const double> x0) {
         return final_coordinate(c, x0, options);
       });
-    const auto params = c.packed_parameters().data();
-    const auto system = [&] { return lane_system(*k, params, c.links(), 0, false); };
-    std::vector<std::size_t> failed;
-    switch (options.stepping.stepper) {
-      case stepper_kind::dopri5:
-        final_coordinates_on_dopri5_lanes(*k, c, starts, all_cells(out.size()), options, out);
-        break;
-      case stepper_kind::gauss4:
-        final_coordinates_on_lanes(
-            c, starts, all_cells(out.size()), options,
-            [&](double dt) { return detail::lane_gauss<2>(system(), dt); }, out, failed);
-        break;
-      case stepper_kind::gauss6:
-        final_coordinates_on_lanes(
-            c, starts, all_cells(out.size()), options,
-            [&](double dt) { return detail::lane_gauss<3>(system(), dt); }, out, failed);
-        break;
-      default:
-        final_coordinates_on_lanes(
-            c, starts, all_cells(out.size()), options,
-            [&](double dt) { return lane_rk4(system(), dt); }, out, failed);
+    if (options.stepping.stepper == stepper_kind::dopri5) {
+      final_coordinates_on_dopri5_lanes(*k, c, starts, all_cells(out.size()), options, out);
+    } else {
+      std::vector<std::size_t> failed;
+      with_fixed_step_lanes(*k, c, options.stepping.stepper, [&](const auto& make) {
+        final_coordinates_on_lanes(c, starts, all_cells(out.size()), options, make, out, failed);
+      });
+      // Cells a Gauss–Legendre lane could not solve: the library's Newton iteration.
+      by_library(starts, m, failed,
+                 [&](std::span<const double> x0) { return final_coordinate(c, x0, options); },
+                 out);
     }
-    // Cells a Gauss–Legendre lane could not solve: the library's Newton iteration.
-    for (const std::size_t cell : failed) try {
-        out[cell] = final_coordinate(c, starts.subspan(cell * m, m), options);
-      } catch (const integration_error&) {
-        out[cell] = std::numeric_limits<double>::quiet_NaN();
-      }
   }
   return out;
 }

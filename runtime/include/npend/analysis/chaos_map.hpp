@@ -90,6 +90,12 @@ std::string_view map_quantity_name(map_quantity quantity);
 /// The quantity called `name`; throws std::invalid_argument naming the valid names.
 map_quantity parse_map_quantity(std::string_view name);
 
+/// Whether a map integrates with `stepper` at all: rk4, dopri5, gauss4 or gauss6.
+bool is_map_stepper(stepper_kind stepper);
+/// Whether a map of `quantity` integrates with `stepper`: rk4 every quantity; the other map
+/// steppers flip, lyapunov and state (the chaos indicators are rk4's, as chaos_indicators).
+bool map_takes_stepper(map_quantity quantity, stepper_kind stepper);
+
 struct map_cell_options {
   map_quantity quantity = map_quantity::flip;
   double t_end = 100;  ///< s

@@ -1,13 +1,11 @@
 #include "batch_lanes.hpp"
 
-#include "npend/gauss_legendre.hpp"
-
 #include <batch_index.hpp>
-
-#include <limits>
 
 #include <algorithm>
 #include <cmath>
+
+#include "npend/gauss_legendre.hpp"
 
 namespace npend::detail {
 
@@ -69,7 +67,7 @@ void lane_rk4::step(int blocks) {
     x[i] = x[i] + sixth * k1[i] + third * k2[i] + third * k3[i] + sixth * k4[i];
 }
 
-void lane_rk4::rhs(int blocks, const double* x, double* dxdt) {
+void lane_layout::rhs(int blocks, const double* x, double* dxdt) {
   for (int b = 0; b < blocks; ++b) {
     const std::size_t o = m_block * static_cast<std::size_t>(b);
     m_system(x + o, dxdt + o);
@@ -136,11 +134,9 @@ double increased_step(double h, double error) {
 }  // namespace
 
 lane_dopri5::lane_dopri5(lane_system system, double abs_tol, double rel_tol)
-    : m_system(std::move(system)),
-      m_block(m_system.coordinates() * W),
+    : lane_layout(std::move(system)),
       m_abs_tol(abs_tol),
       m_rel_tol(rel_tol),
-      m_x(m_block * lane_blocks),
       m_f(m_x.size()),
       m_x_old(m_x.size()),
       m_f_old(m_x.size()),
@@ -152,19 +148,12 @@ lane_dopri5::lane_dopri5(lane_system system, double abs_tol, double rel_tol)
       m_tmp(m_x.size()),
       m_out(m_x.size()),
       m_f_out(m_x.size()),
-      m_err(m_x.size()),
       m_coefficient(static_cast<std::size_t>(coefficient_count) * lanes) {}
 
 void lane_dopri5::restart(std::size_t l, double t, double h) {
-  m_lane[l] = lane{t, t, 0, true, false};
+  m_lane[l] = lane{t, t, 0, true};
   m_h[l] = h;
-}
-
-void lane_dopri5::rhs(int blocks, const double* x, double* dxdt) {
-  for (int b = 0; b < blocks; ++b) {
-    const std::size_t o = m_block * static_cast<std::size_t>(b);
-    m_system(x + o, dxdt + o);
-  }
+  m_accept[l] = 0;
 }
 
 template <std::size_t K>
@@ -207,7 +196,7 @@ void lane_dopri5::step(int blocks) {
   }
   for (std::size_t l = 0; l < used; ++l) {
     lane& s = m_lane[l];
-    if (s.accepted) s.tries = 0;
+    if (m_accept[l] != 0) s.tries = 0;
     ++s.tries;
   }
   for (int j = 0; j < coefficient_count; ++j) {
@@ -260,9 +249,9 @@ void lane_dopri5::step(int blocks) {
   // Accept or reject each lane's attempt, and size its next one, as odeint's controller.
   for (std::size_t l = 0; l < used; ++l) {
     lane& s = m_lane[l];
-    s.accepted = !(m_error[l] > 1.0);
-    m_accept[l] = s.accepted ? 1.0 : 0.0;
-    if (!s.accepted) {
+    const bool accepted = !(m_error[l] > 1.0);
+    m_accept[l] = accepted ? 1.0 : 0.0;
+    if (!accepted) {
       m_h[l] = decreased_step(m_h[l], m_error[l]);
       continue;
     }
@@ -328,15 +317,12 @@ void lane_dopri5::copy_lane(std::size_t to, std::size_t from) {
   }
   m_lane[to] = m_lane[from];
   m_h[to] = m_h[from];
+  m_accept[to] = m_accept[from];
 }
 
 template <int Stages>
 lane_gauss<Stages>::lane_gauss(lane_system system, double dt)
-    : m_system(std::move(system)),
-      m_block(m_system.coordinates() * W),
-      m_dt(dt),
-      m_x(m_block * lane_blocks),
-      m_tmp(m_x.size()) {
+    : lane_layout(std::move(system)), m_dt(dt), m_tmp(m_x.size()) {
   for (int i = 0; i < s; ++i) {
     m_z[static_cast<std::size_t>(i)].assign(m_x.size(), 0.0);
     m_f[static_cast<std::size_t>(i)].assign(m_x.size(), 0.0);
@@ -353,24 +339,14 @@ lane_gauss<Stages>::lane_gauss(lane_system system, double dt)
 }
 
 template <int Stages>
-void lane_gauss<Stages>::rhs(int blocks, const double* x, double* dxdt) {
-  for (int b = 0; b < blocks; ++b) {
-    const std::size_t o = m_block * static_cast<std::size_t>(b);
-    m_system(x + o, dxdt + o);
-  }
-}
-
-template <int Stages>
 void lane_gauss<Stages>::step(int blocks) {
   using tableau = gauss_legendre_tableau<Stages>;
   const std::size_t used = static_cast<std::size_t>(blocks) * W, d = coordinates(),
                     size = m_block * static_cast<std::size_t>(blocks);
   const double h = m_dt;
-  // gauss_legendre's limits: the rounding unit of the stage equations (16 eps, times dim/16
-  // beyond 16 coordinates) and the tolerance on the estimated remaining error.
-  const double round_off =
-      16 * std::numeric_limits<double>::epsilon() * std::max(1.0, static_cast<double>(d) / 16.0);
-  const double tolerance = 1e-3 * std::numeric_limits<double>::epsilon();
+  // gauss_legendre's stopping rule, with its default tolerance.
+  const double round_off = gauss_legendre_round_off_level(d);
+  constexpr double tolerance = gauss_legendre<Stages>::default_tolerance;
   // The loops below run block by block, coordinate by coordinate, over the W lanes of a
   // block: element o + l of an array, per-lane value [first + l], first = b*W.
   const auto each = [&](const auto& body) {
@@ -456,11 +432,8 @@ void lane_gauss<Stages>::step(int blocks) {
       } else if (norm[l] == 0) {
         done = true;
       } else if (iteration >= 2) {
-        const double theta = norm[l] / m_last_norm[l];
-        if (theta < 1 && theta / (1 - theta) * norm[l] <= tolerance * scale[l])
-          done = true;
-        else if (norm[l] <= round_off * scale[l])
-          done = theta >= 0.5;
+        done = stage_iteration_done(norm[l] / m_last_norm[l], norm[l], scale[l], tolerance,
+                                    round_off);
       }
       if (!done && !failed && iteration >= max_iterations) failed = true;
       m_last_norm[l] = norm[l];

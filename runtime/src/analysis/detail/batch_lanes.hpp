@@ -62,20 +62,44 @@ class lane_system {
   bool m_indicators;
 };
 
-// rk4 on lane_blocks blocks of a lane_system's lanes. Block b holds lanes b*W .. b*W + W-1:
-// coordinate i of lane l at [b*B + i*W + l % W], B = coordinates × W. odeint's runge_kutta4
-// step, sum for sum, so that each lane computes what the scalar library's stepper computes
-// from the same state, but with the kernels' sines. step(blocks) advances the first
+// The lanes' layout, which every lane stepper shares: lane_blocks blocks of a lane_system's
+// lanes. Block b holds lanes b*W .. b*W + W-1: coordinate i of lane l at
+// [b*B + i*W + l % W], B = coordinates × W. A stepper's step(blocks) advances the first
 // `blocks` blocks only.
-class lane_rk4 {
+class lane_layout {
  public:
   static constexpr int W = batch_width;
   static constexpr int lanes = W * lane_blocks;
 
-  lane_rk4(lane_system system, double dt)
+  explicit lane_layout(lane_system system)
       : m_system(std::move(system)),
         m_block(m_system.coordinates() * W),
-        m_x(m_block * lane_blocks),
+        m_x(m_block * lane_blocks) {}
+
+  const lane_system& system() const { return m_system; }
+  double* state() { return m_x.data(); }
+  std::size_t coordinates() const { return m_system.coordinates(); }
+
+  /// Where coordinate i of lane l lives in state().
+  std::size_t at(std::size_t i, std::size_t l) const {
+    return (l / W) * m_block + i * W + l % W;
+  }
+
+ protected:
+  /// The system's dxdt on each of the first `blocks` blocks of x.
+  void rhs(int blocks, const double* x, double* dxdt);
+
+  lane_system m_system;
+  std::size_t m_block;  // B
+  std::vector<double> m_x;
+};
+
+// rk4 on the lanes: odeint's runge_kutta4 step, sum for sum, so that each lane computes what
+// the scalar library's stepper computes from the same state, but with the kernels' sines.
+class lane_rk4 : public lane_layout {
+ public:
+  lane_rk4(lane_system system, double dt)
+      : lane_layout(std::move(system)),
         m_k1(m_x.size()),
         m_k2(m_x.size()),
         m_k3(m_x.size()),
@@ -88,52 +112,33 @@ class lane_rk4 {
         m_sixth((1.0 / 6.0) * dt),
         m_third((1.0 / 3.0) * dt) {}
 
-  const lane_system& system() const { return m_system; }
-  double* state() { return m_x.data(); }
-  std::size_t coordinates() const { return m_system.coordinates(); }
-
-  /// Where coordinate i of lane l lives in state().
-  std::size_t at(std::size_t i, std::size_t l) const {
-    return (l / W) * m_block + i * W + l % W;
-  }
-
   /// One rk4 step of dt for the first `blocks` blocks.
   void step(int blocks);
+
+  /// As lane_gauss's: an rk4 lane has nothing to forget and never fails.
+  void restart(std::size_t) {}
+  bool failed(std::size_t) const { return false; }
 
   /// Lane `to` takes lane `from`'s coordinates.
   void copy_lane(std::size_t to, std::size_t from);
 
  private:
-  void rhs(int blocks, const double* x, double* dxdt);
-
-  lane_system m_system;
-  std::size_t m_block;
-  std::vector<double> m_x, m_k1, m_k2, m_k3, m_k4, m_tmp;
+  std::vector<double> m_k1, m_k2, m_k3, m_k4, m_tmp;
   double m_half, m_zero, m_full, m_sixth, m_third;
 };
 
-// Dormand–Prince 5(4) on lane_blocks blocks of a lane_system's lanes (laid out as
-// lane_rk4's), each lane with its own time and step size: what npend::integrate runs for
+// Dormand–Prince 5(4) on the lanes, each lane with its own time and step size: what npend::integrate runs for
 // stepper_kind::dopri5 (odeint's make_dense_output of runge_kutta_dopri5), step for step.
 // A step() is one attempt per lane — odeint's try_step with its error norm
 // max_i |err_i| / (abs_tol + rel_tol (|x_i| + |h| |f_i|)) and its step adjustment — so a lane
 // either advances (accepted) or keeps its state with a shorter step; state_at is the
 // stepper's own dense output over the lane's last accepted step.
-class lane_dopri5 {
+class lane_dopri5 : public lane_layout {
  public:
-  static constexpr int W = batch_width;
-  static constexpr int lanes = W * lane_blocks;
   /// odeint gives up a step after this many tries (its failed_step_checker).
   static constexpr int max_tries = 500;
 
   lane_dopri5(lane_system system, double abs_tol, double rel_tol);
-
-  const lane_system& system() const { return m_system; }
-  double* state() { return m_x.data(); }
-  std::size_t coordinates() const { return m_system.coordinates(); }
-  std::size_t at(std::size_t i, std::size_t l) const {
-    return (l / W) * m_block + i * W + l % W;
-  }
 
   /// Lane l starts from the state now in its coordinates, at time t with a first trial
   /// step h (odeint's initialize: the derivative is evaluated on the next step).
@@ -143,7 +148,7 @@ class lane_dopri5 {
   void step(int blocks);
 
   /// Whether lane l's last attempt was accepted; the attempts of its current step so far.
-  bool accepted(std::size_t l) const { return m_lane[l].accepted; }
+  bool accepted(std::size_t l) const { return m_accept[l] != 0; }
   int tries(std::size_t l) const { return m_lane[l].tries; }
   /// Lane l's time, and the step it tries next.
   double time(std::size_t l) const { return m_lane[l].t; }
@@ -163,27 +168,25 @@ class lane_dopri5 {
   struct lane {
     double t = 0, t_old = 0;
     int tries = 0;
-    bool fresh = true, accepted = false;
+    bool fresh = true;
   };
-  void rhs(int blocks, const double* x, double* dxdt);
   // out = x + Σ h_l c_j k_j, term after term as odeint's scale_sum (coefficient j of lane l
   // at m_coefficient[j * lanes + l]).
   template <std::size_t K>
   void combine(int blocks, double* out, const double* x,
                const std::array<std::pair<const double*, int>, K>& terms);
 
-  lane_system m_system;
-  std::size_t m_block;
   double m_abs_tol, m_rel_tol;
   std::array<lane, lanes> m_lane{};
-  // Per lane, for the vector loops: the step it tries, its error norm, 1 where accepted.
+  // Per lane, for the vector loops: the step it tries, its error norm, 1 where its last
+  // attempt was accepted.
   std::array<double, lanes> m_h{}, m_error{}, m_accept{};
-  std::vector<double> m_x, m_f, m_x_old, m_f_old, m_k2, m_k3, m_k4, m_k5, m_k6, m_tmp, m_out,
-      m_f_out, m_err, m_coefficient;
+  std::vector<double> m_f, m_x_old, m_f_old, m_k2, m_k3, m_k4, m_k5, m_k6, m_tmp, m_out,
+      m_f_out, m_coefficient;
 };
 
-// Gauss–Legendre with `Stages` stages (2: gauss4, 3: gauss6) at the fixed step dt on
-// lane_blocks blocks of a lane_system's lanes (laid out as lane_rk4's): what
+// Gauss–Legendre with `Stages` stages (2: gauss4, 3: gauss6) at the fixed step dt on the
+// lanes: what
 // npend::gauss_legendre computes, up to round-off. Every lane solves its stage equations
 // Z_i = h Σ_j a_ij f(x + Z_j) by fixed-point iteration — only rhs evaluations, which the lanes
 // do fast, where the library's simplified Newton needs a Jacobian and an LU factorisation
@@ -196,21 +199,12 @@ class lane_dopri5 {
 // (h‖J‖ too large for a fixed point) is marked failed: its cell belongs to the library,
 // whose Newton iteration may still solve it.
 template <int Stages>
-class lane_gauss {
+class lane_gauss : public lane_layout {
  public:
-  static constexpr int W = batch_width;
-  static constexpr int lanes = W * lane_blocks;
   static constexpr int s = Stages;
   static constexpr int max_iterations = 60;
 
   lane_gauss(lane_system system, double dt);
-
-  const lane_system& system() const { return m_system; }
-  double* state() { return m_x.data(); }
-  std::size_t coordinates() const { return m_system.coordinates(); }
-  std::size_t at(std::size_t i, std::size_t l) const {
-    return (l / W) * m_block + i * W + l % W;
-  }
 
   /// Lane l starts from the state now in its coordinates: no previous step to extrapolate.
   void restart(std::size_t l) {
@@ -227,16 +221,12 @@ class lane_gauss {
   void copy_lane(std::size_t to, std::size_t from);
 
  private:
-  void rhs(int blocks, const double* x, double* dxdt);
-
-  lane_system m_system;
-  std::size_t m_block;
   double m_dt;
   // Coefficients as gauss_legendre forms them: the starting guess's extrapolation of the
   // previous step's collocation polynomial, and d = bᵀA⁻¹ (x1 = x0 + Σ d_i Z_i).
   std::array<std::array<double, Stages>, Stages> m_extrapolation{};
   std::array<double, Stages> m_d{};
-  std::vector<double> m_x, m_tmp;
+  std::vector<double> m_tmp;
   std::array<std::vector<double>, Stages> m_z, m_f, m_f_kept;
   // Per lane: a previous step to extrapolate from, failure, still iterating (1/0), and the
   // iteration's last correction norm.
@@ -253,7 +243,7 @@ struct lane_slot {
   double peak = 0;       // the indicators' FLI: the running maximum of `sum`
 };
 
-// Runs the cells `queue` on the lanes of rk (a lane_rk4 or lane_dopri5): start(x, l, cell)
+// Runs the cells `queue` on the lanes of rk (a lane_rk4, lane_dopri5 or lane_gauss): start(x, l, cell)
 // writes cell's start into lane l of x = rk.state(); after every step, done(x, l, slot) —
 // slot.steps (the steps, or the attempts, taken) already counted —
 // returns the cell's value once it is finished, std::nullopt otherwise; the value goes to
@@ -269,7 +259,6 @@ void run_on_lanes(Stepper& rk, const std::vector<std::size_t>& queue, const Star
   double* x = rk.state();
   std::array<std::optional<lane_slot>, lanes> slot{};
   std::size_t next = 0;
-  const auto copy_lane = [&](std::size_t to, std::size_t from) { rk.copy_lane(to, from); };
   const auto load = [&](std::size_t l) {
     slot[l].reset();
     if (next == queue.size()) return;
@@ -283,14 +272,14 @@ void run_on_lanes(Stepper& rk, const std::vector<std::size_t>& queue, const Star
     for (std::size_t l = 0; l < lanes; ++l)
       if (slot[l]) {
         if (l != live) {
-          copy_lane(live, l);
+          rk.copy_lane(live, l);
           slot[live] = slot[l];
           slot[l].reset();
         }
         ++live;
       }
     const std::size_t blocks = (live + W - 1) / W;
-    for (std::size_t l = live; l < blocks * W; ++l) copy_lane(l, 0);
+    for (std::size_t l = live; l < blocks * W; ++l) rk.copy_lane(l, 0);
     return static_cast<int>(blocks);
   };
   int blocks = compact();
