@@ -84,11 +84,11 @@ void atomic_output_file::discard() noexcept {
   m_cleanup.reset();
 }
 
-void atomic_output_file::commit() {
+void atomic_output_file::commit(durability how) {
   if (m_stream == nullptr) throw std::logic_error("atomic_output_file: already committed");
   errno = 0;
-  const bool flushed =
-      std::fflush(m_stream) == 0 && std::ferror(m_stream) == 0 && ::fsync(::fileno(m_stream)) == 0;
+  const bool flushed = std::fflush(m_stream) == 0 && std::ferror(m_stream) == 0 &&
+                       (how == durability::cached || ::fsync(::fileno(m_stream)) == 0);
   const int flush_error = errno;
   const bool closed = std::fclose(m_stream) == 0;
   const int close_error = errno;
@@ -107,12 +107,13 @@ void atomic_output_file::commit() {
   m_cleanup.reset();
 }
 
-void write_file_atomically(const std::filesystem::path& path, std::string_view content) {
+void write_file_atomically(const std::filesystem::path& path, std::string_view content,
+                           durability how) {
   atomic_output_file file(path);
   if (std::fwrite(content.data(), 1, content.size(), file.stream()) != content.size())
     throw std::runtime_error(
         fmt::format("writing '{}' failed: {}", path.string(), std::strerror(errno)));
-  file.commit();
+  file.commit(how);
 }
 
 std::filesystem::path output_folder(const std::string& out, std::string_view option) {

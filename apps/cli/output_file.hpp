@@ -33,6 +33,12 @@ class temporary_folder {
   std::filesystem::path m_path;
 };
 
+/// Whether committing a file waits until it is on the disk (fsync): `synced` for results,
+/// which should survive a crash of the machine; `cached` for intermediate files that are
+/// checked when read back (npend map's tiles), where one fsync per file would cost more than
+/// the file's computation on a short run.
+enum class durability { synced, cached };
+
 /// An output file that appears under its name only when complete: writes go to a
 /// temporary_sibling, and commit() renames it to `path` (an existing file there stays
 /// untouched until then). Without commit() the destructor removes the temporary file, and so
@@ -51,9 +57,10 @@ class atomic_output_file {
   const std::filesystem::path& path() const { return m_path; }
   /// The temporary file's path (for tests and messages).
   const std::filesystem::path& temporary_path() const { return m_temporary; }
-  /// Flushes, syncs, closes and renames to the requested path. Throws std::runtime_error on a
-  /// write error (e.g. disk full) or a failed rename, removing the temporary file.
-  void commit();
+  /// Flushes, syncs (unless `cached`), closes and renames to the requested path. Throws
+  /// std::runtime_error on a write error (e.g. disk full) or a failed rename, removing the
+  /// temporary file.
+  void commit(durability how = durability::synced);
 
  private:
   void discard() noexcept;
@@ -64,7 +71,8 @@ class atomic_output_file {
 };
 
 /// Writes `content` to `path` through an atomic_output_file.
-void write_file_atomically(const std::filesystem::path& path, std::string_view content);
+void write_file_atomically(const std::filesystem::path& path, std::string_view content,
+                           durability how = durability::synced);
 
 /// The folder `out` names, created (with its parents) if missing, for commands that write
 /// several files; input_error naming `option` if it exists as something else or cannot be

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <string_view>
 
 namespace npend::app::mpi {
 
@@ -16,6 +17,18 @@ namespace {
 // "done" carries nothing.
 constexpr int tag_request = 1, tag_tile = 2, tag_done = 3;
 
+// Open MPI's default transport (UCX) takes 0.2 s longer to start than its own shared-memory
+// one (ob1), measured on a 2-rank job of one machine: on a 4 s map, a tenth of the speed-up.
+// When every rank runs on this machine and the user named no transport, npend asks for ob1;
+// on a cluster, or with --mca pml / OMPI_MCA_pml set, Open MPI's choice stands.
+void prefer_shared_memory_on_one_node() {
+  const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");
+  const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  if (size == nullptr || local == nullptr || std::getenv("OMPI_MCA_pml") != nullptr) return;
+  if (std::string_view(size) != std::string_view(local)) return;
+  ::setenv("OMPI_MCA_pml", "ob1", 0);
+}
+
 }  // namespace
 
 bool launched() {
@@ -25,6 +38,7 @@ bool launched() {
 }
 
 session::session() {
+  prefer_shared_memory_on_one_node();
   int provided = MPI_THREAD_SINGLE;
   MPI_Init_thread(nullptr, nullptr, MPI_THREAD_MULTIPLE, &provided);
   MPI_Comm_rank(MPI_COMM_WORLD, &m_rank);
@@ -36,7 +50,13 @@ session::session() {
         1);
 }
 
-session::~session() { MPI_Finalize(); }
+session::~session() { finalize(); }
+
+void session::finalize() {
+  if (m_finalized) return;
+  m_finalized = true;
+  MPI_Finalize();
+}
 
 int session::broadcast(int value) const {
   MPI_Bcast(&value, 1, MPI_INT, 0, MPI_COMM_WORLD);

@@ -30,6 +30,10 @@ class session {
   session(const session&) = delete;
   session& operator=(const session&) = delete;
 
+  /// MPI_Finalize now rather than at the end of the session (called by the thread that
+  /// created it); no MPI call may follow.
+  void finalize();
+
   int rank() const { return m_rank; }
   int size() const { return m_size; }
   /// Rank 0's `value` on every rank.
@@ -42,6 +46,7 @@ class session {
 
  private:
   int m_rank = 0, m_size = 1;
+  bool m_finalized = false;
 };
 
 /// Rank 0's queue: its own threads take tiles from `tiles` directly, and a server thread
