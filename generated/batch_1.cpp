@@ -3,58 +3,88 @@
 
 namespace npend::generated::batch_1 {
 
-void rhs_batch(const double* x, const double* params, double* dxdt) noexcept {
+void rhs_batch(const double* x, const double* params, double* dxdt, int blocks,
+               std::size_t stride) noexcept {
   constexpr int W = batch_width;
-  double s[1 * W], c[1 * W];
-  for (int i = 0; i < 1; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);
+  const double t0 = 1.0 / params[1];
+  const double t1 = 1.0 / params[0];
+  const double t2 = params[2] * (params[0] * params[1]);
+  for (int first = 0; first < blocks; first += batch_blocks) {
+    const int chunk = blocks - first < batch_blocks ? blocks - first : batch_blocks;
+    double sines[batch_blocks * 1 * W], cosines[batch_blocks * 1 * W];
+    for (int b = 0; b < chunk; ++b)
+      for (int i = 0; i < 1; ++i)
+        batch_sincos(x + b * stride + i * W, sines + (b * 1 + i) * W,
+                     cosines + (b * 1 + i) * W);
+    for (int b = 0; b < chunk; ++b, x += stride, dxdt += stride) {
+      const double* s = sines + b * 1 * W;
+      const double* c = cosines + b * 1 * W;
 #pragma omp simd
-  for (int l = 0; l < W; ++l) {
-    const double t0 = 1.0 / params[1];
-    dxdt[0 * W + l] = t0 * (t0 * x[1 * W + l] * (1.0 / params[0]));
-    dxdt[1 * W + l] = -(s[0 * W + l] * (params[2] * (params[0] * params[1])));
+      for (int l = 0; l < W; ++l) {
+        dxdt[0 * W + l] = t0 * (t0 * x[1 * W + l] * t1);
+        dxdt[1 * W + l] = -(s[0 * W + l] * t2);
+      }
+    }
   }
 }
 
 void tangent_batch(const double* x, const double* w, const double* params, double* dxdt,
-                   double* dwdt) noexcept {
+                   double* dwdt, int blocks, std::size_t stride) noexcept {
   constexpr int W = batch_width;
-  double s[1 * W], c[1 * W];
-  for (int i = 0; i < 1; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);
+  const double t0 = 1.0 / params[1];
+  const double t1 = 1.0 / params[0];
+  const double t2 = params[2] * (params[0] * params[1]);
+  for (int first = 0; first < blocks; first += batch_blocks) {
+    const int chunk = blocks - first < batch_blocks ? blocks - first : batch_blocks;
+    double sines[batch_blocks * 1 * W], cosines[batch_blocks * 1 * W];
+    for (int b = 0; b < chunk; ++b)
+      for (int i = 0; i < 1; ++i)
+        batch_sincos(x + b * stride + i * W, sines + (b * 1 + i) * W,
+                     cosines + (b * 1 + i) * W);
+    for (int b = 0; b < chunk; ++b, x += stride, w += stride, dxdt += stride, dwdt += stride) {
+      const double* s = sines + b * 1 * W;
+      const double* c = cosines + b * 1 * W;
 #pragma omp simd
-  for (int l = 0; l < W; ++l) {
-    const double t0 = 1.0 / params[1];
-    const double t1 = 1.0 / params[0];
-    const double t2 = params[2] * (params[0] * params[1]);
-    dxdt[0 * W + l] = t0 * (t0 * x[1 * W + l] * t1);
-    dxdt[1 * W + l] = -(s[0 * W + l] * t2);
-    dwdt[0 * W + l] = t0 * (t1 * (t0 * w[1 * W + l]));
-    dwdt[1 * W + l] = -(t2 * (c[0 * W + l] * w[0 * W + l]));
+      for (int l = 0; l < W; ++l) {
+        dxdt[0 * W + l] = t0 * (t0 * x[1 * W + l] * t1);
+        dxdt[1 * W + l] = -(s[0 * W + l] * t2);
+        dwdt[0 * W + l] = t0 * (t1 * (t0 * w[1 * W + l]));
+        dwdt[1 * W + l] = -(t2 * (c[0 * W + l] * w[0 * W + l]));
+      }
+    }
   }
 }
 
 void tangents_batch(const double* x, const double* ws, int count, const double* params,
-                    double* dxdt, double* dws) noexcept {
+                    double* dxdt, double* dws, int blocks, std::size_t stride) noexcept {
   constexpr int W = batch_width;
-  double s[1 * W], c[1 * W], v[3 * W];
-  for (int i = 0; i < 1; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);
+  const double t0 = 1.0 / params[1];
+  const double t1 = 1.0 / params[0];
+  const double t2 = params[2] * (params[0] * params[1]);
+  for (int first = 0; first < blocks; first += batch_blocks) {
+    const int chunk = blocks - first < batch_blocks ? blocks - first : batch_blocks;
+    double sines[batch_blocks * 1 * W], cosines[batch_blocks * 1 * W];
+    for (int b = 0; b < chunk; ++b)
+      for (int i = 0; i < 1; ++i)
+        batch_sincos(x + b * stride + i * W, sines + (b * 1 + i) * W,
+                     cosines + (b * 1 + i) * W);
+    for (int b = 0; b < chunk; ++b, x += stride, ws += stride, dxdt += stride, dws += stride) {
+      const double* s = sines + b * 1 * W;
+      const double* c = cosines + b * 1 * W;
 #pragma omp simd
-  for (int l = 0; l < W; ++l) {
-    const double t0 = 1.0 / params[1];
-    const double t1 = 1.0 / params[0];
-    const double t2 = params[2] * (params[0] * params[1]);
-    dxdt[0 * W + l] = t0 * (t0 * x[1 * W + l] * t1);
-    dxdt[1 * W + l] = -(s[0 * W + l] * t2);
-    v[0 * W + l] = t0;
-    v[1 * W + l] = t1;
-    v[2 * W + l] = t2;
-  }
-  for (int j = 0; j < count; ++j) {
-    const double* w = ws + j * 2 * W;
-    double* dwdt = dws + j * 2 * W;
+      for (int l = 0; l < W; ++l) {
+        dxdt[0 * W + l] = t0 * (t0 * x[1 * W + l] * t1);
+        dxdt[1 * W + l] = -(s[0 * W + l] * t2);
+      }
+      for (int j = 0; j < count; ++j) {
+        const double* w = ws + j * 2 * W;
+        double* dwdt = dws + j * 2 * W;
 #pragma omp simd
-    for (int l = 0; l < W; ++l) {
-      dwdt[0 * W + l] = v[0 * W + l] * (v[1 * W + l] * (v[0 * W + l] * w[1 * W + l]));
-      dwdt[1 * W + l] = -(v[2 * W + l] * (c[0 * W + l] * w[0 * W + l]));
+        for (int l = 0; l < W; ++l) {
+          dwdt[0 * W + l] = t0 * (t1 * (t0 * w[1 * W + l]));
+          dwdt[1 * W + l] = -(t2 * (c[0 * W + l] * w[0 * W + l]));
+        }
+      }
     }
   }
 }

@@ -3,143 +3,171 @@
 
 namespace npend::generated::batch_2 {
 
-void rhs_batch(const double* x, const double* params, double* dxdt) noexcept {
+void rhs_batch(const double* x, const double* params, double* dxdt, int blocks,
+               std::size_t stride) noexcept {
   constexpr int W = batch_width;
-  double s[2 * W], c[2 * W];
-  for (int i = 0; i < 2; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);
+  const double t0 = 1.0 / params[2];
+  const double t3 = 1.0 / params[3];
+  const double t6 = 1.0 / params[1];
+  const double t8 = params[4] * (params[2] * (params[0] + params[1]));
+  const double t10 = params[4] * (params[1] * params[3]);
+  for (int first = 0; first < blocks; first += batch_blocks) {
+    const int chunk = blocks - first < batch_blocks ? blocks - first : batch_blocks;
+    double sines[batch_blocks * 2 * W], cosines[batch_blocks * 2 * W];
+    for (int b = 0; b < chunk; ++b)
+      for (int i = 0; i < 2; ++i)
+        batch_sincos(x + b * stride + i * W, sines + (b * 2 + i) * W,
+                     cosines + (b * 2 + i) * W);
+    for (int b = 0; b < chunk; ++b, x += stride, dxdt += stride) {
+      const double* s = sines + b * 2 * W;
+      const double* c = cosines + b * 2 * W;
 #pragma omp simd
-  for (int l = 0; l < W; ++l) {
-    const double t0 = 1.0 / params[2];
-    const double t1 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
-    const double t2 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
-    const double t3 = 1.0 / params[3];
-    const double t4 = t3 * x[3 * W + l];
-    const double t5 = 1.0 / (params[0] + params[1] * (t1 * t1)) * (t0 * x[2 * W + l] - t2 * t4);
-    const double t6 = t4 * (1.0 / params[1]) - t2 * t5;
-    const double t7 = s[0 * W + l] * (params[4] * (params[2] * (params[0] + params[1])));
-    const double t8 = -(t6 * (params[1] * (t1 * t5))) - s[1 * W + l] * (params[4] * (params[1] * params[3]));
-    dxdt[0 * W + l] = t0 * t5;
-    dxdt[1 * W + l] = t3 * t6;
-    dxdt[2 * W + l] = -(t5 * (params[1] * (t2 * t1) * t5 - t1 * t4)) - t7;
-    dxdt[3 * W + l] = t8;
+      for (int l = 0; l < W; ++l) {
+        const double t1 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
+        const double t2 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
+        const double t4 = t3 * x[3 * W + l];
+        const double t5 = 1.0 / (params[0] + params[1] * (t1 * t1)) * (t0 * x[2 * W + l] - t2 * t4);
+        const double t7 = t4 * t6 - t2 * t5;
+        const double t9 = -(t5 * (params[1] * (t2 * t1) * t5 - t1 * t4)) - s[0 * W + l] * t8;
+        dxdt[0 * W + l] = t0 * t5;
+        dxdt[1 * W + l] = t3 * t7;
+        dxdt[2 * W + l] = t9;
+        dxdt[3 * W + l] = -(t7 * (params[1] * (t1 * t5))) - s[1 * W + l] * t10;
+      }
+    }
   }
 }
 
 void tangent_batch(const double* x, const double* w, const double* params, double* dxdt,
-                   double* dwdt) noexcept {
+                   double* dwdt, int blocks, std::size_t stride) noexcept {
   constexpr int W = batch_width;
-  double s[2 * W], c[2 * W];
-  for (int i = 0; i < 2; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);
+  const double t0 = 1.0 / params[2];
+  const double t5 = 1.0 / params[3];
+  const double t9 = 1.0 / params[1];
+  const double t13 = params[4] * (params[2] * (params[0] + params[1]));
+  const double t15 = params[4] * (params[1] * params[3]);
+  for (int first = 0; first < blocks; first += batch_blocks) {
+    const int chunk = blocks - first < batch_blocks ? blocks - first : batch_blocks;
+    double sines[batch_blocks * 2 * W], cosines[batch_blocks * 2 * W];
+    for (int b = 0; b < chunk; ++b)
+      for (int i = 0; i < 2; ++i)
+        batch_sincos(x + b * stride + i * W, sines + (b * 2 + i) * W,
+                     cosines + (b * 2 + i) * W);
+    for (int b = 0; b < chunk; ++b, x += stride, w += stride, dxdt += stride, dwdt += stride) {
+      const double* s = sines + b * 2 * W;
+      const double* c = cosines + b * 2 * W;
 #pragma omp simd
-  for (int l = 0; l < W; ++l) {
-    const double t0 = 1.0 / params[2];
-    const double t1 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
-    const double t2 = params[0] + params[1] * (t1 * t1);
-    const double t3 = 1.0 / t2;
-    const double t4 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
-    const double t5 = 1.0 / params[3];
-    const double t6 = t5 * x[3 * W + l];
-    const double t7 = t0 * x[2 * W + l] - t4 * t6;
-    const double t8 = t3 * t7;
-    const double t9 = 1.0 / params[1];
-    const double t10 = t6 * t9 - t4 * t8;
-    const double t11 = params[1] * (t4 * t1);
-    const double t12 = t11 * t8 - t1 * t6;
-    const double t13 = params[4] * (params[2] * (params[0] + params[1]));
-    const double t14 = params[1] * (t1 * t8);
-    const double t15 = params[4] * (params[1] * params[3]);
-    const double t16 = t5 * w[3 * W + l];
-    const double t17 = c[1 * W + l] * w[1 * W + l];
-    const double t18 = c[0 * W + l] * w[0 * W + l];
-    const double t19 = s[0 * W + l] * w[0 * W + l];
-    const double t20 = s[1 * W + l] * w[1 * W + l];
-    const double t21 = s[0 * W + l] * t17 + s[1 * W + l] * t18 + (-(c[1 * W + l] * t19) - c[0 * W + l] * t20);
-    const double t22 = c[0 * W + l] * t17 - s[1 * W + l] * t19 - (c[1 * W + l] * t18 - s[0 * W + l] * t20);
-    const double t23 = t1 * t22;
-    const double t24 = t3 * (t0 * w[2 * W + l] - (t4 * t16 + t6 * t21)) - t7 * (t3 * (params[1] * (t23 + t23)) / t2);
-    const double t25 = t9 * t16 - (t4 * t24 + t8 * t21);
-    const double t26 = t11 * t24 + t8 * (params[1] * (t4 * t22 + t1 * t21)) - (t1 * t16 + t6 * t22);
-    const double t27 = -(t10 * (params[1] * (t1 * t24 + t8 * t22)) + t14 * t25) - t15 * t17;
-    dxdt[0 * W + l] = t0 * t8;
-    dxdt[1 * W + l] = t5 * t10;
-    dxdt[2 * W + l] = -(t8 * t12) - s[0 * W + l] * t13;
-    dxdt[3 * W + l] = -(t10 * t14) - s[1 * W + l] * t15;
-    dwdt[0 * W + l] = t0 * t24;
-    dwdt[1 * W + l] = t5 * t25;
-    dwdt[2 * W + l] = -(t8 * t26 + t12 * t24) - t13 * t18;
-    dwdt[3 * W + l] = t27;
+      for (int l = 0; l < W; ++l) {
+        const double t1 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
+        const double t2 = params[0] + params[1] * (t1 * t1);
+        const double t3 = 1.0 / t2;
+        const double t4 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
+        const double t6 = t5 * x[3 * W + l];
+        const double t7 = t0 * x[2 * W + l] - t4 * t6;
+        const double t8 = t3 * t7;
+        const double t10 = t6 * t9 - t4 * t8;
+        const double t11 = params[1] * (t4 * t1);
+        const double t12 = t11 * t8 - t1 * t6;
+        const double t14 = params[1] * (t1 * t8);
+        const double t16 = t5 * w[3 * W + l];
+        const double t17 = c[1 * W + l] * w[1 * W + l];
+        const double t18 = c[0 * W + l] * w[0 * W + l];
+        const double t19 = s[0 * W + l] * w[0 * W + l];
+        const double t20 = s[1 * W + l] * w[1 * W + l];
+        const double t21 = s[0 * W + l] * t17 + s[1 * W + l] * t18 + (-(c[1 * W + l] * t19) - c[0 * W + l] * t20);
+        const double t22 = c[0 * W + l] * t17 - s[1 * W + l] * t19 - (c[1 * W + l] * t18 - s[0 * W + l] * t20);
+        const double t23 = t1 * t22;
+        const double t24 = t3 * (t0 * w[2 * W + l] - (t4 * t16 + t6 * t21)) - t7 * (t3 * (params[1] * (t23 + t23)) / t2);
+        const double t25 = t9 * t16 - (t4 * t24 + t8 * t21);
+        const double t26 = t11 * t24 + t8 * (params[1] * (t4 * t22 + t1 * t21)) - (t1 * t16 + t6 * t22);
+        const double t27 = -(t10 * (params[1] * (t1 * t24 + t8 * t22)) + t14 * t25) - t15 * t17;
+        dxdt[0 * W + l] = t0 * t8;
+        dxdt[1 * W + l] = t5 * t10;
+        dxdt[2 * W + l] = -(t8 * t12) - s[0 * W + l] * t13;
+        dxdt[3 * W + l] = -(t10 * t14) - s[1 * W + l] * t15;
+        dwdt[0 * W + l] = t0 * t24;
+        dwdt[1 * W + l] = t5 * t25;
+        dwdt[2 * W + l] = -(t8 * t26 + t12 * t24) - t13 * t18;
+        dwdt[3 * W + l] = t27;
+      }
+    }
   }
 }
 
 void tangents_batch(const double* x, const double* ws, int count, const double* params,
-                    double* dxdt, double* dws) noexcept {
+                    double* dxdt, double* dws, int blocks, std::size_t stride) noexcept {
   constexpr int W = batch_width;
-  double s[2 * W], c[2 * W], v[16 * W];
-  for (int i = 0; i < 2; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);
+  const double t0 = 1.0 / params[2];
+  const double t5 = 1.0 / params[3];
+  const double t9 = 1.0 / params[1];
+  const double t13 = params[4] * (params[2] * (params[0] + params[1]));
+  const double t15 = params[4] * (params[1] * params[3]);
+  for (int first = 0; first < blocks; first += batch_blocks) {
+    const int chunk = blocks - first < batch_blocks ? blocks - first : batch_blocks;
+    double sines[batch_blocks * 2 * W], cosines[batch_blocks * 2 * W];
+    for (int b = 0; b < chunk; ++b)
+      for (int i = 0; i < 2; ++i)
+        batch_sincos(x + b * stride + i * W, sines + (b * 2 + i) * W,
+                     cosines + (b * 2 + i) * W);
+    for (int b = 0; b < chunk; ++b, x += stride, ws += stride, dxdt += stride, dws += stride) {
+      const double* s = sines + b * 2 * W;
+      const double* c = cosines + b * 2 * W;
+      double v[11 * W];
 #pragma omp simd
-  for (int l = 0; l < W; ++l) {
-    const double t0 = 1.0 / params[2];
-    const double t1 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
-    const double t2 = params[0] + params[1] * (t1 * t1);
-    const double t3 = 1.0 / t2;
-    const double t4 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
-    const double t5 = 1.0 / params[3];
-    const double t6 = t5 * x[3 * W + l];
-    const double t7 = t0 * x[2 * W + l] - t4 * t6;
-    const double t8 = t3 * t7;
-    const double t9 = 1.0 / params[1];
-    const double t10 = t6 * t9 - t4 * t8;
-    const double t11 = params[1] * (t4 * t1);
-    const double t12 = t11 * t8 - t1 * t6;
-    const double t13 = params[4] * (params[2] * (params[0] + params[1]));
-    const double t14 = params[1] * (t1 * t8);
-    const double t15 = params[4] * (params[1] * params[3]);
-    dxdt[0 * W + l] = t0 * t8;
-    dxdt[1 * W + l] = t5 * t10;
-    dxdt[2 * W + l] = -(t8 * t12) - s[0 * W + l] * t13;
-    dxdt[3 * W + l] = -(t10 * t14) - s[1 * W + l] * t15;
-    v[0 * W + l] = t0;
-    v[1 * W + l] = t1;
-    v[2 * W + l] = t2;
-    v[3 * W + l] = t3;
-    v[4 * W + l] = t4;
-    v[5 * W + l] = t5;
-    v[6 * W + l] = t6;
-    v[7 * W + l] = t7;
-    v[8 * W + l] = t8;
-    v[9 * W + l] = t9;
-    v[10 * W + l] = t10;
-    v[11 * W + l] = t11;
-    v[12 * W + l] = t12;
-    v[13 * W + l] = t13;
-    v[14 * W + l] = t14;
-    v[15 * W + l] = t15;
-  }
-  for (int j = 0; j < count; ++j) {
-    const double* w = ws + j * 4 * W;
-    double* dwdt = dws + j * 4 * W;
+      for (int l = 0; l < W; ++l) {
+        const double t1 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
+        const double t2 = params[0] + params[1] * (t1 * t1);
+        const double t3 = 1.0 / t2;
+        const double t4 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
+        const double t6 = t5 * x[3 * W + l];
+        const double t7 = t0 * x[2 * W + l] - t4 * t6;
+        const double t8 = t3 * t7;
+        const double t10 = t6 * t9 - t4 * t8;
+        const double t11 = params[1] * (t4 * t1);
+        const double t12 = t11 * t8 - t1 * t6;
+        const double t14 = params[1] * (t1 * t8);
+        dxdt[0 * W + l] = t0 * t8;
+        dxdt[1 * W + l] = t5 * t10;
+        dxdt[2 * W + l] = -(t8 * t12) - s[0 * W + l] * t13;
+        dxdt[3 * W + l] = -(t10 * t14) - s[1 * W + l] * t15;
+        v[0 * W + l] = t1;
+        v[1 * W + l] = t2;
+        v[2 * W + l] = t3;
+        v[3 * W + l] = t4;
+        v[4 * W + l] = t6;
+        v[5 * W + l] = t7;
+        v[6 * W + l] = t8;
+        v[7 * W + l] = t10;
+        v[8 * W + l] = t11;
+        v[9 * W + l] = t12;
+        v[10 * W + l] = t14;
+      }
+      for (int j = 0; j < count; ++j) {
+        const double* w = ws + j * 4 * W;
+        double* dwdt = dws + j * 4 * W;
 #pragma omp simd
-    for (int l = 0; l < W; ++l) {
-      const double t16 = v[5 * W + l] * w[3 * W + l];
-      const double t17 = c[1 * W + l] * w[1 * W + l];
-      const double t18 = c[0 * W + l] * w[0 * W + l];
-      const double t19 = s[0 * W + l] * w[0 * W + l];
-      const double t20 = s[1 * W + l] * w[1 * W + l];
-      const double t21 = s[0 * W + l] * t17 + s[1 * W + l] * t18 + (-(c[1 * W + l] * t19) - c[0 * W + l] * t20);
-      const double t22 = v[0 * W + l] * w[2 * W + l] - (v[4 * W + l] * t16 + v[6 * W + l] * t21);
-      const double t23 = c[0 * W + l] * t17 - s[1 * W + l] * t19 - (c[1 * W + l] * t18 - s[0 * W + l] * t20);
-      const double t24 = v[1 * W + l] * t23;
-      const double t25 = v[7 * W + l] * (v[3 * W + l] * (params[1] * (t24 + t24)) / v[2 * W + l]);
-      const double t26 = v[3 * W + l] * t22 - t25;
-      const double t27 = v[9 * W + l] * t16 - (v[4 * W + l] * t26 + v[8 * W + l] * t21);
-      const double t28 = v[8 * W + l] * (params[1] * (v[4 * W + l] * t23 + v[1 * W + l] * t21));
-      const double t29 = v[11 * W + l] * t26 + t28 - (v[1 * W + l] * t16 + v[6 * W + l] * t23);
-      const double t30 = -(v[8 * W + l] * t29 + v[12 * W + l] * t26) - v[13 * W + l] * t18;
-      const double t31 = v[10 * W + l] * (params[1] * (v[1 * W + l] * t26 + v[8 * W + l] * t23));
-      dwdt[0 * W + l] = v[0 * W + l] * t26;
-      dwdt[1 * W + l] = v[5 * W + l] * t27;
-      dwdt[2 * W + l] = t30;
-      dwdt[3 * W + l] = -(t31 + v[14 * W + l] * t27) - v[15 * W + l] * t17;
+        for (int l = 0; l < W; ++l) {
+          const double t16 = t5 * w[3 * W + l];
+          const double t17 = c[1 * W + l] * w[1 * W + l];
+          const double t18 = c[0 * W + l] * w[0 * W + l];
+          const double t19 = s[0 * W + l] * w[0 * W + l];
+          const double t20 = s[1 * W + l] * w[1 * W + l];
+          const double t21 = s[0 * W + l] * t17 + s[1 * W + l] * t18 + (-(c[1 * W + l] * t19) - c[0 * W + l] * t20);
+          const double t22 = v[2 * W + l] * (t0 * w[2 * W + l] - (v[3 * W + l] * t16 + v[4 * W + l] * t21));
+          const double t23 = c[0 * W + l] * t17 - s[1 * W + l] * t19 - (c[1 * W + l] * t18 - s[0 * W + l] * t20);
+          const double t24 = v[0 * W + l] * t23;
+          const double t25 = v[5 * W + l] * (v[2 * W + l] * (params[1] * (t24 + t24)) / v[1 * W + l]);
+          const double t26 = t22 - t25;
+          const double t27 = t9 * t16 - (v[3 * W + l] * t26 + v[6 * W + l] * t21);
+          const double t28 = v[6 * W + l] * (params[1] * (v[3 * W + l] * t23 + v[0 * W + l] * t21));
+          const double t29 = v[8 * W + l] * t26 + t28 - (v[0 * W + l] * t16 + v[4 * W + l] * t23);
+          const double t30 = v[7 * W + l] * (params[1] * (v[0 * W + l] * t26 + v[6 * W + l] * t23));
+          dwdt[0 * W + l] = t0 * t26;
+          dwdt[1 * W + l] = t5 * t27;
+          dwdt[2 * W + l] = -(v[6 * W + l] * t29 + v[9 * W + l] * t26) - t13 * t18;
+          dwdt[3 * W + l] = -(t30 + v[10 * W + l] * t27) - t15 * t17;
+        }
+      }
     }
   }
 }

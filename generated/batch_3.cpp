@@ -3,264 +3,291 @@
 
 namespace npend::generated::batch_3 {
 
-void rhs_batch(const double* x, const double* params, double* dxdt) noexcept {
+void rhs_batch(const double* x, const double* params, double* dxdt, int blocks,
+               std::size_t stride) noexcept {
   constexpr int W = batch_width;
-  double s[3 * W], c[3 * W];
-  for (int i = 0; i < 3; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);
+  const double t0 = 1.0 / params[3];
+  const double t3 = params[1] + params[2];
+  const double t4 = params[1] * t3;
+  const double t8 = 1.0 / params[4];
+  const double t12 = 1.0 / params[5];
+  const double t20 = 1.0 / params[2];
+  const double t22 = params[6] * (params[3] * (params[0] + t3));
+  const double t24 = params[6] * (params[4] * t3);
+  const double t25 = params[6] * (params[2] * params[5]);
+  for (int first = 0; first < blocks; first += batch_blocks) {
+    const int chunk = blocks - first < batch_blocks ? blocks - first : batch_blocks;
+    double sines[batch_blocks * 3 * W], cosines[batch_blocks * 3 * W];
+    for (int b = 0; b < chunk; ++b)
+      for (int i = 0; i < 3; ++i)
+        batch_sincos(x + b * stride + i * W, sines + (b * 3 + i) * W,
+                     cosines + (b * 3 + i) * W);
+    for (int b = 0; b < chunk; ++b, x += stride, dxdt += stride) {
+      const double* s = sines + b * 3 * W;
+      const double* c = cosines + b * 3 * W;
 #pragma omp simd
-  for (int l = 0; l < W; ++l) {
-    const double t0 = 1.0 / params[3];
-    const double t1 = c[1 * W + l] * s[2 * W + l] - s[1 * W + l] * c[2 * W + l];
-    const double t2 = 1.0 / (params[1] + params[2] * (t1 * t1));
-    const double t3 = params[1] + params[2];
-    const double t4 = t2 * (params[1] * t3);
-    const double t5 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
-    const double t6 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
-    const double t7 = 1.0 / params[4];
-    const double t8 = t7 * x[4 * W + l];
-    const double t9 = s[1 * W + l] * s[2 * W + l] + c[1 * W + l] * c[2 * W + l];
-    const double t10 = params[2] * (t9 * t1);
-    const double t11 = 1.0 / params[5];
-    const double t12 = t11 * x[5 * W + l];
-    const double t13 = t2 * (t8 - t9 * t12);
-    const double t14 = t10 * t13 - t1 * t12;
-    const double t15 = 1.0 / (params[0] + t4 * (t5 * t5)) * (t0 * x[3 * W + l] - t6 * t8 - t5 * t14);
-    const double t16 = t5 * t15;
-    const double t17 = t13 - t2 * t10 * t16;
-    const double t18 = t17 - t6 * t15;
-    const double t19 = t12 * (1.0 / params[2]) - (t9 * t17 - t1 * t16);
-    const double t20 = -(t15 * (t4 * (t6 * t5) * t15 + (t6 * t14 - t5 * t8))) - s[0 * W + l] * (params[6] * (params[3] * (params[0] + t3)));
-    const double t21 = -(t18 * (t14 + t4 * t16)) - s[1 * W + l] * (params[6] * (params[4] * t3));
-    const double t22 = -(t19 * (params[2] * (t9 * t16 + t1 * t17))) - s[2 * W + l] * (params[6] * (params[2] * params[5]));
-    dxdt[0 * W + l] = t0 * t15;
-    dxdt[1 * W + l] = t7 * t18;
-    dxdt[2 * W + l] = t11 * t19;
-    dxdt[3 * W + l] = t20;
-    dxdt[4 * W + l] = t21;
-    dxdt[5 * W + l] = t22;
+      for (int l = 0; l < W; ++l) {
+        const double t1 = c[1 * W + l] * s[2 * W + l] - s[1 * W + l] * c[2 * W + l];
+        const double t2 = 1.0 / (params[1] + params[2] * (t1 * t1));
+        const double t5 = t2 * t4;
+        const double t6 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
+        const double t7 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
+        const double t9 = t8 * x[4 * W + l];
+        const double t10 = s[1 * W + l] * s[2 * W + l] + c[1 * W + l] * c[2 * W + l];
+        const double t11 = params[2] * (t10 * t1);
+        const double t13 = t12 * x[5 * W + l];
+        const double t14 = t2 * (t9 - t10 * t13);
+        const double t15 = t11 * t14 - t1 * t13;
+        const double t16 = 1.0 / (params[0] + t5 * (t6 * t6)) * (t0 * x[3 * W + l] - t7 * t9 - t6 * t15);
+        const double t17 = t6 * t16;
+        const double t18 = t14 - t2 * t11 * t17;
+        const double t19 = t18 - t7 * t16;
+        const double t21 = t13 * t20 - (t10 * t18 - t1 * t17);
+        const double t23 = -(t16 * (t5 * (t7 * t6) * t16 + (t7 * t15 - t6 * t9))) - s[0 * W + l] * t22;
+        const double t26 = -(t21 * (params[2] * (t10 * t17 + t1 * t18))) - s[2 * W + l] * t25;
+        dxdt[0 * W + l] = t0 * t16;
+        dxdt[1 * W + l] = t8 * t19;
+        dxdt[2 * W + l] = t12 * t21;
+        dxdt[3 * W + l] = t23;
+        dxdt[4 * W + l] = -(t19 * (t15 + t5 * t17)) - s[1 * W + l] * t24;
+        dxdt[5 * W + l] = t26;
+      }
+    }
   }
 }
 
 void tangent_batch(const double* x, const double* w, const double* params, double* dxdt,
-                   double* dwdt) noexcept {
+                   double* dwdt, int blocks, std::size_t stride) noexcept {
   constexpr int W = batch_width;
-  double s[3 * W], c[3 * W];
-  for (int i = 0; i < 3; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);
+  const double t0 = 1.0 / params[3];
+  const double t4 = params[1] + params[2];
+  const double t5 = params[1] * t4;
+  const double t12 = 1.0 / params[4];
+  const double t16 = 1.0 / params[5];
+  const double t27 = 1.0 / params[2];
+  const double t32 = params[6] * (params[3] * (params[0] + t4));
+  const double t34 = params[6] * (params[4] * t4);
+  const double t36 = params[6] * (params[2] * params[5]);
+  for (int first = 0; first < blocks; first += batch_blocks) {
+    const int chunk = blocks - first < batch_blocks ? blocks - first : batch_blocks;
+    double sines[batch_blocks * 3 * W], cosines[batch_blocks * 3 * W];
+    for (int b = 0; b < chunk; ++b)
+      for (int i = 0; i < 3; ++i)
+        batch_sincos(x + b * stride + i * W, sines + (b * 3 + i) * W,
+                     cosines + (b * 3 + i) * W);
+    for (int b = 0; b < chunk; ++b, x += stride, w += stride, dxdt += stride, dwdt += stride) {
+      const double* s = sines + b * 3 * W;
+      const double* c = cosines + b * 3 * W;
 #pragma omp simd
-  for (int l = 0; l < W; ++l) {
-    const double t0 = 1.0 / params[3];
-    const double t1 = c[1 * W + l] * s[2 * W + l] - s[1 * W + l] * c[2 * W + l];
-    const double t2 = params[1] + params[2] * (t1 * t1);
-    const double t3 = 1.0 / t2;
-    const double t4 = params[1] + params[2];
-    const double t5 = params[1] * t4;
-    const double t6 = t3 * t5;
-    const double t7 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
-    const double t8 = t7 * t7;
-    const double t9 = params[0] + t6 * t8;
-    const double t10 = 1.0 / t9;
-    const double t11 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
-    const double t12 = 1.0 / params[4];
-    const double t13 = t12 * x[4 * W + l];
-    const double t14 = s[1 * W + l] * s[2 * W + l] + c[1 * W + l] * c[2 * W + l];
-    const double t15 = params[2] * (t14 * t1);
-    const double t16 = 1.0 / params[5];
-    const double t17 = t16 * x[5 * W + l];
-    const double t18 = t13 - t14 * t17;
-    const double t19 = t3 * t18;
-    const double t20 = t15 * t19 - t1 * t17;
-    const double t21 = t0 * x[3 * W + l] - t11 * t13 - t7 * t20;
-    const double t22 = t10 * t21;
-    const double t23 = t3 * t15;
-    const double t24 = t7 * t22;
-    const double t25 = t19 - t23 * t24;
-    const double t26 = t25 - t11 * t22;
-    const double t27 = 1.0 / params[2];
-    const double t28 = t17 * t27 - (t14 * t25 - t1 * t24);
-    const double t29 = t11 * t7;
-    const double t30 = t6 * t29;
-    const double t31 = t30 * t22 + (t11 * t20 - t7 * t13);
-    const double t32 = params[6] * (params[3] * (params[0] + t4));
-    const double t33 = t20 + t6 * t24;
-    const double t34 = params[6] * (params[4] * t4);
-    const double t35 = params[2] * (t14 * t24 + t1 * t25);
-    const double t36 = params[6] * (params[2] * params[5]);
-    const double t37 = t12 * w[4 * W + l];
-    const double t38 = c[1 * W + l] * w[1 * W + l];
-    const double t39 = c[0 * W + l] * w[0 * W + l];
-    const double t40 = s[0 * W + l] * w[0 * W + l];
-    const double t41 = s[1 * W + l] * w[1 * W + l];
-    const double t42 = s[0 * W + l] * t38 + s[1 * W + l] * t39 + (-(c[1 * W + l] * t40) - c[0 * W + l] * t41);
-    const double t43 = t16 * w[5 * W + l];
-    const double t44 = c[2 * W + l] * w[2 * W + l];
-    const double t45 = s[2 * W + l] * w[2 * W + l];
-    const double t46 = s[1 * W + l] * t44 + s[2 * W + l] * t38 + (-(c[2 * W + l] * t41) - c[1 * W + l] * t45);
-    const double t47 = c[1 * W + l] * t44 - s[2 * W + l] * t41 - (c[2 * W + l] * t38 - s[1 * W + l] * t45);
-    const double t48 = t1 * t47;
-    const double t49 = t3 * (params[2] * (t48 + t48)) / t2;
-    const double t50 = t3 * (t37 - (t14 * t43 + t17 * t46)) - t18 * t49;
-    const double t51 = params[2] * (t14 * t47 + t1 * t46);
-    const double t52 = t15 * t50 + t19 * t51 - (t1 * t43 + t17 * t47);
-    const double t53 = c[0 * W + l] * t38 - s[1 * W + l] * t40 - (c[1 * W + l] * t39 - s[0 * W + l] * t41);
-    const double t54 = t0 * w[3 * W + l] - (t11 * t37 + t13 * t42) - (t7 * t52 + t20 * t53);
-    const double t55 = t7 * t53;
-    const double t56 = t5 * t49;
-    const double t57 = t10 * t54 - t21 * (t10 * (t6 * (t55 + t55) - t8 * t56) / t9);
-    const double t58 = t7 * t57 + t22 * t53;
-    const double t59 = t50 - (t23 * t58 + t24 * (t3 * t51 - t15 * t49));
-    const double t60 = t59 - (t11 * t57 + t22 * t42);
-    const double t61 = t27 * t43 - (t14 * t59 + t25 * t46 - (t1 * t58 + t24 * t47));
-    const double t62 = t30 * t57 + t22 * (t6 * (t11 * t53 + t7 * t42) - t29 * t56) + (t11 * t52 + t20 * t42 - (t7 * t37 + t13 * t53));
-    const double t63 = t28 * (params[2] * (t14 * t58 + t24 * t46 + (t1 * t59 + t25 * t47)));
-    dxdt[0 * W + l] = t0 * t22;
-    dxdt[1 * W + l] = t12 * t26;
-    dxdt[2 * W + l] = t16 * t28;
-    dxdt[3 * W + l] = -(t22 * t31) - s[0 * W + l] * t32;
-    dxdt[4 * W + l] = -(t26 * t33) - s[1 * W + l] * t34;
-    dxdt[5 * W + l] = -(t28 * t35) - s[2 * W + l] * t36;
-    dwdt[0 * W + l] = t0 * t57;
-    dwdt[1 * W + l] = t12 * t60;
-    dwdt[2 * W + l] = t16 * t61;
-    dwdt[3 * W + l] = -(t22 * t62 + t31 * t57) - t32 * t39;
-    dwdt[4 * W + l] = -(t26 * (t52 + (t6 * t58 - t24 * t56)) + t33 * t60) - t34 * t38;
-    dwdt[5 * W + l] = -(t63 + t35 * t61) - t36 * t44;
+      for (int l = 0; l < W; ++l) {
+        const double t1 = c[1 * W + l] * s[2 * W + l] - s[1 * W + l] * c[2 * W + l];
+        const double t2 = params[1] + params[2] * (t1 * t1);
+        const double t3 = 1.0 / t2;
+        const double t6 = t3 * t5;
+        const double t7 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
+        const double t8 = t7 * t7;
+        const double t9 = params[0] + t6 * t8;
+        const double t10 = 1.0 / t9;
+        const double t11 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
+        const double t13 = t12 * x[4 * W + l];
+        const double t14 = s[1 * W + l] * s[2 * W + l] + c[1 * W + l] * c[2 * W + l];
+        const double t15 = params[2] * (t14 * t1);
+        const double t17 = t16 * x[5 * W + l];
+        const double t18 = t13 - t14 * t17;
+        const double t19 = t3 * t18;
+        const double t20 = t15 * t19 - t1 * t17;
+        const double t21 = t0 * x[3 * W + l] - t11 * t13 - t7 * t20;
+        const double t22 = t10 * t21;
+        const double t23 = t3 * t15;
+        const double t24 = t7 * t22;
+        const double t25 = t19 - t23 * t24;
+        const double t26 = t25 - t11 * t22;
+        const double t28 = t17 * t27 - (t14 * t25 - t1 * t24);
+        const double t29 = t11 * t7;
+        const double t30 = t6 * t29;
+        const double t31 = t30 * t22 + (t11 * t20 - t7 * t13);
+        const double t33 = t20 + t6 * t24;
+        const double t35 = params[2] * (t14 * t24 + t1 * t25);
+        const double t37 = t12 * w[4 * W + l];
+        const double t38 = c[1 * W + l] * w[1 * W + l];
+        const double t39 = c[0 * W + l] * w[0 * W + l];
+        const double t40 = s[0 * W + l] * w[0 * W + l];
+        const double t41 = s[1 * W + l] * w[1 * W + l];
+        const double t42 = s[0 * W + l] * t38 + s[1 * W + l] * t39 + (-(c[1 * W + l] * t40) - c[0 * W + l] * t41);
+        const double t43 = t16 * w[5 * W + l];
+        const double t44 = c[2 * W + l] * w[2 * W + l];
+        const double t45 = s[2 * W + l] * w[2 * W + l];
+        const double t46 = s[1 * W + l] * t44 + s[2 * W + l] * t38 + (-(c[2 * W + l] * t41) - c[1 * W + l] * t45);
+        const double t47 = c[1 * W + l] * t44 - s[2 * W + l] * t41 - (c[2 * W + l] * t38 - s[1 * W + l] * t45);
+        const double t48 = t1 * t47;
+        const double t49 = t3 * (params[2] * (t48 + t48)) / t2;
+        const double t50 = t3 * (t37 - (t14 * t43 + t17 * t46)) - t18 * t49;
+        const double t51 = params[2] * (t14 * t47 + t1 * t46);
+        const double t52 = t15 * t50 + t19 * t51 - (t1 * t43 + t17 * t47);
+        const double t53 = c[0 * W + l] * t38 - s[1 * W + l] * t40 - (c[1 * W + l] * t39 - s[0 * W + l] * t41);
+        const double t54 = t0 * w[3 * W + l] - (t11 * t37 + t13 * t42) - (t7 * t52 + t20 * t53);
+        const double t55 = t7 * t53;
+        const double t56 = t5 * t49;
+        const double t57 = t10 * t54 - t21 * (t10 * (t6 * (t55 + t55) - t8 * t56) / t9);
+        const double t58 = t7 * t57 + t22 * t53;
+        const double t59 = t50 - (t23 * t58 + t24 * (t3 * t51 - t15 * t49));
+        const double t60 = t59 - (t11 * t57 + t22 * t42);
+        const double t61 = t27 * t43 - (t14 * t59 + t25 * t46 - (t1 * t58 + t24 * t47));
+        const double t62 = t30 * t57 + t22 * (t6 * (t11 * t53 + t7 * t42) - t29 * t56) + (t11 * t52 + t20 * t42 - (t7 * t37 + t13 * t53));
+        const double t63 = t28 * (params[2] * (t14 * t58 + t24 * t46 + (t1 * t59 + t25 * t47)));
+        dxdt[0 * W + l] = t0 * t22;
+        dxdt[1 * W + l] = t12 * t26;
+        dxdt[2 * W + l] = t16 * t28;
+        dxdt[3 * W + l] = -(t22 * t31) - s[0 * W + l] * t32;
+        dxdt[4 * W + l] = -(t26 * t33) - s[1 * W + l] * t34;
+        dxdt[5 * W + l] = -(t28 * t35) - s[2 * W + l] * t36;
+        dwdt[0 * W + l] = t0 * t57;
+        dwdt[1 * W + l] = t12 * t60;
+        dwdt[2 * W + l] = t16 * t61;
+        dwdt[3 * W + l] = -(t22 * t62 + t31 * t57) - t32 * t39;
+        dwdt[4 * W + l] = -(t26 * (t52 + (t6 * t58 - t24 * t56)) + t33 * t60) - t34 * t38;
+        dwdt[5 * W + l] = -(t63 + t35 * t61) - t36 * t44;
+      }
+    }
   }
 }
 
 void tangents_batch(const double* x, const double* ws, int count, const double* params,
-                    double* dxdt, double* dws) noexcept {
+                    double* dxdt, double* dws, int blocks, std::size_t stride) noexcept {
   constexpr int W = batch_width;
-  double s[3 * W], c[3 * W], v[36 * W];
-  for (int i = 0; i < 3; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);
+  const double t0 = 1.0 / params[3];
+  const double t4 = params[1] + params[2];
+  const double t5 = params[1] * t4;
+  const double t12 = 1.0 / params[4];
+  const double t16 = 1.0 / params[5];
+  const double t27 = 1.0 / params[2];
+  const double t32 = params[6] * (params[3] * (params[0] + t4));
+  const double t34 = params[6] * (params[4] * t4);
+  const double t36 = params[6] * (params[2] * params[5]);
+  for (int first = 0; first < blocks; first += batch_blocks) {
+    const int chunk = blocks - first < batch_blocks ? blocks - first : batch_blocks;
+    double sines[batch_blocks * 3 * W], cosines[batch_blocks * 3 * W];
+    for (int b = 0; b < chunk; ++b)
+      for (int i = 0; i < 3; ++i)
+        batch_sincos(x + b * stride + i * W, sines + (b * 3 + i) * W,
+                     cosines + (b * 3 + i) * W);
+    for (int b = 0; b < chunk; ++b, x += stride, ws += stride, dxdt += stride, dws += stride) {
+      const double* s = sines + b * 3 * W;
+      const double* c = cosines + b * 3 * W;
+      double v[28 * W];
 #pragma omp simd
-  for (int l = 0; l < W; ++l) {
-    const double t0 = 1.0 / params[3];
-    const double t1 = c[1 * W + l] * s[2 * W + l] - s[1 * W + l] * c[2 * W + l];
-    const double t2 = params[1] + params[2] * (t1 * t1);
-    const double t3 = 1.0 / t2;
-    const double t4 = params[1] + params[2];
-    const double t5 = params[1] * t4;
-    const double t6 = t3 * t5;
-    const double t7 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
-    const double t8 = t7 * t7;
-    const double t9 = params[0] + t6 * t8;
-    const double t10 = 1.0 / t9;
-    const double t11 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
-    const double t12 = 1.0 / params[4];
-    const double t13 = t12 * x[4 * W + l];
-    const double t14 = s[1 * W + l] * s[2 * W + l] + c[1 * W + l] * c[2 * W + l];
-    const double t15 = params[2] * (t14 * t1);
-    const double t16 = 1.0 / params[5];
-    const double t17 = t16 * x[5 * W + l];
-    const double t18 = t13 - t14 * t17;
-    const double t19 = t3 * t18;
-    const double t20 = t15 * t19 - t1 * t17;
-    const double t21 = t0 * x[3 * W + l] - t11 * t13 - t7 * t20;
-    const double t22 = t10 * t21;
-    const double t23 = t3 * t15;
-    const double t24 = t7 * t22;
-    const double t25 = t19 - t23 * t24;
-    const double t26 = t25 - t11 * t22;
-    const double t27 = 1.0 / params[2];
-    const double t28 = t17 * t27 - (t14 * t25 - t1 * t24);
-    const double t29 = t11 * t7;
-    const double t30 = t6 * t29;
-    const double t31 = t30 * t22 + (t11 * t20 - t7 * t13);
-    const double t32 = params[6] * (params[3] * (params[0] + t4));
-    const double t33 = t20 + t6 * t24;
-    const double t34 = params[6] * (params[4] * t4);
-    const double t35 = params[2] * (t14 * t24 + t1 * t25);
-    const double t36 = params[6] * (params[2] * params[5]);
-    dxdt[0 * W + l] = t0 * t22;
-    dxdt[1 * W + l] = t12 * t26;
-    dxdt[2 * W + l] = t16 * t28;
-    dxdt[3 * W + l] = -(t22 * t31) - s[0 * W + l] * t32;
-    dxdt[4 * W + l] = -(t26 * t33) - s[1 * W + l] * t34;
-    dxdt[5 * W + l] = -(t28 * t35) - s[2 * W + l] * t36;
-    v[0 * W + l] = t0;
-    v[1 * W + l] = t1;
-    v[2 * W + l] = t2;
-    v[3 * W + l] = t3;
-    v[4 * W + l] = t5;
-    v[5 * W + l] = t6;
-    v[6 * W + l] = t7;
-    v[7 * W + l] = t8;
-    v[8 * W + l] = t9;
-    v[9 * W + l] = t10;
-    v[10 * W + l] = t11;
-    v[11 * W + l] = t12;
-    v[12 * W + l] = t13;
-    v[13 * W + l] = t14;
-    v[14 * W + l] = t15;
-    v[15 * W + l] = t16;
-    v[16 * W + l] = t17;
-    v[17 * W + l] = t18;
-    v[18 * W + l] = t19;
-    v[19 * W + l] = t20;
-    v[20 * W + l] = t21;
-    v[21 * W + l] = t22;
-    v[22 * W + l] = t23;
-    v[23 * W + l] = t24;
-    v[24 * W + l] = t25;
-    v[25 * W + l] = t26;
-    v[26 * W + l] = t27;
-    v[27 * W + l] = t28;
-    v[28 * W + l] = t29;
-    v[29 * W + l] = t30;
-    v[30 * W + l] = t31;
-    v[31 * W + l] = t32;
-    v[32 * W + l] = t33;
-    v[33 * W + l] = t34;
-    v[34 * W + l] = t35;
-    v[35 * W + l] = t36;
-  }
-  for (int j = 0; j < count; ++j) {
-    const double* w = ws + j * 6 * W;
-    double* dwdt = dws + j * 6 * W;
+      for (int l = 0; l < W; ++l) {
+        const double t1 = c[1 * W + l] * s[2 * W + l] - s[1 * W + l] * c[2 * W + l];
+        const double t2 = params[1] + params[2] * (t1 * t1);
+        const double t3 = 1.0 / t2;
+        const double t6 = t3 * t5;
+        const double t7 = c[0 * W + l] * s[1 * W + l] - s[0 * W + l] * c[1 * W + l];
+        const double t8 = t7 * t7;
+        const double t9 = params[0] + t6 * t8;
+        const double t10 = 1.0 / t9;
+        const double t11 = s[0 * W + l] * s[1 * W + l] + c[0 * W + l] * c[1 * W + l];
+        const double t13 = t12 * x[4 * W + l];
+        const double t14 = s[1 * W + l] * s[2 * W + l] + c[1 * W + l] * c[2 * W + l];
+        const double t15 = params[2] * (t14 * t1);
+        const double t17 = t16 * x[5 * W + l];
+        const double t18 = t13 - t14 * t17;
+        const double t19 = t3 * t18;
+        const double t20 = t15 * t19 - t1 * t17;
+        const double t21 = t0 * x[3 * W + l] - t11 * t13 - t7 * t20;
+        const double t22 = t10 * t21;
+        const double t23 = t3 * t15;
+        const double t24 = t7 * t22;
+        const double t25 = t19 - t23 * t24;
+        const double t26 = t25 - t11 * t22;
+        const double t28 = t17 * t27 - (t14 * t25 - t1 * t24);
+        const double t29 = t11 * t7;
+        const double t30 = t6 * t29;
+        const double t31 = t30 * t22 + (t11 * t20 - t7 * t13);
+        const double t33 = t20 + t6 * t24;
+        const double t35 = params[2] * (t14 * t24 + t1 * t25);
+        dxdt[0 * W + l] = t0 * t22;
+        dxdt[1 * W + l] = t12 * t26;
+        dxdt[2 * W + l] = t16 * t28;
+        dxdt[3 * W + l] = -(t22 * t31) - s[0 * W + l] * t32;
+        dxdt[4 * W + l] = -(t26 * t33) - s[1 * W + l] * t34;
+        dxdt[5 * W + l] = -(t28 * t35) - s[2 * W + l] * t36;
+        v[0 * W + l] = t1;
+        v[1 * W + l] = t2;
+        v[2 * W + l] = t3;
+        v[3 * W + l] = t6;
+        v[4 * W + l] = t7;
+        v[5 * W + l] = t8;
+        v[6 * W + l] = t9;
+        v[7 * W + l] = t10;
+        v[8 * W + l] = t11;
+        v[9 * W + l] = t13;
+        v[10 * W + l] = t14;
+        v[11 * W + l] = t15;
+        v[12 * W + l] = t17;
+        v[13 * W + l] = t18;
+        v[14 * W + l] = t19;
+        v[15 * W + l] = t20;
+        v[16 * W + l] = t21;
+        v[17 * W + l] = t22;
+        v[18 * W + l] = t23;
+        v[19 * W + l] = t24;
+        v[20 * W + l] = t25;
+        v[21 * W + l] = t26;
+        v[22 * W + l] = t28;
+        v[23 * W + l] = t29;
+        v[24 * W + l] = t30;
+        v[25 * W + l] = t31;
+        v[26 * W + l] = t33;
+        v[27 * W + l] = t35;
+      }
+      for (int j = 0; j < count; ++j) {
+        const double* w = ws + j * 6 * W;
+        double* dwdt = dws + j * 6 * W;
 #pragma omp simd
-    for (int l = 0; l < W; ++l) {
-      const double t37 = v[11 * W + l] * w[4 * W + l];
-      const double t38 = c[1 * W + l] * w[1 * W + l];
-      const double t39 = c[0 * W + l] * w[0 * W + l];
-      const double t40 = s[0 * W + l] * w[0 * W + l];
-      const double t41 = s[1 * W + l] * w[1 * W + l];
-      const double t42 = s[0 * W + l] * t38 + s[1 * W + l] * t39 + (-(c[1 * W + l] * t40) - c[0 * W + l] * t41);
-      const double t43 = v[0 * W + l] * w[3 * W + l] - (v[10 * W + l] * t37 + v[12 * W + l] * t42);
-      const double t44 = v[15 * W + l] * w[5 * W + l];
-      const double t45 = c[2 * W + l] * w[2 * W + l];
-      const double t46 = s[2 * W + l] * w[2 * W + l];
-      const double t47 = s[1 * W + l] * t45 + s[2 * W + l] * t38 + (-(c[2 * W + l] * t41) - c[1 * W + l] * t46);
-      const double t48 = v[3 * W + l] * (t37 - (v[13 * W + l] * t44 + v[16 * W + l] * t47));
-      const double t49 = c[1 * W + l] * t45 - s[2 * W + l] * t41 - (c[2 * W + l] * t38 - s[1 * W + l] * t46);
-      const double t50 = v[1 * W + l] * t49;
-      const double t51 = v[3 * W + l] * (params[2] * (t50 + t50)) / v[2 * W + l];
-      const double t52 = t48 - v[17 * W + l] * t51;
-      const double t53 = params[2] * (v[13 * W + l] * t49 + v[1 * W + l] * t47);
-      const double t54 = v[14 * W + l] * t52 + v[18 * W + l] * t53 - (v[1 * W + l] * t44 + v[16 * W + l] * t49);
-      const double t55 = c[0 * W + l] * t38 - s[1 * W + l] * t40 - (c[1 * W + l] * t39 - s[0 * W + l] * t41);
-      const double t56 = v[9 * W + l] * (t43 - (v[6 * W + l] * t54 + v[19 * W + l] * t55));
-      const double t57 = v[6 * W + l] * t55;
-      const double t58 = v[4 * W + l] * t51;
-      const double t59 = v[9 * W + l] * (v[5 * W + l] * (t57 + t57) - v[7 * W + l] * t58) / v[8 * W + l];
-      const double t60 = t56 - v[20 * W + l] * t59;
-      const double t61 = v[6 * W + l] * t60 + v[21 * W + l] * t55;
-      const double t62 = v[22 * W + l] * t61 + v[23 * W + l] * (v[3 * W + l] * t53 - v[14 * W + l] * t51);
-      const double t63 = t52 - t62;
-      const double t64 = t63 - (v[10 * W + l] * t60 + v[21 * W + l] * t42);
-      const double t65 = v[13 * W + l] * t63 + v[24 * W + l] * t47 - (v[1 * W + l] * t61 + v[23 * W + l] * t49);
-      const double t66 = v[26 * W + l] * t44 - t65;
-      const double t67 = v[5 * W + l] * (v[10 * W + l] * t55 + v[6 * W + l] * t42) - v[28 * W + l] * t58;
-      const double t68 = v[10 * W + l] * t54 + v[19 * W + l] * t42 - (v[6 * W + l] * t37 + v[12 * W + l] * t55);
-      const double t69 = v[21 * W + l] * (v[29 * W + l] * t60 + v[21 * W + l] * t67 + t68);
-      const double t70 = v[25 * W + l] * (t54 + (v[5 * W + l] * t61 - v[23 * W + l] * t58));
-      const double t71 = v[13 * W + l] * t61 + v[23 * W + l] * t47 + (v[1 * W + l] * t63 + v[24 * W + l] * t49);
-      const double t72 = -(v[27 * W + l] * (params[2] * t71) + v[34 * W + l] * t66) - v[35 * W + l] * t45;
-      dwdt[0 * W + l] = v[0 * W + l] * t60;
-      dwdt[1 * W + l] = v[11 * W + l] * t64;
-      dwdt[2 * W + l] = v[15 * W + l] * t66;
-      dwdt[3 * W + l] = -(t69 + v[30 * W + l] * t60) - v[31 * W + l] * t39;
-      dwdt[4 * W + l] = -(t70 + v[32 * W + l] * t64) - v[33 * W + l] * t38;
-      dwdt[5 * W + l] = t72;
+        for (int l = 0; l < W; ++l) {
+          const double t37 = t12 * w[4 * W + l];
+          const double t38 = c[1 * W + l] * w[1 * W + l];
+          const double t39 = c[0 * W + l] * w[0 * W + l];
+          const double t40 = s[0 * W + l] * w[0 * W + l];
+          const double t41 = s[1 * W + l] * w[1 * W + l];
+          const double t42 = s[0 * W + l] * t38 + s[1 * W + l] * t39 + (-(c[1 * W + l] * t40) - c[0 * W + l] * t41);
+          const double t43 = t16 * w[5 * W + l];
+          const double t44 = c[2 * W + l] * w[2 * W + l];
+          const double t45 = s[2 * W + l] * w[2 * W + l];
+          const double t46 = s[1 * W + l] * t44 + s[2 * W + l] * t38 + (-(c[2 * W + l] * t41) - c[1 * W + l] * t45);
+          const double t47 = v[2 * W + l] * (t37 - (v[10 * W + l] * t43 + v[12 * W + l] * t46));
+          const double t48 = c[1 * W + l] * t44 - s[2 * W + l] * t41 - (c[2 * W + l] * t38 - s[1 * W + l] * t45);
+          const double t49 = v[0 * W + l] * t48;
+          const double t50 = v[2 * W + l] * (params[2] * (t49 + t49)) / v[1 * W + l];
+          const double t51 = t47 - v[13 * W + l] * t50;
+          const double t52 = params[2] * (v[10 * W + l] * t48 + v[0 * W + l] * t46);
+          const double t53 = v[11 * W + l] * t51 + v[14 * W + l] * t52 - (v[0 * W + l] * t43 + v[12 * W + l] * t48);
+          const double t54 = c[0 * W + l] * t38 - s[1 * W + l] * t40 - (c[1 * W + l] * t39 - s[0 * W + l] * t41);
+          const double t55 = t0 * w[3 * W + l] - (v[8 * W + l] * t37 + v[9 * W + l] * t42) - (v[4 * W + l] * t53 + v[15 * W + l] * t54);
+          const double t56 = v[4 * W + l] * t54;
+          const double t57 = t5 * t50;
+          const double t58 = v[7 * W + l] * (v[3 * W + l] * (t56 + t56) - v[5 * W + l] * t57) / v[6 * W + l];
+          const double t59 = v[7 * W + l] * t55 - v[16 * W + l] * t58;
+          const double t60 = v[4 * W + l] * t59 + v[17 * W + l] * t54;
+          const double t61 = v[18 * W + l] * t60 + v[19 * W + l] * (v[2 * W + l] * t52 - v[11 * W + l] * t50);
+          const double t62 = t51 - t61;
+          const double t63 = t62 - (v[8 * W + l] * t59 + v[17 * W + l] * t42);
+          const double t64 = v[10 * W + l] * t62 + v[20 * W + l] * t46 - (v[0 * W + l] * t60 + v[19 * W + l] * t48);
+          const double t65 = t27 * t43 - t64;
+          const double t66 = v[3 * W + l] * (v[8 * W + l] * t54 + v[4 * W + l] * t42) - v[23 * W + l] * t57;
+          const double t67 = v[8 * W + l] * t53 + v[15 * W + l] * t42 - (v[4 * W + l] * t37 + v[9 * W + l] * t54);
+          const double t68 = v[17 * W + l] * (v[24 * W + l] * t59 + v[17 * W + l] * t66 + t67);
+          const double t69 = v[21 * W + l] * (t53 + (v[3 * W + l] * t60 - v[19 * W + l] * t57));
+          const double t70 = v[10 * W + l] * t60 + v[19 * W + l] * t46 + (v[0 * W + l] * t62 + v[20 * W + l] * t48);
+          const double t71 = -(v[22 * W + l] * (params[2] * t70) + v[27 * W + l] * t65) - t36 * t44;
+          dwdt[0 * W + l] = t0 * t59;
+          dwdt[1 * W + l] = t12 * t63;
+          dwdt[2 * W + l] = t16 * t65;
+          dwdt[3 * W + l] = -(t68 + v[25 * W + l] * t59) - t32 * t39;
+          dwdt[4 * W + l] = -(t69 + v[26 * W + l] * t63) - t34 * t38;
+          dwdt[5 * W + l] = t71;
+        }
+      }
     }
   }
 }

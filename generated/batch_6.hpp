@@ -11,21 +11,26 @@ namespace npend::generated::batch_6 {
 
 inline constexpr int links = 6;
 
-/// Hamilton's equations on W lanes: x (dim 2n*W = 12*W), dxdt (the same); each lane
-/// as chain_6::rhs, with SLEEF's 1-ulp sines and cosines.
-void rhs_batch(const double* x, const double* params, double* dxdt) noexcept;
+/// Hamilton's equations on `blocks` blocks of W lanes, block b at x + b*stride and
+/// dxdt + b*stride (each block dim 2n*W = 12*W); each lane as chain_6::rhs, with
+/// SLEEF's 1-ulp sines and cosines. What depends on the parameters alone is computed
+/// once per call.
+void rhs_batch(const double* x, const double* params, double* dxdt, int blocks,
+               std::size_t stride) noexcept;
 
 /// Hamilton's equations and their tangent on W lanes: dxdt = f(x) as rhs_batch, and
 /// dwdt = J(x) w, the Jacobian–vector product for the tangent vectors w (dim 2n*W),
-/// forward mode through rhs_batch's program.
+/// forward mode through rhs_batch's program; blocks as rhs_batch's (w and dwdt
+/// advance by stride too).
 void tangent_batch(const double* x, const double* w, const double* params, double* dxdt,
-                   double* dwdt) noexcept;
+                   double* dwdt, int blocks, std::size_t stride) noexcept;
 
 /// tangent_batch for `count` tangent vectors at once: ws and dws hold them one after
 /// another (vector j at ws + j*2n*W); f(x) and the values the tangents share are
-/// computed once, each vector's J(x) w as tangent_batch computes it.
+/// computed once, each vector's J(x) w as tangent_batch computes it; blocks as
+/// rhs_batch's (ws and dws advance by stride too).
 void tangents_batch(const double* x, const double* ws, int count, const double* params,
-                    double* dxdt, double* dws) noexcept;
+                    double* dxdt, double* dws, int blocks, std::size_t stride) noexcept;
 
 /// This link count's entry of the runtime's batch kernel table.
 extern const batch_kernels kernels;

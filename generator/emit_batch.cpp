@@ -59,6 +59,49 @@ int trig_angle(const expr_graph& g, const node& nd) {
   return arg.index;
 }
 
+// Which nodes of `order` read nothing but the parameters and constants: the same in every
+// lane and every block, so computed once per call, before the loop over the blocks. (A
+// division by a mass or length costs as much as the lanes' one true division; repeated per
+// block, they kept the divider busy for 37 % of rhs_batch's time, measured with perf.)
+std::vector<char> parameters_only(const expr_graph& g, const std::vector<int>& order) {
+  std::vector<char> only(u(g.size()), 0);
+  for (const int id : order) {
+    const node& nd = g.at(id);
+    switch (nd.kind) {
+      case op::constant:
+        only[u(id)] = 1;
+        break;
+      case op::input:
+        only[u(id)] = nd.input == input_kind::mass || nd.input == input_kind::length ||
+                      nd.input == input_kind::gravity;
+        break;
+      case op::sin:
+      case op::cos:
+        break;
+      default:
+        only[u(id)] = (nd.lhs < 0 || only[u(nd.lhs)]) && (nd.rhs < 0 || only[u(nd.rhs)]);
+    }
+  }
+  return only;
+}
+
+// The nodes of parameters_only that the rest of the program (or an output) reads: each
+// becomes a named temporary before the loop over the blocks, the rest of their expression
+// inlined into it.
+std::vector<char> hoisted_nodes(const expr_graph& g, const std::vector<int>& order,
+                                const std::vector<char>& only, const std::vector<sx>& outputs) {
+  std::vector<char> hoisted(u(g.size()), 0);
+  for (const int id : order) {
+    const node& nd = g.at(id);
+    if (only[u(id)]) continue;
+    for (const int operand : {nd.lhs, nd.rhs})
+      if (operand >= 0 && only[u(operand)]) hoisted[u(operand)] = 1;
+  }
+  for (const sx out : outputs)
+    if (only[u(out.id)]) hoisted[u(out.id)] = 1;
+  return hoisted;
+}
+
 // Prints the nodes of a straight-line program over lanes, one statement at a time: the state,
 // the tangent vector w and the parameters as inputs, the sines and cosines read from the
 // arrays s and c. A node used more than once, or too long to inline, becomes a temporary.
@@ -141,17 +184,30 @@ std::string output_target(int n, int k) {
   return k < d ? lane("dxdt", k) : lane("dwdt", k - d);
 }
 
-// The loop body over lanes: a straight-line program of the state (the scalar rhs's, or it
-// with its tangent), with output k written to output_target(n, k).
-std::string lane_body(int n, const expr_graph& g, const std::vector<sx>& outputs) {
+// A kernel's program: what it computes once per call from the parameters (`prelude`), and
+// the loop body over a block's lanes (`body`), both as printed by lane_printer (statements
+// indented for the lane loop).
+struct lane_program {
+  std::string prelude, body;
+};
+
+// The program of the state (the scalar rhs's, or it with its tangent), with output k written
+// to output_target(n, k).
+lane_program lane_body(int n, const expr_graph& g, const std::vector<sx>& outputs) {
   const std::vector<int> order = evaluation_order(g, outputs);
+  const std::vector<char> only = parameters_only(g, order);
+  const std::vector<char> hoisted = hoisted_nodes(g, order, only, outputs);
   lane_printer printer(n, g, order, outputs);
-  std::string text;
-  for (const int id : order) printer.print(id, text);
+  lane_program out;
+  for (const int id : order)
+    if (only[u(id)])
+      printer.print(id, out.prelude, hoisted[u(id)] != 0);
+    else
+      printer.print(id, out.body);
   for (std::size_t i = 0; i < outputs.size(); ++i)
-    text += fmt::format("    {} = {};\n", output_target(n, static_cast<int>(i)),
-                        printer.text_of(outputs[i].id));
-  return text;
+    out.body += fmt::format("    {} = {};\n", output_target(n, static_cast<int>(i)),
+                            printer.text_of(outputs[i].id));
+  return out;
 }
 
 // The rhs's outputs followed by its tangent along w: J(x) w by forward mode through the same
@@ -169,22 +225,58 @@ std::vector<sx> with_tangent(int n, expr_graph& g, const emitted_function& rhs) 
   return outputs;
 }
 
-std::string tangent_lane_body(int n, const emitted_function& rhs) {
+lane_program tangent_lane_body(int n, const emitted_function& rhs) {
   expr_graph g = *rhs.graph;
   const std::vector<sx> outputs = with_tangent(n, g, rhs);
   return lane_body(n, g, outputs);
 }
 
-// Every line of text two more spaces in.
-std::string indent(const std::string& text) {
+// Every line of text `by` spaces further in (by > 0) or out (by < 0), but pragmas.
+std::string reindent(const std::string& text, int by) {
   std::string out;
   std::size_t start = 0;
   while (start < text.size()) {
     const std::size_t end = text.find('\n', start);
-    out += "  " + text.substr(start, end - start + 1);
+    const std::string line = text.substr(start, end - start + 1);
+    if (line.front() == '#')  // a pragma stays at the line's start
+      out += line;
+    else
+      out += by >= 0 ? std::string(u(by), ' ') + line : line.substr(u(-by));
     start = end + 1;
   }
   return out;
+}
+
+// A kernel's text: the prelude, then the loop over `blocks` blocks of W lanes, the arrays
+// `advanced` moving on by `stride` doubles from block to block; `block` (indented for the
+// block loop) reads the block's sines and cosines of the n angles from s and c, and has a
+// buffer v of `kept` values per lane when kept > 0. The sines of up to batch_blocks blocks
+// are taken first, then their arithmetic, block after block: so that the processor overlaps
+// the blocks' divisions (one block at a time, each waited for its division).
+std::string block_kernel(int n, const std::string& prelude, const std::string& advanced,
+                         std::size_t kept, const std::string& block) {
+  const std::string buffer = kept > 0 ? fmt::format("      double v[{} * W];\n", kept) : "";
+  return fmt::format(
+      "  constexpr int W = batch_width;\n{0}"
+      "  for (int first = 0; first < blocks; first += batch_blocks) {{\n"
+      "    const int chunk = blocks - first < batch_blocks ? blocks - first : batch_blocks;\n"
+      "    double sines[batch_blocks * {2} * W], cosines[batch_blocks * {2} * W];\n"
+      "    for (int b = 0; b < chunk; ++b)\n"
+      "      for (int i = 0; i < {2}; ++i)\n"
+      "        batch_sincos(x + b * stride + i * W, sines + (b * {2} + i) * W,\n"
+      "                     cosines + (b * {2} + i) * W);\n"
+      "    for (int b = 0; b < chunk; ++b, {1}) {{\n"
+      "      const double* s = sines + b * {2} * W;\n"
+      "      const double* c = cosines + b * {2} * W;\n"
+      "{3}{4}"
+      "    }}\n"
+      "  }}\n",
+      reindent(prelude, -2), advanced, n, buffer, reindent(block, 2));
+}
+
+// One lane loop over `body` (statements printed for the lane loop), inside the block loop.
+std::string lane_loop(const std::string& body) {
+  return "#pragma omp simd\n    for (int l = 0; l < W; ++l) {\n" + reindent(body, 2) + "    }\n";
 }
 
 // The body of tangents_batch: tangent_batch's program split in two. The statements that do
@@ -195,6 +287,8 @@ std::string tangents_body(int n, const emitted_function& rhs) {
   expr_graph g = *rhs.graph;
   const std::vector<sx> outputs = with_tangent(n, g, rhs);
   const std::vector<int> order = evaluation_order(g, outputs);
+  const std::vector<char> only = parameters_only(g, order);
+  const std::vector<char> hoisted = hoisted_nodes(g, order, only, outputs);
   std::vector<char> reads_w(u(g.size()), 0), kept(u(g.size()), 0);
   for (const int id : order) {
     const node& nd = g.at(id);
@@ -202,19 +296,27 @@ std::string tangents_body(int n, const emitted_function& rhs) {
                      (nd.lhs >= 0 && reads_w[u(nd.lhs)]) || (nd.rhs >= 0 && reads_w[u(nd.rhs)]);
   }
   lane_printer printer(n, g, order, outputs);
+  // A value the tangent statements read goes through v, unless it is computed once per call.
+  const auto keep = [&](int id) {
+    if (!reads_w[u(id)] && !only[u(id)] && !printer.is_leaf(id)) kept[u(id)] = 1;
+  };
   for (const int id : order) {
     const node& nd = g.at(id);
     if (!reads_w[u(id)]) continue;
     for (const int operand : {nd.lhs, nd.rhs})
-      if (operand >= 0 && !reads_w[u(operand)] && !printer.is_leaf(operand)) kept[u(operand)] = 1;
+      if (operand >= 0) keep(operand);
   }
   const int d = chain_layout::state_size(n);
-  for (std::size_t i = u(d); i < outputs.size(); ++i)  // a tangent that does not read w
-    if (!reads_w[u(outputs[i].id)] && !printer.is_leaf(outputs[i].id)) kept[u(outputs[i].id)] = 1;
-  std::string values, stores, tangents;
+  for (std::size_t i = u(d); i < outputs.size(); ++i) keep(outputs[i].id);  // reads no w
+  std::string prelude, values, stores, tangents;
   std::vector<int> slots;
-  for (const int id : order)
-    if (!reads_w[u(id)]) printer.print(id, values, kept[u(id)] != 0);
+  for (const int id : order) {
+    if (reads_w[u(id)]) continue;
+    if (only[u(id)])
+      printer.print(id, prelude, hoisted[u(id)] != 0);
+    else
+      printer.print(id, values, kept[u(id)] != 0);
+  }
   for (int k = 0; k < d; ++k)
     values += fmt::format("    {} = {};\n", output_target(n, k), printer.text_of(outputs[u(k)].id));
   for (const int id : order)
@@ -229,40 +331,27 @@ std::string tangents_body(int n, const emitted_function& rhs) {
   for (std::size_t i = u(d); i < outputs.size(); ++i)
     tangents += fmt::format("    {} = {};\n", output_target(n, static_cast<int>(i)),
                             printer.text_of(outputs[i].id));
-  return fmt::format(
-      "  constexpr int W = batch_width;\n"
-      "  double s[{0} * W], c[{0} * W], v[{1} * W];\n"
-      "  for (int i = 0; i < {0}; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);\n"
-      "#pragma omp simd\n"
-      "  for (int l = 0; l < W; ++l) {{\n{2}{3}  }}\n"
-      "  for (int j = 0; j < count; ++j) {{\n"
-      "    const double* w = ws + j * {4} * W;\n"
-      "    double* dwdt = dws + j * {4} * W;\n"
-      "#pragma omp simd\n"
-      "    for (int l = 0; l < W; ++l) {{\n{5}    }}\n"
-      "  }}\n",
-      n, std::max<std::size_t>(slots.size(), 1), values, stores, d, indent(tangents));
+  const std::string per_vector = fmt::format(
+      "    for (int j = 0; j < count; ++j) {{\n"
+      "      const double* w = ws + j * {0} * W;\n"
+      "      double* dwdt = dws + j * {0} * W;\n"
+      "{1}"
+      "    }}\n",
+      d, reindent(lane_loop(tangents), 2));
+  return block_kernel(n, prelude, "x += stride, ws += stride, dxdt += stride, dws += stride",
+                      slots.size(),
+                      lane_loop(values + stores) + per_vector);
 }
 
 const char* batch_signature =
-    "void rhs_batch(const double* x, const double* params, double* dxdt) noexcept";
+    "void rhs_batch(const double* x, const double* params, double* dxdt, int blocks,\n"
+    "               std::size_t stride) noexcept";
 const char* tangent_signature =
     "void tangent_batch(const double* x, const double* w, const double* params, double* dxdt,\n"
-    "                   double* dwdt) noexcept";
+    "                   double* dwdt, int blocks, std::size_t stride) noexcept";
 const char* tangents_signature =
     "void tangents_batch(const double* x, const double* ws, int count, const double* params,\n"
-    "                    double* dxdt, double* dws) noexcept";
-
-// The body's head: W, and the lanes' sines and cosines of the n angles.
-std::string lane_sines(int n) {
-  return fmt::format(
-      "  constexpr int W = batch_width;\n"
-      "  double s[{0} * W], c[{0} * W];\n"
-      "  for (int i = 0; i < {0}; ++i) batch_sincos(x + i * W, s + i * W, c + i * W);\n"
-      "#pragma omp simd\n"
-      "  for (int l = 0; l < W; ++l) {{\n",
-      n);
-}
+    "                    double* dxdt, double* dws, int blocks, std::size_t stride) noexcept";
 
 }  // namespace
 
@@ -287,18 +376,22 @@ chain_sources emit_batch(int n, const emitted_function& rhs) {
                             "inline constexpr int links = {0};\n\n",
                             n, chain_layout::param_size(n), stem);
   out.header += fmt::format(
-      "/// Hamilton's equations on W lanes: x (dim 2n*W = {}*W), dxdt (the same); each lane\n"
-      "/// as chain_{}::rhs, with SLEEF's 1-ulp sines and cosines.\n{};\n\n",
+      "/// Hamilton's equations on `blocks` blocks of W lanes, block b at x + b*stride and\n"
+      "/// dxdt + b*stride (each block dim 2n*W = {}*W); each lane as chain_{}::rhs, with\n"
+      "/// SLEEF's 1-ulp sines and cosines. What depends on the parameters alone is computed\n"
+      "/// once per call.\n{};\n\n",
       chain_layout::state_size(n), n, batch_signature);
   out.header += fmt::format(
       "/// Hamilton's equations and their tangent on W lanes: dxdt = f(x) as rhs_batch, and\n"
       "/// dwdt = J(x) w, the Jacobian–vector product for the tangent vectors w (dim 2n*W),\n"
-      "/// forward mode through rhs_batch's program.\n{};\n\n",
+      "/// forward mode through rhs_batch's program; blocks as rhs_batch's (w and dwdt\n"
+      "/// advance by stride too).\n{};\n\n",
       tangent_signature);
   out.header += fmt::format(
       "/// tangent_batch for `count` tangent vectors at once: ws and dws hold them one after\n"
       "/// another (vector j at ws + j*2n*W); f(x) and the values the tangents share are\n"
-      "/// computed once, each vector's J(x) w as tangent_batch computes it.\n{};\n\n",
+      "/// computed once, each vector's J(x) w as tangent_batch computes it; blocks as\n"
+      "/// rhs_batch's (ws and dws advance by stride too).\n{};\n\n",
       tangents_signature);
   out.header += fmt::format(
       "/// This link count's entry of the runtime's batch kernel table.\n"
@@ -307,10 +400,17 @@ chain_sources emit_batch(int n, const emitted_function& rhs) {
 
   out.source = banner + fmt::format("#include \"{}.hpp\"\n\n", stem) +
                fmt::format("namespace npend::generated::{} {{\n\n", stem);
-  out.source += fmt::format("{} {{\n", batch_signature) + lane_sines(n) +
-                lane_body(n, *rhs.graph, rhs.outputs) + "  }\n}\n";
-  out.source += fmt::format("\n{} {{\n", tangent_signature) + lane_sines(n) +
-                tangent_lane_body(n, rhs) + "  }\n}\n";
+  const lane_program plain = lane_body(n, *rhs.graph, rhs.outputs);
+  out.source += fmt::format("{} {{\n", batch_signature) +
+                block_kernel(n, plain.prelude, "x += stride, dxdt += stride", 0,
+                             lane_loop(plain.body)) +
+                "}\n";
+  const lane_program tangent = tangent_lane_body(n, rhs);
+  out.source += fmt::format("\n{} {{\n", tangent_signature) +
+                block_kernel(n, tangent.prelude,
+                             "x += stride, w += stride, dxdt += stride, dwdt += stride", 0,
+                             lane_loop(tangent.body)) +
+                "}\n";
   out.source += fmt::format("\n{} {{\n", tangents_signature) + tangents_body(n, rhs) + "}\n";
   out.source += fmt::format(
       "\nconst batch_kernels kernels = {{\n    .links = links,\n    .width = batch_width,\n"

@@ -55,7 +55,7 @@ double worst_difference(const batch_case& b) {
   std::vector<double> want(m), got(m * W);
   double worst = 0;
   for (std::size_t g = 0; g < pool_size / W; ++g) {
-    batch.rhs_batch(b.soa.data() + g * W * m, b.params.data(), got.data());
+    batch.rhs_batch(b.soa.data() + g * W * m, b.params.data(), got.data(), 1, 0);
     for (std::size_t l = 0; l < W; ++l) {
       scalar.rhs(b.pool.state(g * W + l), b.params.data(), want.data());
       double scale = 0, diff = 0;
@@ -88,7 +88,7 @@ void batch_rhs(benchmark::State& state, const batch_case* b) {
   std::vector<double> out(m * W);
   std::size_t g = 0;
   for (auto _ : state) {
-    rhs(b->soa.data() + g * W * m, b->params.data(), out.data());
+    rhs(b->soa.data() + g * W * m, b->params.data(), out.data(), 1, 0);
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
     g = (g + 1) % (pool_size / W);

@@ -126,6 +126,40 @@ TEST_CASE("flip_times: within a step of the scalar flip_time, mostly the same va
   CHECK(equal >= static_cast<int>(got.size()) - 2);
 }
 
+TEST_CASE("flip_times: the first flip of one chosen link, as the scalar flip_time finds it") {
+  // The lanes look at a block only when one of its watched angles has left (-π, π); with one
+  // link watched, the others may pass the upright unseen.
+  const npend::chain c(npend::chain_parameters::uniform(3));
+  std::vector<double> starts;
+  for (const double phi : grid_starts(16, -3.1, 3.1)) starts.push_back(phi);
+  std::vector<double> three;  // (φ1, φ2, 0.5, 0, 0, 0) from the double pendulum's grid
+  for (std::size_t i = 0; i < starts.size(); i += 4)
+    three.insert(three.end(), {starts[i], starts[i + 1], 0.5, 0, 0, 0});
+  const std::vector<double> any = npend::flip_times(c, three, {3.0, 0.01, 0});
+  for (int link = 1; link <= 3; ++link) {
+    CAPTURE(link);
+    const npend::flip_options o{3.0, 0.01, link};
+    const std::vector<double> got = npend::flip_times(c, three, o);
+    int equal = 0, later_than_any = 0;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+      const std::vector<double> x(three.begin() + static_cast<long>(6 * i),
+                                  three.begin() + static_cast<long>(6 * i + 6));
+      const double want = npend::flip_time(c, x, o);
+      INFO("start " << i << ": lanes " << got[i] << ", scalar " << want);
+      if (std::isinf(want))
+        CHECK(std::isinf(got[i]));
+      else
+        CHECK(std::fabs(got[i] - want) <= o.dt * (1 + 1e-9));
+      equal += same(got[i], want) ? 1 : 0;
+      later_than_any += got[i] > any[i] ? 1 : 0;
+    }
+    MESSAGE(equal << " of " << got.size() << " cells the same value; " << later_than_any
+                  << " flip later than the first flip of any link");
+    CHECK(equal >= static_cast<int>(got.size()) - 2);
+    CHECK(later_than_any > 0);
+  }
+}
+
 TEST_CASE("flip_times: the value of the reference rk4 wherever the sines agree") {
   // Short runs from near upright, so that many trajectories see only sines that SLEEF and
   // std::sin round the same way; those must give exactly the reference's time, and the

@@ -3,6 +3,8 @@
 // kernels.
 #pragma once
 
+#include <cstddef>
+
 #include "npend/batch_math.hpp"
 
 namespace npend {
@@ -14,18 +16,25 @@ namespace npend {
 struct batch_kernels {
   int links;
   int width;  ///< lanes, batch_width of the translation unit that emitted the entry
-  /// Hamilton's equations on `width` states: x_soa and dxdt_soa dim 2n*width, params the
-  /// point-mass layout (dim 2n+1, the same for all lanes).
-  void (*rhs_batch)(const double* x_soa, const double* params, double* dxdt_soa) noexcept;
+  // Each kernel runs on `blocks` blocks of `width` states, block b of every array at
+  // b*stride doubles from its start: one call for all the blocks, so that what depends on
+  // the parameters alone is computed once and the blocks' independent work can overlap.
+
+  /// Hamilton's equations: x_soa and dxdt_soa dim 2n*width per block, params the point-mass
+  /// layout (dim 2n+1, the same for all lanes).
+  void (*rhs_batch)(const double* x_soa, const double* params, double* dxdt_soa, int blocks,
+                    std::size_t stride) noexcept;
   /// Hamilton's equations and their tangent: dxdt_soa = f(x) as rhs_batch, dwdt_soa =
-  /// J(x) w for the tangent vectors w_soa (dim 2n*width, the same layout).
+  /// J(x) w for the tangent vectors w_soa (dim 2n*width per block, the same layout).
   void (*tangent_batch)(const double* x_soa, const double* w_soa, const double* params,
-                        double* dxdt_soa, double* dwdt_soa) noexcept;
+                        double* dxdt_soa, double* dwdt_soa, int blocks,
+                        std::size_t stride) noexcept;
   /// tangent_batch for `count` tangent vectors: ws_soa and dws_soa hold them one after
-  /// another (vector j at [j*2n*width]); f(x) and what the vectors share is computed once,
-  /// and each dws is bit for bit tangent_batch's dwdt for that vector.
+  /// another (vector j at [j*2n*width] in a block); f(x) and what the vectors share is
+  /// computed once, and each dws is bit for bit tangent_batch's dwdt for that vector.
   void (*tangents_batch)(const double* x_soa, const double* ws_soa, int count,
-                         const double* params, double* dxdt_soa, double* dws_soa) noexcept;
+                         const double* params, double* dxdt_soa, double* dws_soa, int blocks,
+                         std::size_t stride) noexcept;
 };
 
 }  // namespace npend

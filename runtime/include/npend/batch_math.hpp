@@ -48,6 +48,11 @@ inline constexpr int batch_width = 4;
 inline constexpr int batch_width = 2;
 #endif
 
+/// Blocks of batch_width lanes whose sines and cosines a kernel takes before their
+/// arithmetic: each block's rhs ends in a division whose result the rest waits for, and with
+/// the sines of several blocks at hand the processor overlaps their divisions.
+inline constexpr int batch_blocks = 4;
+
 /// The instruction set the batch kernels were compiled for: "avx512f", "avx2" (AVX2 with
 /// FMA), "avx" or "sse2".
 constexpr const char* batch_isa() noexcept {

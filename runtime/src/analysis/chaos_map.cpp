@@ -301,7 +301,24 @@ void flip_on_lanes(const chain& c, std::span<const double> starts,
     if (s.steps == steps) return std::numeric_limits<double>::infinity();
     return std::nullopt;
   };
-  run_on_lanes(rk, queue, start, done, out);
+  // A block needs a look when a lane may have flipped (or is no longer finite: NaN fails
+  // |φ| < π too), failed, or reached t_end.
+  constexpr std::size_t W = detail::lane_layout::W;
+  const auto watch = [&](const double* x, std::size_t b, long long most) {
+    if (most >= steps) return true;
+    bool look = false;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (o.link != 0 && static_cast<std::size_t>(o.link) != k + 1) continue;
+      const double* angle = x + rk.at(k, b * W);
+      int below = 0;  // a count, where a flag would not vectorise
+#pragma omp simd reduction(+ : below)
+      for (std::size_t l = 0; l < W; ++l) below += std::fabs(angle[l]) < std::numbers::pi ? 1 : 0;
+      look |= below != static_cast<int>(W);
+    }
+    for (std::size_t l = b * W; l < (b + 1) * W; ++l) look |= rk.failed(l);
+    return look;
+  };
+  run_on_lanes(rk, queue, start, done, out, watch);
   by_library(starts, m, to_library,
              [&](std::span<const double> x0) { return flip_time(c, x0, o); }, out);
 }

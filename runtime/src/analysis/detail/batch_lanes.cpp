@@ -16,19 +16,28 @@ const batch_kernels* lane_kernels(const chain& c) {
   return k != nullptr && k->width == batch_width ? k : nullptr;
 }
 
-void lane_system::operator()(const double* x, double* dxdt) {
+void lane_system::operator()(int blocks, std::size_t stride, const double* x, double* dxdt) {
   if (m_tangent == 0) {
-    m_kernels.rhs_batch(x, m_params, dxdt);
+    m_kernels.rhs_batch(x, m_params, dxdt, blocks, stride);
     return;
   }
   const auto at = [](std::size_t i) { return i * W; };
   // The vectors lie one after another, as tangents_batch takes them.
   if (m_tangent == 1)
-    m_kernels.tangent_batch(x, x + at(vector(0)), m_params, dxdt, dxdt + at(vector(0)));
+    m_kernels.tangent_batch(x, x + at(vector(0)), m_params, dxdt, dxdt + at(vector(0)), blocks,
+                            stride);
   else
     m_kernels.tangents_batch(x, x + at(vector(0)), static_cast<int>(m_tangent), m_params, dxdt,
-                             dxdt + at(vector(0)));
+                             dxdt + at(vector(0)), blocks, stride);
   if (!m_indicators) return;
+  for (int b = 0; b < blocks; ++b) {
+    const std::size_t o = stride * static_cast<std::size_t>(b);
+    megno_integrands(x + o, dxdt + o);
+  }
+}
+
+void lane_system::megno_integrands(const double* x, double* dxdt) const {
+  const auto at = [](std::size_t i) { return i * W; };
   const double* w = x + at(vector(0));
   const double* dw = dxdt + at(vector(0));
   for (std::size_t l = 0; l < W; ++l) {
@@ -68,10 +77,7 @@ void lane_rk4::step(int blocks) {
 }
 
 void lane_layout::rhs(int blocks, const double* x, double* dxdt) {
-  for (int b = 0; b < blocks; ++b) {
-    const std::size_t o = m_block * static_cast<std::size_t>(b);
-    m_system(x + o, dxdt + o);
-  }
+  m_system(blocks, m_block, x, dxdt);
 }
 
 void lane_rk4::copy_lane(std::size_t to, std::size_t from) {
@@ -187,7 +193,7 @@ void lane_dopri5::step(int blocks) {
     for (std::size_t l = first; l < first + W; ++l) any |= m_lane[l].fresh;
     if (!any) continue;
     const std::size_t o = m_block * static_cast<std::size_t>(b);
-    m_system(m_x.data() + o, m_tmp.data() + o);
+    m_system(1, m_block, m_x.data() + o, m_tmp.data() + o);
     for (std::size_t l = first; l < first + W; ++l) {
       if (!m_lane[l].fresh) continue;
       for (std::size_t i = 0; i < d; ++i) m_f[at(i, l)] = m_tmp[at(i, l)];
