@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <mpi.h>
 
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -125,33 +126,48 @@ void tile_coordinator::serve() {
   }
 }
 
-struct tile_worker::request {
-  int finished = 0, tile = -1;  // the buffers of the request and its answer
-  MPI_Request handles[2];
+// The requests in flight, oldest first: each has the buffers of its request and of its answer.
+struct tile_worker::requests {
+  struct one {
+    int finished = 0, tile = -1;
+    MPI_Request handle = MPI_REQUEST_NULL;
+  };
+  std::array<one, tile_worker::ahead> slots;
+  int oldest = 0, in_flight = 0;
 };
 
-tile_worker::tile_worker() : m_request(std::make_unique<request>()) {}
+tile_worker::tile_worker() : m_requests(std::make_unique<requests>()) {}
 
 tile_worker::~tile_worker() = default;
 
+// The request goes out at once (MPI_Send of one int returns when it is on its way, where a
+// nonblocking send may wait for this rank's next MPI call); the answer is received whenever
+// it comes.
 void tile_worker::ask(bool finished_previous) {
-  m_request->finished = finished_previous ? 1 : 0;
-  MPI_Irecv(&m_request->tile, 1, MPI_INT, 0, tag_tile, MPI_COMM_WORLD, &m_request->handles[1]);
-  MPI_Isend(&m_request->finished, 1, MPI_INT, 0, tag_request, MPI_COMM_WORLD,
-            &m_request->handles[0]);
-  m_asking = true;
+  requests& r = *m_requests;
+  requests::one& slot = r.slots[static_cast<std::size_t>((r.oldest + r.in_flight) % ahead)];
+  slot.finished = finished_previous ? 1 : 0;
+  MPI_Irecv(&slot.tile, 1, MPI_INT, 0, tag_tile, MPI_COMM_WORLD, &slot.handle);
+  MPI_Send(&slot.finished, 1, MPI_INT, 0, tag_request, MPI_COMM_WORLD);
+  ++r.in_flight;
 }
 
 int tile_worker::answer() {
-  MPI_Waitall(2, m_request->handles, MPI_STATUSES_IGNORE);
-  m_asking = false;
-  return m_request->tile;
+  requests& r = *m_requests;
+  requests::one& slot = r.slots[static_cast<std::size_t>(r.oldest)];
+  MPI_Wait(&slot.handle, MPI_STATUS_IGNORE);
+  r.oldest = (r.oldest + 1) % ahead;
+  --r.in_flight;
+  return slot.tile;
 }
 
 int tile_worker::next(bool finished_previous) {
   const std::lock_guard lock(m_mutex);
   if (m_stopped) return -1;
-  if (!m_asking) ask(false);  // the first call
+  if (!m_started) {  // the first call
+    for (int k = 0; k < ahead; ++k) ask(false);
+    m_started = true;
+  }
   const int tile = answer();
   if (tile < 0)
     m_stopped = true;
@@ -167,7 +183,8 @@ void tile_worker::stop() {
 
 void tile_worker::done() {
   const std::lock_guard lock(m_mutex);
-  if (m_asking) answer();  // rank 0 answers every request; a tile handed out now stays undone
+  // Rank 0 answers every request; a tile handed out now stays undone (a resumed run does it).
+  while (m_requests->in_flight > 0) answer();
   int nothing = 0;
   MPI_Send(&nothing, 1, MPI_INT, 0, tag_done, MPI_COMM_WORLD);
 }

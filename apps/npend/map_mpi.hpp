@@ -76,10 +76,12 @@ class tile_coordinator final : public tile_queue {
   std::thread m_server;
 };
 
-/// A rank > 0's queue: tiles come from rank 0, one request in flight at a time. The next
-/// tile is asked for as soon as one is handed out, so the answer is there when a thread
-/// wants it: a rank never idles for the round trip (rank 0's server thread may wait for a
-/// core), and keeps at most one tile beyond the one it computes.
+/// A rank > 0's queue: tiles come from rank 0, `ahead` requests in flight. Each tile handed
+/// out is replaced by a new request at once, so that answers are there when a thread wants
+/// one: rank 0's server thread answers within its 2 ms poll and once it gets a core, and
+/// with one request ahead a rank waited 1.8 ms a tile on average (measured on a 512^2 flip
+/// map, where many tiles take less). A rank keeps at most `ahead` tiles beyond the ones it
+/// computes.
 class tile_worker final : public tile_queue {
  public:
   tile_worker();
@@ -87,18 +89,20 @@ class tile_worker final : public tile_queue {
   int next(bool finished_previous) override;
   void stop() override;
   long finished() const override { return 0; }
-  /// Waits for the answer still in flight and tells rank 0 that this rank asks for no more
-  /// tiles (call once, after its threads end).
+  /// Waits for the answers still in flight and tells rank 0 that this rank asks for no
+  /// more tiles (call once, after its threads end).
   void done();
 
+  static constexpr int ahead = 2;
+
  private:
-  struct request;  // MPI's handles, out of this header
+  struct requests;  // MPI's handles, out of this header
   void ask(bool finished_previous);
   int answer();
 
   std::mutex m_mutex;
-  std::unique_ptr<request> m_request;
-  bool m_asking = false, m_stopped = false;
+  std::unique_ptr<requests> m_requests;
+  bool m_started = false, m_stopped = false;
 };
 
 }  // namespace npend::app::mpi
