@@ -13,14 +13,20 @@ using namespace npend::gen;
 
 namespace {
 
-// dxdt = [p_1 / m_1, −g sin φ_1 · cos φ_2 + p_2, …] for two links: shared and trigonometric
-// nodes of each kind the point-mass rhs has.
-emitted_function sample_rhs(bool sine_of_a_sum = false) {
+// An rhs of the state with an empty graph, for a test to fill.
+emitted_function empty_rhs() {
   emitted_function f;
   f.name = "rhs";
   f.layout = argument_layout::state;
   f.output_name = "dxdt";
   f.graph = std::make_unique<expr_graph>();
+  return f;
+}
+
+// dxdt = [p_1 / m_1, −g sin φ_1 · cos φ_2 + p_2, …] for two links: shared and trigonometric
+// nodes of each kind the point-mass rhs has.
+emitted_function sample_rhs(bool sine_of_a_sum = false) {
+  emitted_function f = empty_rhs();
   expr_graph& g = *f.graph;
   const sx phi1 = g.input(input_kind::phi, 0), phi2 = g.input(input_kind::phi, 1);
   const sx s = sine_of_a_sum ? sin(phi1 + phi2) : sin(phi1);
@@ -56,11 +62,7 @@ TEST_CASE("emit_batch: the lanes read SoA inputs and SLEEF's sines, write SoA ou
 TEST_CASE("emit_batch: what reads only parameters is computed once, before the block loop") {
   // dxdt = [p_1 / (m_1 l_1), -(g l_2) sin φ_1, p_2, 0]: m_1 l_1 and g l_2 are the same in
   // every lane and block (the graph orders a product's factors its own way).
-  emitted_function f;
-  f.name = "rhs";
-  f.layout = argument_layout::state;
-  f.output_name = "dxdt";
-  f.graph = std::make_unique<expr_graph>();
+  emitted_function f = empty_rhs();
   expr_graph& g = *f.graph;
   const sx rate =
       g.input(input_kind::p, 0) / (g.input(input_kind::mass, 0) * g.input(input_kind::length, 0));
