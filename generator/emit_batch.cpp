@@ -251,8 +251,8 @@ std::string reindent(const std::string& text, int by) {
 // `advanced` moving on by `stride` doubles from block to block; `block` (indented for the
 // block loop) reads the block's sines and cosines of the n angles from s and c, and has a
 // buffer v of `kept` values per lane when kept > 0. The sines of up to batch_blocks blocks
-// are taken first, then their arithmetic, block after block: so that the processor overlaps
-// the blocks' divisions (one block at a time, each waited for its division).
+// are taken first, then their arithmetic, block after block, so that the processor overlaps
+// the blocks' divisions (taken block by block, each block's arithmetic waited for its own).
 std::string block_kernel(int n, const std::string& prelude, const std::string& advanced,
                          std::size_t kept, const std::string& block) {
   const std::string buffer = kept > 0 ? fmt::format("      double v[{} * W];\n", kept) : "";

@@ -41,6 +41,15 @@ std::vector<double> gravity_moments(const chain_parameters& p) {
 
 }  // namespace
 
+namespace {
+
+// Whether a flip of arm k (1..n) counts: `link` is the one arm asked about, or 0 for any.
+bool watches_arm(int link, std::size_t k) {
+  return link == 0 || static_cast<std::size_t>(link) == k;
+}
+
+}  // namespace
+
 bool energy_forbids_flip(const chain& c, std::span<const double> x0, int link) {
   const int n = c.links();
   if (link < 0 || link > n)
@@ -49,9 +58,8 @@ bool energy_forbids_flip(const chain& c, std::span<const double> x0, int link) {
   if (c.parameters().pivot.moves()) return false;
   const auto moments = gravity_moments(c.parameters());
   double needed = std::numeric_limits<double>::infinity();
-  for (int k = 1; k <= n; ++k)
-    if (link == 0 || link == k)
-      needed = std::min(needed, 2 * c.parameters().g * moments[static_cast<std::size_t>(k - 1)]);
+  for (std::size_t k = 1; k <= static_cast<std::size_t>(n); ++k)
+    if (watches_arm(link, k)) needed = std::min(needed, 2 * c.parameters().g * moments[k - 1]);
   return c.hamiltonian(x0) < needed;
 }
 
@@ -73,9 +81,7 @@ long long whole_steps(double t_end, double dt) {
 // Whether an arm (or arm o.link) of the n-link state x is at or past the upright position.
 bool has_flipped(const double* x, std::size_t n, const flip_options& o) {
   for (std::size_t k = 0; k < n; ++k)
-    if ((o.link == 0 || static_cast<std::size_t>(o.link) == k + 1) &&
-        std::fabs(x[k]) >= std::numbers::pi)
-      return true;
+    if (watches_arm(o.link, k + 1) && std::fabs(x[k]) >= std::numbers::pi) return true;
   return false;
 }
 
@@ -308,7 +314,7 @@ void flip_on_lanes(const chain& c, std::span<const double> starts,
     if (most >= steps) return true;
     bool look = false;
     for (std::size_t k = 0; k < n; ++k) {
-      if (o.link != 0 && static_cast<std::size_t>(o.link) != k + 1) continue;
+      if (!watches_arm(o.link, k + 1)) continue;
       const double* angle = x + rk.at(k, b * W);
       int below = 0;  // a count, where a flag would not vectorise
 #pragma omp simd reduction(+ : below)
