@@ -82,6 +82,8 @@ int run_single(const chain& c, const floquet_command_options& o, const floquet_o
     j["steps"] = o.steps;
     j["multipliers"] = json_complex_list(r.multipliers);
     j["max_modulus"] = r.max_modulus;
+    j["modulus_error"] = r.modulus_error;
+    j["verdict"] = verdict_name(r.verdict);
     j["stable"] = r.stable;
     j["closure"] = r.closure;
     j["periodic"] = periodic;
@@ -95,8 +97,16 @@ int run_single(const chain& c, const floquet_command_options& o, const floquet_o
   for (std::size_t k = 0; k < r.multipliers.size(); ++k)
     fmt::print("{:>4} {:>22.15g} {:>22.15g} {:>14.10f}\n", k + 1, r.multipliers[k].real(),
                r.multipliers[k].imag(), std::abs(r.multipliers[k]));
-  fmt::print("{}: max |mu| = {:.10f}\n", r.stable ? "stable (linearly)" : "unstable",
-             r.max_modulus);
+  const char* verdict = r.verdict == floquet_verdict::stable     ? "stable (linearly)"
+                        : r.verdict == floquet_verdict::marginal ? "marginal"
+                                                                 : "unstable";
+  fmt::print("{}: max |mu| = {:.10f}, max |mu| - 1 = {:.3g} +- {:.2g} (the change from {} steps "
+             "per period, and the eigenvalues' rounding)\n",
+             verdict, r.max_modulus, r.max_modulus - 1, r.modulus_error, o.steps / 2);
+  if (r.verdict == floquet_verdict::marginal)
+    fmt::print(
+        "marginal: max |mu| is within its error of 1, so the integration cannot tell a slow "
+        "decay from a slow growth; more --steps shrink the error\n");
   if (!periodic)
     fmt::print(stderr,
                "npend floquet: warning: the start is not on a T-periodic orbit (|x(T) - x(0)| = "
@@ -125,8 +135,9 @@ int run_scan(const chain& base, const floquet_command_options& o, const floquet_
   const std::vector<double> x0 = start_state(base, o);
   series_output files(o.out);
   cli::terminal_run control;
-  std::vector<double> omega, a_omega, modulus, stable_flag;
+  std::vector<double> omega, a_omega, modulus, modulus_error, stable_flag;
   std::vector<bool> stable;
+  std::vector<floquet_verdict> verdicts;
   for (int k = 0; k < scan.count; ++k) {
     const double w = scan.from + (scan.to - scan.from) * k / (scan.count - 1);
     chain_parameters params = base.parameters();
@@ -146,6 +157,8 @@ int run_scan(const chain& base, const floquet_command_options& o, const floquet_
     omega.push_back(w);
     a_omega.push_back(drive.amplitude * w);
     modulus.push_back(r.max_modulus);
+    modulus_error.push_back(r.modulus_error);
+    verdicts.push_back(r.verdict);
     stable.push_back(r.stable);
     stable_flag.push_back(r.stable ? 1.0 : 0.0);
   }
@@ -153,8 +166,10 @@ int run_scan(const chain& base, const floquet_command_options& o, const floquet_
   const auto windows = stable_windows(omega, stable);
   if (files.enabled()) {
     const std::string data =
-        files.write_csv("", std::vector<std::string>{"omega", "a_omega", "max_modulus", "stable"},
-                        std::vector{omega, a_omega, modulus, stable_flag});
+        files.write_csv("",
+                        std::vector<std::string>{"omega", "a_omega", "max_modulus", "stable",
+                                                 "modulus_error"},
+                        std::vector{omega, a_omega, modulus, stable_flag, modulus_error});
     cli::plot_panel panel{
         .title =
             fmt::format("Floquet stability of {} over the drive frequency ({} drive, a = {} m)",
@@ -181,6 +196,8 @@ int run_scan(const chain& base, const floquet_command_options& o, const floquet_
       rows.push_back({{"omega", omega[i]},
                       {"a_omega", a_omega[i]},
                       {"max_modulus", modulus[i]},
+                      {"modulus_error", modulus_error[i]},
+                      {"verdict", verdict_name(verdicts[i])},
                       {"stable", static_cast<bool>(stable[i])}});
     for (const auto& [lo, hi] : windows) list.push_back({lo, hi});
     j["scan"] = rows;
@@ -191,10 +208,11 @@ int run_scan(const chain& base, const floquet_command_options& o, const floquet_
   }
   fmt::print("{}-link chain at {}, drive amplitude {} m: {} frequencies {}..{} rad/s\n",
              base.links(), x0, drive.amplitude, scan.count, scan.from, scan.to);
-  fmt::print("{:>12} {:>12} {:>16} {:>8}\n", "Omega", "a*Omega", "max |mu|", "stable");
+  fmt::print("{:>12} {:>12} {:>16} {:>10} {:>9}\n", "Omega", "a*Omega", "max |mu|", "+-",
+             "verdict");
   for (std::size_t i = 0; i < omega.size(); ++i)
-    fmt::print("{:>12.6g} {:>12.6g} {:>16.10g} {:>8}\n", omega[i], a_omega[i], modulus[i],
-               stable[i] ? "yes" : "no");
+    fmt::print("{:>12.6g} {:>12.6g} {:>16.10g} {:>10.2g} {:>9}\n", omega[i], a_omega[i],
+               modulus[i], modulus_error[i], verdict_name(verdicts[i]));
   if (windows.empty()) fmt::print("no stable frequency in the scan\n");
   for (const auto& [lo, hi] : windows)
     fmt::print("stable for Omega in [{:.6g}, {:.6g}] rad/s (a*Omega in [{:.6g}, {:.6g}] m/s)\n", lo,
@@ -236,7 +254,8 @@ void add_floquet_command(CLI::App& app, command_list& commands) {
                   "pi: the inverted chain)");
   cmd->add_option("--p", o->p, "Start momenta p_1,..,p_n (default: 0)");
   cmd->add_option("--steps", o->steps,
-                  "Gauss-Legendre (order 6) steps per drive period (default: 400)");
+                  "Gauss-Legendre (order 6) steps per drive period (default: 400); a second "
+                  "run at half of them gives the error estimate the verdict weighs");
   cmd->add_option("--scan", o->scan,
                   "OMEGA_FROM:OMEGA_TO:COUNT: scan the drive frequency (rad/s) at the --pivot "
                   "amplitude and list where the start is stable");

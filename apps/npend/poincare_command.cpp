@@ -13,6 +13,7 @@
 #include "command.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
+#include "npend/analysis/energy_drift.hpp"
 #include "npend/analysis/poincare_section.hpp"
 #include "section_spec.hpp"
 #include "series_figures.hpp"
@@ -77,9 +78,14 @@ int run_poincare(const poincare_options& o) {
   options.control = &control;
   crossing_locator locator(c, section, direction, max_points);
   double largest_angle = 0;
+  // The energy error of the run itself, at its grid points: the crossings' alone would be
+  // 0 for a run without any.
+  const double energy = c.hamiltonian(x0);
+  energy_drift drift(c, energy);
   const integration_result run = integrate(
       c, x0, options,
       [&](double, std::span<const double> x) {
+        drift.add(x);
         for (int i = 0; i < n; ++i)
           largest_angle = std::max(largest_angle, std::fabs(x[static_cast<std::size_t>(i)]));
         return observer_action::proceed;
@@ -93,8 +99,9 @@ int run_poincare(const poincare_options& o) {
   }
 
   const std::vector<section_crossing> crossings = reported(locator.crossings(), section, n);
-  const double energy = c.hamiltonian(x0);
-  const auto [residual, energy_error, unrefined] = crossing_quality(c, section, crossings, energy);
+  const auto [residual, crossing_energy_error, unrefined] =
+      crossing_quality(c, section, crossings, energy);
+  const double energy_error = std::max(crossing_energy_error, drift.max_relative_error());
   const std::string what = fmt::format("{} ({})", o.section, cli::direction_name(direction));
   const std::string projected = fmt::format("{},{}", cli::coordinate_name(projection.first, n),
                                             cli::coordinate_name(projection.second, n));
@@ -149,9 +156,13 @@ int run_poincare(const poincare_options& o) {
       what, n, energy, run.t, stepper_name(options.stepper), options.dt);
   fmt::print("crossings: {}{}\n", crossings.size(),
              max_points != 0 && crossings.size() == max_points ? " (--max-points reached)" : "");
+  if (crossings.empty())
+    fmt::print("largest |H - H0| / H0 over the run: {:.2g}\n", energy_error);
   if (!crossings.empty()) {
-    fmt::print("largest |g(x)| on the section: {:.2g}; largest |H - H0| / H0: {:.2g}\n", residual,
-               energy_error);
+    fmt::print(
+        "largest |g(x)| on the section: {:.2g}; largest |H - H0| / H0 (run and crossings): "
+        "{:.2g}\n",
+        residual, energy_error);
     if (unrefined > 0)
       fmt::print("{} crossing{} too close to tangential for Henon's step (dense output only)\n",
                  unrefined, unrefined == 1 ? " was" : "s were");

@@ -161,6 +161,16 @@ int run_simulate(const simulate_options& o) {
   }
   if (csv) csv->flush();
   if (file) file->commit();
+  // Above 1 % the trajectory is not a solution of the chain any more (an angle so large that
+  // its rounding is a sizeable fraction of a turn, a step far too long): say so, whatever
+  // the output.
+  constexpr double energy_warning = 1e-2;
+  if (conserved && energy.max_relative_error() > energy_warning)
+    fmt::print(stderr,
+               "npend simulate: warning: the energy drifted by up to {:.3g} of its start value "
+               "(more than {:g}): the trajectory is not to be trusted; try a smaller dt or "
+               "tighter tolerances, and angles of moderate size\n",
+               energy.max_relative_error(), energy_warning);
 
   if (o.json) {
     nlohmann::json j = describe_chain(c);

@@ -55,3 +55,18 @@ TEST_CASE("npend rope: --json holds each chain's frequencies and errors against 
   CHECK(j["chains"][1]["frequencies"][2].get<double>() == doctest::Approx(modes[2].frequency));
   CHECK(j["order"].size() == 3);
 }
+
+TEST_CASE("npend partition: low temperatures give the harmonic limit C = n, <E> = n T") {
+  // Two links at T = 1e-4 J: the well is far narrower than the grid's spacing over the
+  // circle (C came out 1, <E> = T, with no note); n momenta and n angles each add k/2.
+  for (const char* t : {"1e-4", "1e-300"}) {
+    const auto r = run_npend(std::string("partition --links 2 --json --temperature ") + t);
+    REQUIRE(r.exit_code == 0);
+    const auto j = nlohmann::json::parse(r.out);
+    const double temperature = std::stod(t);
+    CAPTURE(t);
+    CHECK(j["heat_capacity"].get<double>() == doctest::Approx(2.0).epsilon(1e-4));
+    CHECK(j["mean_energy"].get<double>() == doctest::Approx(2 * temperature).epsilon(1e-4));
+    CHECK(r.err.empty());
+  }
+}

@@ -323,3 +323,18 @@ TEST_CASE("npend poincare: sections of angles are on the circle unless --unwrapp
   }
   CHECK(circle["max_section_residual"].get<double>() < 1e-9);
 }
+
+TEST_CASE("npend poincare: without crossings the energy error is the run's, not 0") {
+  // Small swings never reach φ1 = 2: no crossing. The energy error is then the run's over
+  // its grid, the same drift `npend simulate` measures on the same run.
+  const std::string start = "--links 2 --phi 0.1,0.1 --t-end 5 --stepper rk4 --dt 0.01";
+  const auto r = run_npend("poincare " + start + " --section phi1=2 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  REQUIRE(j["count"] == 0);
+  const auto sim = run_npend("simulate " + start + " --json");
+  REQUIRE(sim.exit_code == 0);
+  const double expected = nlohmann::json::parse(sim.out)["max_rel_energy_error"];
+  CHECK(expected > 0);
+  CHECK(j["max_rel_energy_error"].get<double>() == expected);
+}

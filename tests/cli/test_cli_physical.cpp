@@ -157,3 +157,21 @@ TEST_CASE("npend --chain FILE.json: the file's chain, with command-line options 
   CHECK(npend::test::is_input_error(
       run_npend("eval --links 2 --chain " + dir + "/missing.json --state 0,0,0,0"), "cannot read"));
 }
+
+TEST_CASE("npend floquet: a slowly unstable damped orbit is unstable, with its error") {
+  // Overdamped inverted link: max |mu| - 1 = m g l T / b = 4.93e-7, under the old fixed
+  // tolerance of 1e-6 but far above the integration's error.
+  const auto r = run_npend(
+      "floquet --links 1 --lengths 0.2 --pivot vertical:0.01:250 --damping 1e5 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["verdict"] == "unstable");
+  CHECK(j["stable"] == false);
+  const double excess = j["max_modulus"].get<double>() - 1;
+  CHECK(excess == doctest::Approx(1.962e-5 * 2 * 3.141592653589793 / 250).epsilon(1e-2));
+  CHECK(j["modulus_error"].get<double>() < 1e-2 * excess);
+  const auto text = run_npend(
+      "floquet --links 1 --lengths 0.2 --pivot vertical:0.01:250 --damping 1e5");
+  REQUIRE(text.exit_code == 0);
+  CHECK(text.out.find("unstable: max |mu| = ") != std::string::npos);
+}

@@ -307,3 +307,35 @@ TEST_CASE("npend simulate: --help describes every option") {
                              "--abs-tol", "--rel-tol", "--out", "--every", "--json"})
     CHECK_MESSAGE(r.out.find(option) != std::string::npos, option);
 }
+
+TEST_CASE("npend simulate: a large relative energy error is a warning on stderr") {
+  // φ_1 = 1e15 rad: its rounding is a sizeable part of a turn, and H drifts by hundreds of
+  // times itself. Its own energy error from the JSON decides whether a warning is due.
+  const auto bad = run_npend("simulate --links 2 --phi 1e15,0 --t-end 1 --json");
+  REQUIRE(bad.exit_code == 0);
+  const auto jb = nlohmann::json::parse(bad.out);
+  REQUIRE(jb["max_rel_energy_error"].get<double>() > 1e-2);
+  CHECK(bad.err.find("npend simulate: warning: the energy drifted by up to") == 0);
+  CHECK(bad.err.find("more than 0.01") != std::string::npos);
+  const auto good = run_npend("simulate --links 2 --phi 1,0 --t-end 1 --json");
+  REQUIRE(good.exit_code == 0);
+  CHECK(nlohmann::json::parse(good.out)["max_rel_energy_error"].get<double>() < 1e-2);
+  CHECK(good.err.empty());
+}
+
+TEST_CASE("npend simulate: bs shrinks a trial step that overflows, as rkf78 does") {
+  // The first trial step is the whole 10 s; it overflows. bs used to accept it and stop
+  // with "the state became non-finite".
+  const std::string run =
+      "simulate --links 3 --phi 1.5,1.5,1.5 --t-end 10 --dt 10 --abs-tol 1e-10 --rel-tol 1e-10 "
+      "--json --stepper ";
+  const auto bs = run_npend(run + "bs"), rkf78 = run_npend(run + "rkf78");
+  REQUIRE(bs.exit_code == 0);
+  REQUIRE(rkf78.exit_code == 0);
+  const auto jb = nlohmann::json::parse(bs.out), jr = nlohmann::json::parse(rkf78.out);
+  CHECK(jb["t_end"].get<double>() == 10);
+  const double eb = jb["max_rel_energy_error"], er = jr["max_rel_energy_error"];
+  // The same order as rkf78's at the same tolerances (both far below 1e-6).
+  CHECK(eb < 1e-6);
+  CHECK(eb < 100 * er + 1e-12);
+}

@@ -186,3 +186,52 @@ TEST_CASE(
     }
   }
 }
+
+TEST_CASE("floquet: a slowly unstable, heavily damped inverted pendulum is unstable") {
+  // Overdamped (b = 1e5 N m s), the inverted link creeps away at the rate λ = m g l / b
+  // (inertia and the drive's averaged force are O(1/b) smaller): max |μ| = e^{λT} with
+  // λ T = 1.962e-5 · 2π/250 = 4.93e-7, which a fixed tolerance of 1e-6 called stable.
+  chain_parameters p = chain_parameters::uniform(1, 1.0, 0.2);
+  p.damping = {1e5};
+  p.pivot = pivot_motion::vertical(0.01, 250.0);
+  const auto r = npend::floquet_analysis(chain(p), std::vector<double>{pi, 0.0});
+  const double growth = 1.0 * 9.81 * 0.2 / 1e5 * (2 * pi / 250);
+  CHECK(r.max_modulus - 1 == doctest::Approx(growth).epsilon(1e-2));
+  CHECK(r.modulus_error < 1e-2 * growth);
+  CHECK(r.verdict == npend::floquet_verdict::unstable);
+  CHECK_FALSE(r.stable);
+}
+
+TEST_CASE("floquet: a damped chain is stable inside the circle, marginal within the error") {
+  // Hanging, lightly damped: every multiplier is inside the circle by ~ b T / (2 m l²).
+  chain_parameters p = chain_parameters::uniform(1, 1.0, 1.0);
+  p.pivot = pivot_motion::vertical(0.01, 40.0);
+  const double period = 2 * pi / 40;
+  p.damping = {0.05};
+  const auto decaying = npend::floquet_analysis(chain(p), std::vector<double>{0.0, 0.0});
+  CHECK(1 - decaying.max_modulus == doctest::Approx(0.05 / 2 * period).epsilon(2e-2));
+  CHECK(decaying.modulus_error < 1e-3 * (1 - decaying.max_modulus));
+  CHECK(decaying.verdict == npend::floquet_verdict::stable);
+  // Damped by 1e-15: |μ| = 1 − 4e-17, below the rounding of the eigenvalues: the
+  // integration cannot tell, and says so rather than guessing.
+  p.damping = {1e-15};
+  const auto faint = npend::floquet_analysis(chain(p), std::vector<double>{0.0, 0.0});
+  CHECK(std::fabs(faint.max_modulus - 1) <= faint.modulus_error);
+  CHECK(faint.modulus_error < 1e-12);
+  CHECK(faint.verdict == npend::floquet_verdict::marginal);
+  CHECK_FALSE(faint.stable);
+}
+
+TEST_CASE("floquet: the error estimate bounds the change to a run with many more steps") {
+  // The Mathieu pendulum near its threshold, with few steps: the error estimate (the change
+  // from half the steps) must cover the distance to a run with 8 times the steps.
+  const chain c = inverted_single(0.05, 75.0);
+  npend::floquet_options coarse, fine;
+  coarse.steps = 16;
+  fine.steps = 128;
+  const auto a = npend::floquet_analysis(c, std::vector<double>{pi, 0.0}, coarse);
+  const auto b = npend::floquet_analysis(c, std::vector<double>{pi, 0.0}, fine);
+  CHECK(a.modulus_error > 0);
+  CHECK(std::fabs(a.max_modulus - b.max_modulus) <= a.modulus_error);
+  CHECK(b.modulus_error < a.modulus_error);
+}

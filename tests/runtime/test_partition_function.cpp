@@ -171,3 +171,73 @@ TEST_CASE("partition function: refuses damping, springs and non-positive tempera
   p.stiffness = {1.0, 1.0};
   CHECK_THROWS_AS(npend::canonical_ensemble(npend::chain(p), one), std::invalid_argument);
 }
+
+namespace {
+
+// The harmonic (Laplace) limit of ln Z for a chain without springs: V = Σ a_i (1 − cos φ_i)
+// ≈ ½ Σ a_i φ_i², det A ≈ det A(0), so Q = √det A(0) Π √(2π k T / a_i) and
+// Z = (2π k T)^{n/2} Q: ln Z = n ln(2π T) + ½ ln det A(0) − ½ Σ ln a_i (k = 1), with
+// ⟨E⟩ = n T and C = n. For uniform(2): A(0) = [[2, 1], [1, 1]], a = (2 g, g).
+double harmonic_log_z_uniform2(double t) {
+  const double g = 9.81;
+  return 2 * std::log(2 * std::numbers::pi * t) - 0.5 * std::log(2 * g * g);
+}
+
+}  // namespace
+
+TEST_CASE("partition function: the harmonic limit below the temperatures the circle resolves") {
+  // At T = 1e-4 J the well is 2e-3 rad wide, and a grid of 128 points over the circle put
+  // all of the weight on φ = 0: C came out 1 (n/2) with an error estimate of 0, and at
+  // 1e-300 J it was NaN.
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  const std::vector<double> temperatures{1e-4, 1e-12, 1e-300};
+  const auto r = npend::canonical_ensemble(c, temperatures);
+  for (std::size_t i = 0; i < temperatures.size(); ++i) {
+    const double t = temperatures[i];
+    const auto& s = r.states[i];
+    INFO("T = " << t);
+    // The anharmonic corrections are O(T / (m g l)) relative: 1e-5 at T = 1e-4.
+    const double anharmonic = 10 * t / 9.81 + 1e-12;
+    CHECK(s.heat_capacity == doctest::Approx(2.0).epsilon(anharmonic));
+    CHECK(s.mean_energy == doctest::Approx(2 * t).epsilon(anharmonic));
+    CHECK(std::fabs(s.log_partition_function - harmonic_log_z_uniform2(t)) < anharmonic);
+    CHECK(s.heat_capacity_error < 1e-9);
+  }
+  // ⟨φ_i²⟩ = T / a_i: ⟨cos φ_1⟩ = 1 − T / (4 g), ⟨cos φ_2⟩ = 1 − T / (2 g).
+  CHECK((1 - r.states[0].mean_cos[0]) == doctest::Approx(1e-4 / (4 * 9.81)).epsilon(1e-3));
+  CHECK((1 - r.states[0].mean_cos[1]) == doctest::Approx(1e-4 / (2 * 9.81)).epsilon(1e-3));
+}
+
+TEST_CASE("partition function: continuous where the rule's box leaves the circle") {
+  // One pendulum, a = m g l: the box is the circle for T >= a/25 and shrinks below. On both
+  // sides of the switch, and well below it, the Bessel closed form holds.
+  const double m = 1.3, l = 0.8, g = 9.81, a = m * g * l, switch_t = a / 25;
+  const npend::chain c(pendulum(m, l, g));
+  const std::vector<double> temperatures{switch_t * (1 + 1e-9), switch_t * (1 - 1e-9),
+                                         0.05, 0.02};
+  const auto r = npend::canonical_ensemble(c, temperatures);
+  for (std::size_t i = 0; i < temperatures.size(); ++i) {
+    const closed_form e = single_pendulum(m, l, g, temperatures[i]);
+    INFO("T = " << temperatures[i]);
+    CHECK(r.states[i].log_partition_function == doctest::Approx(e.log_z).epsilon(1e-12));
+    CHECK(r.states[i].mean_energy == doctest::Approx(e.energy).epsilon(1e-12));
+    CHECK(r.states[i].heat_capacity == doctest::Approx(e.capacity).epsilon(1e-10));
+  }
+  CHECK(r.states[0].heat_capacity == doctest::Approx(r.states[1].heat_capacity).epsilon(1e-10));
+  // Two links (128 points per angle): the second angle's box leaves the circle at a_2/25.
+  const npend::chain two(npend::chain_parameters::uniform(2));
+  const double t2 = 9.81 / 25;
+  const std::vector<double> around{t2 * (1 + 1e-9), t2 * (1 - 1e-9)};
+  const auto s = npend::canonical_ensemble(two, around);
+  CHECK(s.states[0].heat_capacity == doctest::Approx(s.states[1].heat_capacity).epsilon(1e-9));
+  CHECK(s.states[0].mean_energy == doctest::Approx(s.states[1].mean_energy).epsilon(1e-9));
+  CHECK(s.states[0].log_partition_function ==
+        doctest::Approx(s.states[1].log_partition_function).epsilon(1e-9));
+  CHECK(s.states[1].heat_capacity_error < 1e-9);
+}
+
+TEST_CASE("partition function: refuses k T outside the normal doubles") {
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  const std::vector<double> tiny{1e-310};
+  CHECK_THROWS_AS(npend::canonical_ensemble(c, tiny), std::invalid_argument);
+}

@@ -76,7 +76,9 @@ class chain {
   /// ∂f/∂w for the inputs w = [a_x, a_y, u_1..u_n] (pivot acceleration, joint torques),
   /// row-major 2n × (n + 2); its last n columns are the input matrix B = ∂f/∂u.
   void input_matrix(std::span<const double> phi, std::span<double> dfdw) const;
-  /// H(φ, p, t) = T + V (J).
+  /// H(φ, p, t) = T + V (J). On a fixed pivot T = ½ pᵀA⁻¹p and V are summed from terms
+  /// that keep their relative precision near the rest position (1 − cos φ as 2 sin²(φ/2)),
+  /// so that small energies and their drift are measured to rounding, not to 1e-16 J.
   double hamiltonian(std::span<const double> x, double t = 0) const;
   /// Closed-form H, available for point-mass chains of n ≤ 3 (throws std::invalid_argument
   /// otherwise).
@@ -91,6 +93,8 @@ class chain {
   /// L(φ, φ̇, t) = T − V.
   double lagrangian(std::span<const double> phi, std::span<const double> dphi, double t = 0) const;
   double kinetic_energy(std::span<const double> phi, std::span<const double> dphi) const;
+  /// V (J), zero at the hanging rest position (without cancellation on a fixed pivot, as
+  /// hamiltonian).
   double potential_energy(std::span<const double> phi, double t = 0) const;
   /// Mass matrix A(φ), row-major (dim n × n).
   void mass_matrix(std::span<const double> phi, std::span<double> A) const;

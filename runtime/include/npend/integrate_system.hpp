@@ -29,6 +29,7 @@
 #include <utility>
 #include <vector>
 
+#include "npend/detail/rejecting_range_algebra.hpp"
 #include "npend/detail/rosenbrock4_dense_output.hpp"
 #include "npend/gauss_legendre.hpp"
 #include "npend/integrate.hpp"
@@ -135,6 +136,19 @@ class integration_run {
   integration_result m_result;
 };
 
+/// The adaptive steppers of visit_stepper, on rejecting_range_algebra.
+using checked_dopri5 =
+    boost::numeric::odeint::runge_kutta_dopri5<std::vector<double>, double, std::vector<double>,
+                                               double, rejecting_range_algebra>;
+using checked_fehlberg78 =
+    boost::numeric::odeint::runge_kutta_fehlberg78<std::vector<double>, double,
+                                                   std::vector<double>, double,
+                                                   rejecting_range_algebra>;
+using checked_bulirsch_stoer =
+    boost::numeric::odeint::bulirsch_stoer_dense_out<std::vector<double>, double,
+                                                     std::vector<double>, double,
+                                                     rejecting_range_algebra>;
+
 /// The cubic Hermite interpolant of a step through the states at its ends with the
 /// derivatives f there (evaluated on the first request): the dense output of the steppers
 /// that have none of their own.
@@ -220,7 +234,12 @@ void run_fixed(Stepper& stepper, System system, const Rhs& rhs, std::vector<doub
   run.result().state = x;
 }
 
-/// A controlled stepper (try_step) with its steps cut to end on each grid point.
+inline bool all_finite(const std::vector<double>& x) {
+  return std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); });
+}
+
+/// A controlled stepper (try_step) with its steps cut to end on each grid point. A step that
+/// the stepper accepts with a non-finite state is rejected here (and shrunk).
 template <class Stepper, class System>
 void run_controlled(Stepper& stepper, System system, std::vector<double>& x, integration_run& run) {
   namespace odeint = boost::numeric::odeint;
@@ -238,10 +257,18 @@ void run_controlled(Stepper& stepper, System system, std::vector<double>& x, int
       double step = cut ? target - t : h;
       double t_new = t;
       const double tried = step;
-      if (run.watches_steps()) begin = x;
-      if (stepper.try_step(system, x, t_new, step) == odeint::success) {
+      begin = x;
+      auto outcome = stepper.try_step(system, x, t_new, step);
+      if (outcome == odeint::success && !all_finite(x)) {
+        // A trial step that overflowed is a step that was too long, also for a supplied
+        // stepper whose error norm let it through: back to its start, and 1/5 of it (the
+        // Runge-Kutta controller's largest cut).
+        x = begin;
+        step = tried / 5;
+        outcome = odeint::fail;
+      }
+      if (outcome == odeint::success) {
         ++run.result().steps;
-        run.check_finite(x, t, t_new);
         if (!cut && std::fabs(tried) < run.min_step()) run.step_collapsed(t, tried);
         const double from = t;
         t = cut ? target : t_new;
@@ -437,18 +464,20 @@ decltype(auto) visit_stepper(stepper_kind kind, const integration_options& optio
       gauss_legendre6 stepper;
       return visit(stepper);
     }
+    // The adaptive steppers take their error norm from rejecting_range_algebra: a trial
+    // step that overflows is rejected and shrunk, not accepted with a non-finite state.
     case stepper_kind::dopri5: {
-      auto stepper = odeint::make_dense_output(atol, rtol, odeint::runge_kutta_dopri5<state>());
+      auto stepper = odeint::make_dense_output(atol, rtol, detail::checked_dopri5());
       return visit(stepper);
     }
     case stepper_kind::rkf78: {
-      auto stepper = odeint::make_controlled(atol, rtol, odeint::runge_kutta_fehlberg78<state>());
+      auto stepper = odeint::make_controlled(atol, rtol, detail::checked_fehlberg78());
       return visit(stepper);
     }
     case stepper_kind::bulirsch_stoer: {
       // Controlling the interpolation error too: its steps are long, and the dense output
       // between them must meet the tolerances as well.
-      odeint::bulirsch_stoer_dense_out<state> stepper(atol, rtol, 1.0, 1.0, 0.0, true);
+      detail::checked_bulirsch_stoer stepper(atol, rtol, 1.0, 1.0, 0.0, true);
       return visit(stepper);
     }
     case stepper_kind::rosenbrock4: {
@@ -474,8 +503,7 @@ integration_result integrate_visited(Stepper& stepper, const std::pair<Rhs, Jaco
                 std::is_same_v<Stepper, gauss_legendre6> ||
                 std::is_same_v<Stepper, rosenbrock4_dense_output>) {
     return run_stepper(stepper, system, x0, run);
-  } else if constexpr (std::is_same_v<Stepper, boost::numeric::odeint::bulirsch_stoer_dense_out<
-                                                   std::vector<double>>>) {
+  } else if constexpr (std::is_same_v<Stepper, checked_bulirsch_stoer>) {
     if (options.dt < 0)
       return run_stepper(stepper, time_reversed<Rhs>{system.first, options.t_start}, x0, run, true);
     return run_stepper(stepper, system.first, x0, run);

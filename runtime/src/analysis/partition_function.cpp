@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <boost/random/sobol.hpp>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <stdexcept>
@@ -16,17 +18,16 @@ namespace {
 
 constexpr double two_pi = 2 * std::numbers::pi;
 constexpr double max_evaluations = 2e8;
+// The box around the hanging position leaves out the angles where β a_i (1 − cos φ_i) > this:
+// a part e^{-50} ≈ 2e-22 of the integral at most (see well_box).
+constexpr double box_exponent = 50;
 
-// Σ w, Σ w (V − V_ref), Σ w (V − V_ref)², Σ w cos φ_i over a rule's points at one temperature,
-// w = √det A e^{−βV}. V_ref = n k T / 2 (⟨V⟩ of the harmonic limit) keeps the variance from
-// cancelling at low temperatures.
+// Σ w, Σ w u, Σ w u², Σ w cos φ_i over a rule's points at one temperature, w = √det A e^{−βV}
+// and u = βV − n/2: the potential in units of k T about its harmonic mean, so that neither
+// ⟨V⟩ nor its variance cancels or underflows at low temperatures (V ~ kT ~ 1e-300).
 struct sums {
   double w = 0, v = 0, v2 = 0;
   std::vector<double> cos;
-};
-
-struct temperature_terms {
-  double beta = 0, reference = 0;
 };
 
 struct point_values {
@@ -34,18 +35,19 @@ struct point_values {
   std::vector<double> cos;
 };
 
-void accumulate(sums& s, const point_values& p, const temperature_terms& t) {
-  const double w = p.root_det * std::exp(-t.beta * p.potential);
-  const double dv = p.potential - t.reference;
+void accumulate(sums& s, const point_values& p, double beta, double half_n) {
+  const double bv = beta * p.potential;
+  const double w = p.root_det * std::exp(-bv);
+  const double u = bv - half_n;
   s.w += w;
-  s.v += w * dv;
-  s.v2 += w * dv * dv;
+  s.v += w * u;
+  s.v2 += w * u * u;
   for (std::size_t i = 0; i < p.cos.size(); ++i) s.cos[i] += w * p.cos[i];
 }
 
-// The thermodynamics of one rule's sums; `volume` is the weight of each point.
-canonical_state state_from(const sums& s, double volume, double temperature, int links, double k,
-                           double reference, double half_log_det_reference) {
+// The thermodynamics of one rule's sums; `log_volume` is ln of the weight of each point.
+canonical_state state_from(const sums& s, double log_volume, double temperature, int links,
+                           double k, double half_log_det_reference) {
   if (!(s.w > 0))
     throw std::runtime_error(fmt::format(
         "partition function: every weight vanished at T = {} (the temperature is too low for "
@@ -55,14 +57,14 @@ canonical_state state_from(const sums& s, double volume, double temperature, int
   const double n = links, kt = k * temperature;
   out.temperature = temperature;
   out.log_partition_function =
-      n / 2 * std::log(two_pi * kt) + std::log(volume) + std::log(s.w) + half_log_det_reference;
+      n / 2 * std::log(two_pi * kt) + log_volume + std::log(s.w) + half_log_det_reference;
   out.partition_function = std::exp(out.log_partition_function);
   out.free_energy = -kt * out.log_partition_function;
   const double shift = s.v / s.w;
-  out.mean_potential = reference + shift;
+  out.mean_potential = kt * (n / 2 + shift);
   out.mean_energy = n / 2 * kt + out.mean_potential;
-  const double variance = std::max(0.0, s.v2 / s.w - shift * shift);
-  out.heat_capacity = n / 2 * k + variance / (k * temperature * temperature);
+  const double variance = std::max(0.0, s.v2 / s.w - shift * shift);  // Var(βV)
+  out.heat_capacity = k * (n / 2 + variance);
   for (const double c : s.cos) out.mean_cos.push_back(c / s.w);
   return out;
 }
@@ -83,124 +85,153 @@ void evaluate(const chain& c, std::span<const double> phi, point_values& p,
   for (std::size_t i = 0; i < phi.size(); ++i) p.cos[i] = std::cos(phi[i]);
 }
 
-std::vector<temperature_terms> terms_of(std::span<const double> temperatures, int n, double k) {
-  std::vector<temperature_terms> out;
-  for (const double t : temperatures) out.push_back({1 / (k * t), n * k * t / 2});
-  return out;
+// The box [−L_i, L_i] of angles around the hanging position that the rule covers at inverse
+// temperature β. Without springs V = Σ a_i (1 − cos φ_i), a_i = g (m_i c_i + l_i Σ_{j>i} m_j),
+// separable: outside the box some β a_i (1 − cos φ_i) exceeds box_exponent, and since
+// 1 − cos φ ≥ 0.458 φ² on |φ| ≤ 1 (and ≥ 0.46 beyond) the integral leaves out e^{-50} of
+// itself at most. L_i = π (the whole circle) while β a_i ≤ box_exponent / 2; below that
+// temperature the well is narrower than the circle, and a grid over the circle would miss
+// it (at T = 1e-4 J all of a 2-link chain's weight sat on the single point φ = 0, C came out
+// n/2 with an error estimate of 0). The box follows the well down to any temperature, with
+// the rule's points spread over it: L_i → √(2 box_exponent k T / a_i), ten widths of the
+// Gaussian (harmonic) well. Both its ends move continuously with T.
+std::vector<double> well_box(const chain_parameters& p, double beta) {
+  const std::size_t n = p.masses.size();
+  std::vector<double> half_width(n, std::numbers::pi);
+  double below = 0;
+  for (std::size_t i = n; i-- > 0;) {
+    const double c = p.com.empty() ? p.lengths[i] : p.com[i];
+    const double a = p.g * (p.masses[i] * c + p.lengths[i] * below);
+    below += p.masses[i];
+    const double sine_squared = box_exponent / 2 / (beta * a);  // sin²(L/2)
+    if (sine_squared < 1) half_width[i] = 2 * std::asin(std::sqrt(sine_squared));
+  }
+  return half_width;
 }
 
-partition_result trapezoid(const chain& c, std::span<const double> temperatures,
-                           const partition_options& o) {
+// The temperatures that share a box (all of them on the whole torus at high T; one each
+// below), in the given order of their first member.
+struct temperature_group {
+  std::vector<double> half_width;
+  std::vector<std::size_t> members;
+};
+
+std::vector<temperature_group> group_by_box(const chain& c, std::span<const double> temperatures,
+                                            double k) {
+  std::vector<temperature_group> groups;
+  for (std::size_t t = 0; t < temperatures.size(); ++t) {
+    std::vector<double> box = well_box(c.parameters(), 1 / (k * temperatures[t]));
+    auto same = std::find_if(groups.begin(), groups.end(),
+                             [&](const temperature_group& g) { return g.half_width == box; });
+    if (same == groups.end())
+      groups.push_back({std::move(box), {t}});
+    else
+      same->members.push_back(t);
+  }
+  return groups;
+}
+
+// Progress over all groups of temperatures.
+struct progress {
+  run_control* control;
+  double done = 0, total = 0;
+  bool stop(double now) { return report_progress(control, done + now, total); }
+};
+
+// The trapezoid rule with m points per angle over the box of one group of temperatures,
+// appended to r.states at the members' positions.
+bool trapezoid(const chain& c, std::span<const double> temperatures, const temperature_group& g,
+               int m, const partition_options& o, progress& pr, std::vector<canonical_state>& out) {
   const int n = c.links();
-  const int m = o.grid > 0 ? o.grid : (n == 1 ? 256 : n == 2 ? 128 : 64);
-  if (m % 2 != 0 || m < 4)
-    throw std::invalid_argument(fmt::format("trapezoid grid: an even number >= 4, got {}", m));
-  const double total = std::pow(static_cast<double>(m), n);
-  if (total > max_evaluations)
-    throw std::invalid_argument(
-        fmt::format("trapezoid grid: {}^{} = {:.3g} points is too many (at most {:.0e}); use the "
-                    "quasi-Monte Carlo rule for this many links",
-                    m, n, total, max_evaluations));
-  const auto terms = terms_of(temperatures, n, o.boltzmann);
+  const double k = o.boltzmann;
   const double det_reference = half_log_det_reference(c);
   const sums empty{0, 0, 0, std::vector<double>(static_cast<std::size_t>(n), 0.0)};
-  std::vector<sums> full(terms.size(), empty), half = full;
+  std::vector<sums> full(g.members.size(), empty), half = full;
   std::vector<int> index(static_cast<std::size_t>(n), 0);
-  std::vector<double> phi(static_cast<std::size_t>(n));
+  std::vector<double> phi(static_cast<std::size_t>(n)), betas;
+  for (const std::size_t t : g.members) betas.push_back(1 / (k * temperatures[t]));
   point_values p;
-  partition_result r;
-  r.rule = "trapezoid";
-  r.grid = m;
-  const auto count = static_cast<long long>(total);
+  const auto count = static_cast<long long>(std::pow(static_cast<double>(m), n));
   for (long long point = 0; point < count; ++point) {
     bool on_half_grid = true;
     for (std::size_t i = 0; i < phi.size(); ++i) {
-      phi[i] = -std::numbers::pi + two_pi * index[i] / m;
+      const double l = g.half_width[i];
+      phi[i] = -l + 2 * l * index[i] / m;
       on_half_grid = on_half_grid && index[i] % 2 == 0;
     }
     evaluate(c, phi, p, det_reference);
-    for (std::size_t t = 0; t < terms.size(); ++t) {
-      accumulate(full[t], p, terms[t]);
-      if (on_half_grid) accumulate(half[t], p, terms[t]);
+    for (std::size_t t = 0; t < betas.size(); ++t) {
+      accumulate(full[t], p, betas[t], 0.5 * n);
+      if (on_half_grid) accumulate(half[t], p, betas[t], 0.5 * n);
     }
     for (std::size_t i = 0; i < index.size() && ++index[i] == m; ++i) index[i] = 0;
-    if (point % 4096 == 0 && report_progress(o.control, static_cast<double>(point), total)) {
-      r.stopped = true;
-      return r;
-    }
+    if (point % 4096 == 0 && pr.stop(static_cast<double>(point))) return false;
   }
-  r.evaluations = count;
-  const double volume = std::pow(two_pi / m, n), half_volume = std::pow(2 * two_pi / m, n);
-  for (std::size_t t = 0; t < terms.size(); ++t) {
-    canonical_state s = state_from(full[t], volume, temperatures[t], n, o.boltzmann,
-                                   terms[t].reference, det_reference);
-    const canonical_state coarse = state_from(half[t], half_volume, temperatures[t], n, o.boltzmann,
-                                              terms[t].reference, det_reference);
+  pr.done += static_cast<double>(count);
+  double log_volume = 0;
+  for (const double l : g.half_width) log_volume += std::log(2 * l / m);
+  const double log_half_volume = log_volume + n * std::log(2.0);
+  for (std::size_t t = 0; t < g.members.size(); ++t) {
+    const double temperature = temperatures[g.members[t]];
+    canonical_state s = state_from(full[t], log_volume, temperature, n, k, det_reference);
+    const canonical_state coarse =
+        state_from(half[t], log_half_volume, temperature, n, k, det_reference);
     s.log_partition_error = std::fabs(s.log_partition_function - coarse.log_partition_function);
     s.free_energy_error = std::fabs(s.free_energy - coarse.free_energy);
     s.mean_energy_error = std::fabs(s.mean_energy - coarse.mean_energy);
     s.heat_capacity_error = std::fabs(s.heat_capacity - coarse.heat_capacity);
-    r.states.push_back(std::move(s));
+    out[g.members[t]] = std::move(s);
   }
-  return r;
+  return true;
 }
 
-partition_result quasi_monte_carlo(const chain& c, std::span<const double> temperatures,
-                                   const partition_options& o) {
+// Randomised quasi-Monte Carlo over the box of one group of temperatures.
+bool quasi_monte_carlo(const chain& c, std::span<const double> temperatures,
+                       const temperature_group& g, const partition_options& o, progress& pr,
+                       std::vector<canonical_state>& out) {
   const int n = c.links();
-  if (o.points < 16 || o.replicas < 2)
-    throw std::invalid_argument(
-        fmt::format("quasi-Monte Carlo: need >= 16 points and >= 2 replicas, got {} and {}",
-                    o.points, o.replicas));
-  const double total = static_cast<double>(o.points) * o.replicas;
-  if (total > max_evaluations)
-    throw std::invalid_argument(
-        fmt::format("quasi-Monte Carlo: {} points x {} replicas is too many (at most {:.0e})",
-                    o.points, o.replicas, max_evaluations));
-  const auto terms = terms_of(temperatures, n, o.boltzmann);
+  const double k = o.boltzmann;
   const double det_reference = half_log_det_reference(c);
   const sums empty{0, 0, 0, std::vector<double>(static_cast<std::size_t>(n), 0.0)};
-  std::vector<sums> pooled(terms.size(), empty);
-  std::vector<std::vector<canonical_state>> replica_states(terms.size());
+  const std::size_t members = g.members.size();
+  std::vector<sums> pooled(members, empty);
+  std::vector<std::vector<canonical_state>> replica_states(members);
+  std::vector<double> betas;
+  for (const std::size_t t : g.members) betas.push_back(1 / (k * temperatures[t]));
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  const double volume = std::pow(two_pi, n) / o.points;
+  double log_volume = -std::log(static_cast<double>(o.points));
+  for (const double l : g.half_width) log_volume += std::log(2 * l);
   std::vector<double> phi(static_cast<std::size_t>(n)), shift(phi.size());
   point_values p;
-  partition_result r;
-  r.rule = "quasi-monte-carlo";
-  r.points = o.points;
-  r.replicas = o.replicas;
   long long done = 0;
   for (int replica = 0; replica < o.replicas; ++replica) {
     for (double& s : shift) s = unit(rng);
     boost::random::sobol sobol(static_cast<std::size_t>(n));
     constexpr double to_unit = 0x1p-64;
-    std::vector<sums> own(terms.size(), empty);
+    std::vector<sums> own(members, empty);
     for (int point = 0; point < o.points; ++point, ++done) {
       for (std::size_t i = 0; i < phi.size(); ++i) {
         double u = static_cast<double>(sobol()) * to_unit + shift[i];
         u -= std::floor(u);
-        phi[i] = -std::numbers::pi + two_pi * u;
+        phi[i] = g.half_width[i] * (2 * u - 1);
       }
       evaluate(c, phi, p, det_reference);
-      for (std::size_t t = 0; t < terms.size(); ++t) {
-        accumulate(own[t], p, terms[t]);
-        accumulate(pooled[t], p, terms[t]);
+      for (std::size_t t = 0; t < members; ++t) {
+        accumulate(own[t], p, betas[t], 0.5 * n);
+        accumulate(pooled[t], p, betas[t], 0.5 * n);
       }
-      if (done % 4096 == 0 && report_progress(o.control, static_cast<double>(done), total)) {
-        r.stopped = true;
-        return r;
-      }
+      if (done % 4096 == 0 && pr.stop(static_cast<double>(done))) return false;
     }
-    for (std::size_t t = 0; t < terms.size(); ++t)
-      replica_states[t].push_back(state_from(own[t], volume, temperatures[t], n, o.boltzmann,
-                                             terms[t].reference, det_reference));
+    for (std::size_t t = 0; t < members; ++t)
+      replica_states[t].push_back(
+          state_from(own[t], log_volume, temperatures[g.members[t]], n, k, det_reference));
   }
-  r.evaluations = done;
-  for (std::size_t t = 0; t < terms.size(); ++t) {
-    canonical_state s = state_from(pooled[t], volume / o.replicas, temperatures[t], n, o.boltzmann,
-                                   terms[t].reference, det_reference);
+  pr.done += static_cast<double>(done);
+  for (std::size_t t = 0; t < members; ++t) {
+    const double temperature = temperatures[g.members[t]];
+    canonical_state s = state_from(pooled[t], log_volume - std::log(o.replicas), temperature, n,
+                                   k, det_reference);
     std::vector<double> log_z, energy, capacity;
     for (const canonical_state& rs : replica_states[t]) {
       log_z.push_back(rs.log_partition_function);
@@ -208,12 +239,12 @@ partition_result quasi_monte_carlo(const chain& c, std::span<const double> tempe
       capacity.push_back(rs.heat_capacity);
     }
     s.log_partition_error = detail::mean_and_standard_error(log_z).standard_error;
-    s.free_energy_error = o.boltzmann * temperatures[t] * s.log_partition_error;
+    s.free_energy_error = k * temperature * s.log_partition_error;
     s.mean_energy_error = detail::mean_and_standard_error(energy).standard_error;
     s.heat_capacity_error = detail::mean_and_standard_error(capacity).standard_error;
-    r.states.push_back(std::move(s));
+    out[g.members[t]] = std::move(s);
   }
-  return r;
+  return true;
 }
 
 }  // namespace
@@ -230,16 +261,72 @@ partition_result canonical_ensemble(const chain& c, std::span<const double> temp
           "partition function: joint springs make V non-periodic in the angles; the "
           "ensemble over [-pi, pi]^n is that of chains without them");
   if (temperatures.empty()) throw std::invalid_argument("partition function: no temperature given");
-  for (const double t : temperatures)
-    if (!(t > 0) || !std::isfinite(t))
-      throw std::invalid_argument(
-          fmt::format("partition function: temperatures must be positive, got {}", t));
   if (!(options.boltzmann > 0) || !std::isfinite(options.boltzmann))
     throw std::invalid_argument(fmt::format(
         "partition function: Boltzmann's constant must be positive, got {}", options.boltzmann));
+  for (const double t : temperatures) {
+    if (!(t > 0) || !std::isfinite(t))
+      throw std::invalid_argument(
+          fmt::format("partition function: temperatures must be positive, got {}", t));
+    const double kt = options.boltzmann * t;
+    if (!(kt >= std::numeric_limits<double>::min()))
+      throw std::invalid_argument(fmt::format(
+          "partition function: k T = {:g} J at T = {:g} is below the smallest normal double "
+          "({:g} J): 1/(k T) would overflow",
+          kt, t, std::numeric_limits<double>::min()));
+    if (!std::isfinite(kt))
+      throw std::invalid_argument(fmt::format(
+          "partition function: k T at T = {:g} overflows (k = {:g})", t, options.boltzmann));
+  }
+  const int n = c.links();
   const bool grid = options.rule == partition_rule::trapezoid ||
-                    (options.rule == partition_rule::automatic && c.links() <= 3);
-  return grid ? trapezoid(c, temperatures, options) : quasi_monte_carlo(c, temperatures, options);
+                    (options.rule == partition_rule::automatic && n <= 3);
+  const auto groups = group_by_box(c, temperatures, options.boltzmann);
+  partition_result r;
+  double per_group = 0;
+  int m = 0;
+  if (grid) {
+    m = options.grid > 0 ? options.grid : (n == 1 ? 256 : n == 2 ? 128 : 64);
+    if (m % 2 != 0 || m < 4)
+      throw std::invalid_argument(fmt::format("trapezoid grid: an even number >= 4, got {}", m));
+    per_group = std::pow(static_cast<double>(m), n);
+    if (per_group * static_cast<double>(groups.size()) > max_evaluations)
+      throw std::invalid_argument(fmt::format(
+          "trapezoid grid: {}^{} = {:.3g} points{} is too many (at most {:.0e}); use the "
+          "quasi-Monte Carlo rule for this many links",
+          m, n, per_group * static_cast<double>(groups.size()),
+          groups.size() > 1 ? fmt::format(" over {} boxes", groups.size()) : "",
+          max_evaluations));
+    r.rule = "trapezoid";
+    r.grid = m;
+  } else {
+    if (options.points < 16 || options.replicas < 2)
+      throw std::invalid_argument(
+          fmt::format("quasi-Monte Carlo: need >= 16 points and >= 2 replicas, got {} and {}",
+                      options.points, options.replicas));
+    per_group = static_cast<double>(options.points) * options.replicas;
+    if (per_group * static_cast<double>(groups.size()) > max_evaluations)
+      throw std::invalid_argument(fmt::format(
+          "quasi-Monte Carlo: {} points x {} replicas{} is too many (at most {:.0e})",
+          options.points, options.replicas,
+          groups.size() > 1 ? fmt::format(" x {} boxes", groups.size()) : "", max_evaluations));
+    r.rule = "quasi-monte-carlo";
+    r.points = options.points;
+    r.replicas = options.replicas;
+  }
+  progress pr{options.control, 0, per_group * static_cast<double>(groups.size())};
+  std::vector<canonical_state> states(temperatures.size());
+  for (const temperature_group& g : groups) {
+    const bool finished = grid ? trapezoid(c, temperatures, g, m, options, pr, states)
+                               : quasi_monte_carlo(c, temperatures, g, options, pr, states);
+    if (!finished) {
+      r.stopped = true;
+      return r;
+    }
+  }
+  r.evaluations = static_cast<long long>(pr.done);
+  r.states = std::move(states);
+  return r;
 }
 
 }  // namespace npend

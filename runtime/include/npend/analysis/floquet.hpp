@@ -13,21 +13,36 @@
 namespace npend {
 
 struct floquet_options {
-  /// Gauss–Legendre steps per period (order 6: the monodromy's error falls like steps⁻⁶).
+  /// Gauss–Legendre steps per period (order 6: the monodromy's error falls like steps⁻⁶);
+  /// a second run at half of them (⌊steps/2⌋) gives the error estimate. At least 2.
   int steps = 400;
-  /// A multiplier counts as stable while |μ| ≤ 1 + tolerance.
-  double tolerance = 1e-6;
   run_control* control = nullptr;  ///< not owned; may be null
 };
 
+/// How the multipliers judge the orbit, against their error (floquet_result::modulus_error).
+enum class floquet_verdict {
+  stable,    ///< damped: max |μ| < 1 − err; undamped: max |μ| ≤ 1 + err (all on the circle)
+  marginal,  ///< damped, and max |μ| within err of 1: the integration cannot tell
+  unstable,  ///< max |μ| > 1 + err
+};
+
+/// "stable", "marginal" or "unstable".
+const char* verdict_name(floquet_verdict v);
+
 struct floquet_result {
   double period = 0;  ///< T (s)
+  int steps = 0;      ///< Gauss–Legendre steps over the period
   /// M = ∂x(T)/∂x(0), row-major (2n × 2n).
   std::vector<double> monodromy;
   /// The eigenvalues μ of M, by descending |μ|.
   std::vector<std::complex<double>> multipliers;
   double max_modulus = 0;  ///< max |μ|
-  bool stable = false;     ///< max |μ| ≤ 1 + tolerance
+  /// The error estimate of max |μ|: its change from the run at half the steps (an upper
+  /// bound once the rule converges; order 6, so the full run's own error is about 1/63 of
+  /// it) plus the rounding of the eigenvalues (each one's condition number × d ε ‖M‖).
+  double modulus_error = 0;
+  floquet_verdict verdict = floquet_verdict::unstable;
+  bool stable = false;  ///< verdict == floquet_verdict::stable
   /// |x(T) − x(0)|∞: whether the start is on a T-periodic orbit (0 up to the integration
   /// error for an equilibrium the drive keeps, such as φ = 0 or π on a vertical drive).
   double closure = 0;
@@ -38,9 +53,12 @@ struct floquet_result {
 /// drive (`period`: the drive's, if 0). The monodromy matrix is the derivative of the
 /// Gauss–Legendre (order 6) flow over the period, built from the exact Jacobian step by step
 /// (gauss_legendre::do_step_with_tangent). An undamped chain has multipliers in reciprocal
-/// pairs (det M = 1); a damped one has det M = exp(∫₀ᵀ tr J dt). Throws
+/// pairs (det M = 1), so that its best is max |μ| = 1 (linearly stable: every multiplier on
+/// the unit circle); a damped one has det M = exp(∫₀ᵀ tr J dt) and is stable only when
+/// every multiplier is inside the circle by more than the error estimate — when max |μ| is
+/// within it of 1 (a slow instability or a slow decay) the verdict is marginal. Throws
 /// std::invalid_argument for a chain without a periodic drive and no period given, a wrong
-/// size of x0, or steps < 1.
+/// size of x0, or steps < 2.
 floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
                                 const floquet_options& options = {}, double period = 0);
 

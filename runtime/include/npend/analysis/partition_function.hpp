@@ -14,8 +14,17 @@
 //   - for larger n, randomised quasi-Monte Carlo: Boost.Random's Sobol sequence, shifted by R
 //     independent uniform random vectors (Cranley–Patterson), the replicas' spread giving a
 //     standard error.
-// det A and V are evaluated once per point for all temperatures. V ≥ 0 (zero at the hanging
-// rest position), so e^{−βV} never overflows.
+// det A and V are evaluated once per point for all temperatures that share a box. V ≥ 0
+// (zero at the hanging rest position), so e^{−βV} never overflows.
+//
+// At low temperatures the well of e^{−βV} around the hanging position is narrower than the
+// circle (its width √(kT/a_i) per angle, V = Σ a_i (1 − cos φ_i)), and a grid over [−π, π]ⁿ
+// would miss it. Each rule then covers the box [−L_i, L_i] outside which
+// β a_i (1 − cos φ_i) > 50 (a part e^{−50} of the integral at most), with its points spread
+// over it: L_i = π while k T ≥ a_i/25, about ten well widths below. So the rule resolves the
+// well at every temperature down to the smallest normal k T, where it gives the harmonic
+// limit ⟨E⟩ = n k T, C = n k (n momenta and n angles, each a quadratic term), and the error
+// estimates stay those of the rule. Temperatures with different boxes are separate runs.
 #pragma once
 
 #include <cstdint>
@@ -66,7 +75,8 @@ struct partition_result {
 
 /// The canonical ensemble of a conservative chain on a fixed pivot (rigid links allowed; no
 /// springs, which make V non-periodic in φ, and no damping or drive, which have no canonical
-/// ensemble) at each of `temperatures` (> 0). Throws std::invalid_argument naming the problem.
+/// ensemble) at each of `temperatures` (> 0, with k T a finite normal double).
+/// Throws std::invalid_argument naming the problem.
 partition_result canonical_ensemble(const chain& c, std::span<const double> temperatures,
                                     const partition_options& options = {});
 

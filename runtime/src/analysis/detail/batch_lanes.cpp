@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "npend/gauss_legendre.hpp"
 
@@ -233,6 +234,7 @@ void lane_dopri5::step(int blocks) {
            static_cast<std::size_t>(b) * W;
   };
   const double abs_tol = m_abs_tol, rel_tol = m_rel_tol;
+  constexpr double infinity = std::numeric_limits<double>::infinity();
   std::fill(m_error.begin(), m_error.end(), 0.0);
   for (int b = 0; b < blocks; ++b) {
     const double *e1 = coefficient(dc1, b), *e3 = coefficient(dc3, b), *e4 = coefficient(dc4, b),
@@ -248,7 +250,10 @@ void lane_dopri5::step(int blocks) {
                            e6[l] * k6[a] + e7[l] * f_out[a];
         const double scaled =
             std::fabs(err) / (abs_tol + rel_tol * (std::fabs(x[a]) + std::fabs(h[l]) * std::fabs(f[a])));
-        error[l] = error[l] < scaled ? scaled : error[l];
+        // A non-finite entry makes the norm +inf (npend's rejecting_range_algebra), so that a
+        // trial step that overflowed is rejected and shrunk rather than accepted.
+        error[l] = scaled == scaled && error[l] < scaled ? scaled : error[l];
+        error[l] = scaled != scaled ? infinity : error[l];
       }
     }
   }
