@@ -5,6 +5,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <optional>
 #include <stdexcept>
 
 namespace npend::cli {
@@ -43,21 +46,47 @@ std::vector<std::string_view> split_cells(std::string_view line, separator sep) 
   }
 }
 
-// A header cell: text that is not a number (an empty cell is a defect of a data row).
-bool is_name(std::string_view cell) {
-  if (cell.empty()) return false;
-  try {
-    parse_number(cell, "");
-    return false;
-  } catch (const input_error&) {
-    return true;
-  }
+// A cell without the double or single quotes around it ("1.5", 'x').
+std::string_view unquote(std::string_view cell) {
+  if (cell.size() >= 2 && (cell.front() == '"' || cell.front() == '\'') &&
+      cell.back() == cell.front())
+    return trim(cell.substr(1, cell.size() - 2));
+  return cell;
 }
 
-std::string unquote(std::string_view cell) {
-  if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"')
-    cell = trim(cell.substr(1, cell.size() - 2));
-  return std::string(cell);
+// How a cell reads as a number.
+enum class cell_kind { number, out_of_range, text };
+
+// A cell's number: quotes stripped, a Fortran exponent D or d (1.0D-3, as TISEAN's example
+// files and Fortran programs write) read as E, a leading '+' allowed. NaN and infinities are
+// numbers here: only the columns an analysis uses must be finite, and those are checked
+// where a column is chosen.
+cell_kind read_cell(std::string_view cell, double& value) {
+  std::string digits(unquote(cell));
+  if (digits.size() > 1 && digits.front() == '+' && digits[1] != '-') digits.erase(0, 1);
+  const auto exponent = digits.find_first_of("Dd");
+  if (exponent != std::string::npos && exponent > 0 &&
+      (std::isdigit(static_cast<unsigned char>(digits[exponent - 1])) != 0 ||
+       digits[exponent - 1] == '.'))
+    digits[exponent] = 'e';
+  if (digits.empty()) return cell_kind::text;
+  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  if (ec == std::errc::result_out_of_range) return cell_kind::out_of_range;
+  if (ec != std::errc{} || end != digits.data() + digits.size()) return cell_kind::text;
+  return cell_kind::number;
+}
+
+// A header cell: text that is not a number (an empty cell is a defect of a data row).
+bool is_name(std::string_view cell) {
+  double value = 0;
+  return !cell.empty() && read_cell(cell, value) != cell_kind::number;
+}
+
+// A byte no text table holds: NUL and the control characters other than tab, line feed and
+// carriage return. Bytes from 0x80 on may be UTF-8 (names like φ3) and pass.
+bool is_binary_byte(char c) {
+  const auto b = static_cast<unsigned char>(c);
+  return (b < 0x20 && b != '\t' && b != '\n' && b != '\r') || b == 0x7f;
 }
 
 }  // namespace
@@ -68,6 +97,10 @@ csv_table parse_csv(std::string_view text, std::string_view source) {
   bool first = true;
   separator sep = separator::comma;
   std::size_t line_number = 0;
+  if (const auto binary = find_binary_byte(text))
+    throw input_error(binary_data_message(text, *binary, source));
+  // A UTF-8 byte order mark, as spreadsheet programs write one, is no part of the header.
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   for (std::size_t start = 0; start <= text.size();) {
     std::size_t end = text.find('\n', start);
     if (end == std::string_view::npos) end = text.size();
@@ -86,7 +119,7 @@ csv_table parse_csv(std::string_view text, std::string_view source) {
       table.columns.resize(width);
       if (std::any_of(cells.begin(), cells.end(), is_name)) {
         for (std::size_t c = 0; c < width; ++c) {
-          std::string name = unquote(cells[c]);
+          std::string name(unquote(cells[c]));
           if (name.empty())
             throw input_error(
                 fmt::format("{}:{}: header cell {} is empty", source, line_number, c + 1));
@@ -106,13 +139,36 @@ csv_table parse_csv(std::string_view text, std::string_view source) {
                                                      : fmt::format("column '{}'", table.names[c]);
       if (cells[c].empty())
         throw input_error(fmt::format("{}:{}: {}: empty cell", source, line_number, column));
-      table.columns[c].push_back(
-          parse_number(cells[c], fmt::format("{}:{}: {}", source, line_number, column)));
+      double value = 0;
+      switch (read_cell(cells[c], value)) {
+        case cell_kind::number:
+          break;
+        case cell_kind::out_of_range:
+          throw input_error(fmt::format("{}:{}: {}: '{}' is out of the range of a double", source,
+                                        line_number, column, excerpt(cells[c])));
+        case cell_kind::text:
+          throw input_error(fmt::format("{}:{}: {}: '{}' is not a number", source, line_number,
+                                        column, excerpt(cells[c])));
+      }
+      table.columns[c].push_back(value);
     }
     table.lines.push_back(line_number);
   }
   if (table.lines.empty()) throw input_error(fmt::format("{}: no data rows", source));
   return table;
+}
+
+std::optional<std::size_t> find_binary_byte(std::string_view text) {
+  const auto found = std::find_if(text.begin(), text.end(), is_binary_byte);
+  if (found == text.end()) return std::nullopt;
+  return static_cast<std::size_t>(found - text.begin());
+}
+
+std::string binary_data_message(std::string_view text, std::size_t position,
+                                std::string_view source) {
+  const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(position), '\n');
+  return fmt::format("{}:{}: binary data (byte 0x{:02x}), not a table of numbers", source, line,
+                     static_cast<unsigned char>(text[position]));
 }
 
 std::string format_csv(std::span<const std::string> names,

@@ -23,15 +23,39 @@ double parse_item(std::string_view item, std::string_view option, std::string_vi
   const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
   if (ec == std::errc::result_out_of_range)
     throw input_error(
-        fmt::format("{}: '{}' is out of the range of a double{}", option, item, where));
+        fmt::format("{}: '{}' is out of the range of a double{}", option, excerpt(item), where));
   if (ec != std::errc{} || end != digits.data() + digits.size())
-    throw input_error(fmt::format("{}: '{}' is not a number{}", option, item, where));
+    throw input_error(fmt::format("{}: '{}' is not a number{}", option, excerpt(item), where));
   if (!std::isfinite(value))
-    throw input_error(fmt::format("{}: '{}' is not a finite number{}", option, item, where));
+    throw input_error(
+        fmt::format("{}: '{}' is not a finite number{}", option, excerpt(item), where));
   return value;
 }
 
 }  // namespace
+
+std::string excerpt(std::string_view text, std::size_t limit) {
+  std::string out;
+  std::size_t characters = 0;
+  for (std::size_t k = 0; k < text.size(); ++characters) {
+    if (characters == limit) return out + "...";
+    const auto b = static_cast<unsigned char>(text[k]);
+    // The length of a UTF-8 sequence starting with b, 0 for a byte that starts none.
+    const std::size_t length = b < 0x80 ? 1 : (b & 0xe0) == 0xc0 ? 2 : (b & 0xf0) == 0xe0 ? 3
+                                            : (b & 0xf8) == 0xf0 ? 4 : 0;
+    bool valid = length > 0 && k + length <= text.size();
+    for (std::size_t c = 1; valid && c < length; ++c)
+      valid = (static_cast<unsigned char>(text[k + c]) & 0xc0) == 0x80;
+    if (!valid || b < 0x20 || b == 0x7f) {
+      out += fmt::format("\\x{:02x}", b);
+      ++k;
+    } else {
+      out.append(text.substr(k, length));
+      k += length;
+    }
+  }
+  return out;
+}
 
 std::string_view trim(std::string_view text) {
   const auto first = text.find_first_not_of(" \t");

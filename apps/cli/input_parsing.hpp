@@ -18,6 +18,11 @@ class input_error : public std::invalid_argument {
 /// `text` without the spaces and tabs at its ends.
 std::string_view trim(std::string_view text);
 
+/// `text` as it may be quoted in a one-line message: at most `limit` characters (then "..."),
+/// control characters and bytes that are not UTF-8 written as \xNN, so that a binary file's
+/// bytes never reach the terminal raw.
+std::string excerpt(std::string_view text, std::size_t limit = 40);
+
 /// One finite number ("1.5", "-2e-3"); `option` names the source in messages.
 double parse_number(std::string_view text, std::string_view option);
 

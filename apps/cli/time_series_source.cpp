@@ -8,12 +8,15 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <fstream>
+#include <filesystem>
 #include <numbers>
-#include <sstream>
 #include <tuple>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include "input_parsing.hpp"
+#include "interrupt_guard.hpp"
 #include "section_spec.hpp"
 
 namespace npend::cli {
@@ -57,8 +60,8 @@ sampled_signals signals_from_csv(const csv_table& table, std::string_view source
   s.source = std::string(source);
   const std::size_t rows = table.lines.size();
   if (rows < min_samples)
-    throw input_error(
-        fmt::format("{}: {} samples; at least {} are needed", source, rows, min_samples));
+    throw input_error(fmt::format("{}: {} sample{}; at least {} are needed", source, rows,
+                                  rows == 1 ? "" : "s", min_samples));
   std::optional<std::size_t> time_column;
   for (std::size_t c = 0; c < table.names.size(); ++c)
     if (is_time_name(table.names[c])) {
@@ -71,6 +74,10 @@ sampled_signals signals_from_csv(const csv_table& table, std::string_view source
     s.time_name = table.names[*time_column];
     s.time_number = *time_column + 1;
     const auto& t = table.columns[*time_column];
+    for (std::size_t j = 0; j < t.size(); ++j)
+      if (!std::isfinite(t[j]))
+        throw input_error(fmt::format("{}:{}: time column '{}': {} is not a finite number",
+                                      source, table.lines[j], s.time_name, t[j]));
     s.dt = uniform_step(t, table.lines, source, s.time_name);
     s.t0 = t.front();
     if (dt_option && std::fabs(*dt_option - s.dt) > 0.01 * s.dt)
@@ -114,17 +121,32 @@ std::optional<double> sample_spacing(const std::string& dt) {
 
 }  // namespace
 
+time_series checked_signal(time_series x, std::string_view option) {
+  for (std::size_t j = 0; j < x.values.size(); ++j)
+    if (!std::isfinite(x.values[j]))
+      throw input_error(fmt::format(
+          "{}: column '{}' of {} is {} at t = {:.6g} s (data row {}); the columns analysed must "
+          "be finite",
+          option, x.name, x.source, x.values[j], x.t0 + static_cast<double>(j) * x.dt, j + 1));
+  if (!x.values.empty() &&
+      std::all_of(x.values.begin(), x.values.end(), [&](double v) { return v == x.values[0]; }))
+    throw input_error(fmt::format(
+        "{}: '{}' of {} is constant ({:g} in every sample): nothing varies to analyse", option,
+        x.name, x.source, x.values[0]));
+  return x;
+}
+
 time_series select_signal(const sampled_signals& signals, std::string_view selector,
                           std::string_view option) {
-  if (selector.empty()) return signal_at(signals, signals.default_signal);
+  if (selector.empty()) return checked_signal(signal_at(signals, signals.default_signal), option);
   for (std::size_t k = 0; k < signals.names.size(); ++k)
-    if (signals.names[k] == selector) return signal_at(signals, k);
+    if (signals.names[k] == selector) return checked_signal(signal_at(signals, k), option);
   std::size_t number = 0;
   const auto parsed = std::from_chars(selector.data(), selector.data() + selector.size(), number);
   const bool numeric = parsed.ec == std::errc{} && parsed.ptr == selector.data() + selector.size();
   if (numeric)
     for (std::size_t k = 0; k < signals.numbers.size(); ++k)
-      if (signals.numbers[k] == number) return signal_at(signals, k);
+      if (signals.numbers[k] == number) return checked_signal(signal_at(signals, k), option);
   if (!signals.time_name.empty() &&
       (selector == signals.time_name || (numeric && number == signals.time_number)))
     throw input_error(fmt::format("{}: '{}' is the time column of {}; choose a signal", option,
@@ -136,14 +158,46 @@ time_series select_signal(const sampled_signals& signals, std::string_view selec
                                 signals.source, selector, known));
 }
 
-std::string read_text_file(const std::string& path, std::string_view option) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
+std::string read_text_file(const std::string& path, std::string_view option,
+                           std::size_t max_bytes) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error))
+    throw input_error(fmt::format("{}: '{}' is a directory", option, path));
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0)
     throw input_error(fmt::format("{}: cannot read '{}': {}", option, path, std::strerror(errno)));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw input_error(fmt::format("{}: cannot read '{}'", option, path));
-  return text.str();
+  struct closer {
+    int fd;
+    ~closer() { ::close(fd); }
+  } const close_at_end{fd};
+  // A pipe or a device may never end, and a slow one may block: Ctrl-C and SIGTERM stop the
+  // reading (read returns EINTR, the handler installs without SA_RESTART).
+  interrupt_guard guard;
+  std::string text;
+  std::vector<char> buffer(std::size_t{1} << 16);
+  while (true) {
+    if (guard.interrupted())
+      throw interrupted(fmt::format("interrupted while reading '{}'; nothing analysed", path),
+                        128 + guard.signal());
+    const ssize_t got = ::read(fd, buffer.data(), buffer.size());
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      throw input_error(
+          fmt::format("{}: cannot read '{}': {}", option, path, std::strerror(errno)));
+    }
+    if (got == 0) return text;
+    const std::string_view chunk(buffer.data(), static_cast<std::size_t>(got));
+    // Binary data is refused at its first byte, not after reading all of an endless device.
+    if (const auto binary = find_binary_byte(chunk)) {
+      text.append(chunk.substr(0, *binary + 1));
+      throw input_error(binary_data_message(text, text.size() - 1, path));
+    }
+    if (chunk.size() > max_bytes - text.size())
+      throw input_error(fmt::format(
+          "{}: '{}' holds more than {} bytes, the most npend reads as a table of numbers", option,
+          path, max_bytes));
+    text.append(chunk);
+  }
 }
 
 sampled_signals simulate_with_progress(const simulated_start& s,
@@ -291,7 +345,7 @@ time_series series_options::load_one(std::size_t min_samples) const {
     const sampled_signals signals = simulate_with_progress(*simulation);
     const int links = simulation->pendulum.links();
     if (column.empty()) {
-      x = signal_at(signals, signals.default_signal);
+        x = signal_at(signals, signals.default_signal);
     } else if (auto derived = chain_observable(signals, simulation->pendulum, column)) {
       x = std::move(*derived);
     } else {
@@ -303,6 +357,7 @@ time_series series_options::load_one(std::size_t min_samples) const {
                         e.what(), links));
       }
     }
+    x = checked_signal(std::move(x), "--coordinate");
   }
   note_winding_angle(x);
   return x;

@@ -39,13 +39,29 @@ using npend::time_series;
 sampled_signals signals_from_csv(const csv_table& table, std::string_view source,
                                  std::optional<double> dt_option, std::size_t min_samples);
 
+/// `x` if every sample is finite and not all are equal; else throws input_error naming
+/// `option`, the signal and its source: only the signals an analysis uses must be finite
+/// (a NaN in another column of a file blocks nothing), and a constant one has nothing to
+/// analyse.
+time_series checked_signal(time_series x, std::string_view option);
+
 /// The signal `selector` names: a column name, else a 1-based column number; empty selects
-/// the default signal. `option` names the option in messages ("--column").
+/// the default signal. `option` names the option in messages ("--column"). The signal is
+/// checked_signal's.
 time_series select_signal(const sampled_signals& signals, std::string_view selector,
                           std::string_view option);
 
-/// The whole text of a file; throws input_error "cannot read 'x.csv': <reason>".
-std::string read_text_file(const std::string& path, std::string_view option);
+/// The most bytes read_text_file reads: 1 GiB, some ten times a table of the longest series a
+/// simulation gives (2^22 samples).
+inline constexpr std::size_t max_text_file_bytes = std::size_t{1} << 30;
+
+/// The whole text of a file (or a pipe or device: /dev/stdin). Throws input_error naming
+/// `option`: "cannot read 'x.csv': <reason>", "'dir' is a directory", for more than
+/// `max_bytes`, and at the first byte of binary data (binary_data_message) — so an endless
+/// device is never read without bound; throws interrupted when SIGINT or SIGTERM arrives
+/// while reading.
+std::string read_text_file(const std::string& path, std::string_view option,
+                           std::size_t max_bytes = max_text_file_bytes);
 
 /// compute(s) — a computation that integrates the simulated start s and returns a result
 /// with its `run` (npend::integration_result) — with a progress bar on a terminal and Ctrl-C

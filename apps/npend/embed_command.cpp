@@ -26,17 +26,21 @@ struct embed_options {
   std::string tau = "auto", dim = "auto", dim_method = "fnn", theiler;
   std::size_t max_dim = 10;
   std::size_t bins = 16;
+  std::string mi_estimator = "tisean";
   double rtol = 15, atol = 2;
   std::size_t references = 4000;
   bool json = false;
   std::string out;
+  const CLI::App* command = nullptr;
+
+  bool given(const char* name) const { return command->count(name) > 0; }
 };
 
 // τ from --tau: a method name, or a delay in seconds.
 delay_choice delay_from_option(const std::string& text, const time_series& x,
-                               std::size_t bins) {
+                               const mutual_information_options& information) {
   if (const auto method = delay_method_from_name(text)) {
-    const delay_choice c = choose_delay(x.values, x.dt, *method, {.bins = bins});
+    const delay_choice c = choose_delay(x.values, x.dt, *method, information);
     if (!c.found)
       throw cli::input_error(fmt::format(
           "--tau {}: the series has no such feature (no spectral peak, zero or minimum within "
@@ -71,14 +75,33 @@ std::optional<std::size_t> checked_fixed_dimension(const embed_options& o) {
     throw cli::input_error(fmt::format("--max-dim: must be 2..20, got {}", o.max_dim));
   if (o.bins < 2 || o.bins > 1024)
     throw cli::input_error(fmt::format("--bins: must be 2..1024, got {}", o.bins));
+  if (!mutual_information_estimator_from_name(o.mi_estimator))
+    throw cli::input_error(
+        fmt::format("--mi-estimator: '{}' is not tisean or averaged", o.mi_estimator));
   if (!(o.rtol > 0) || !std::isfinite(o.rtol))
     throw cli::input_error(fmt::format("--rtol: must be positive, got {}", o.rtol));
   if (!(o.atol > 0) || !std::isfinite(o.atol))
     throw cli::input_error(fmt::format("--atol: must be positive, got {}", o.atol));
+  // Options that cannot take effect are refused rather than silently ignored.
+  const auto method = delay_method_from_name(o.tau);
+  const bool information_used =
+      method ? *method == delay_method::automatic || *method == delay_method::mutual_information
+             : o.tau.empty() || o.tau.find_first_of("0123456789") == std::string::npos;
+  if (!information_used)
+    for (const char* name : {"--bins", "--mi-estimator"})
+      if (o.given(name))
+        throw cli::input_error(fmt::format(
+            "{}: only for the mutual-information delay (--tau ami or auto), not with --tau {}",
+            name, o.tau));
   if (o.dim == "auto") return std::nullopt;
   const double k = cli::parse_number(o.dim, "--dim");
   if (k != std::floor(k) || k < 1 || k > 20)
     throw cli::input_error(fmt::format("--dim: '{}' is not auto or a dimension 1..20", o.dim));
+  for (const char* name :
+       {"--max-dim", "--dim-method", "--rtol", "--atol", "--references", "--theiler"})
+    if (o.given(name))
+      throw cli::input_error(fmt::format(
+          "{}: only for the dimension scan (--dim auto), not with --dim {}", name, o.dim));
   return static_cast<std::size_t>(k);
 }
 
@@ -96,7 +119,9 @@ int run_embed(const embed_options& o) {
   const std::optional<std::size_t> fixed_dim = checked_fixed_dimension(o);
   series_output files(o.out);
   const time_series x = o.series.load_one(min_samples);
-  const delay_choice tau = delay_from_option(o.tau, x, o.bins);
+  const delay_choice tau = delay_from_option(
+      o.tau, x,
+      {.bins = o.bins, .estimator = *mutual_information_estimator_from_name(o.mi_estimator)});
   std::size_t theiler = tau.samples;
   if (!o.theiler.empty()) {
     const double seconds = cli::parse_number(o.theiler, "--theiler");
@@ -190,6 +215,7 @@ int run_embed(const embed_options& o) {
       const auto& ami = tau.mutual_information;
       j["mutual_information"] = {
           {"bins", o.bins},
+          {"estimator", o.mi_estimator},
           {"minimum_window", ami.window},
           {"tau", ami.lag},
           {"information", ami.information},
@@ -204,7 +230,8 @@ int run_embed(const embed_options& o) {
   fmt::print("delay tau = {:.6g} s ({} samples; {})\n", tau.seconds, tau.samples,
              delay_description(o, tau));
   if (has_information)
-    fmt::print("mutual information ({} bins): evaluated on lags up to {:.6g} s{}\n", o.bins,
+    fmt::print("mutual information ({} bins, {} estimator): evaluated on lags up to {:.6g} s{}\n",
+               o.bins, o.mi_estimator,
                tau.mutual_information.lag.back(),
                tau.mutual_information.first_minimum
                    ? fmt::format(", first local minimum at {:.6g} s",
@@ -240,6 +267,7 @@ void add_embed_command(CLI::App& app, command_list& commands) {
   CLI::App* cmd = app.add_subcommand(
       "embed",
       "Delay embedding: the delay tau, the minimal embedding dimension, the delay vectors");
+  o->command = cmd;
   o->series.add_to(*cmd);
   cmd->add_option(
          "--tau", o->tau,
@@ -255,6 +283,12 @@ void add_embed_command(CLI::App& app, command_list& commands) {
       ->capture_default_str();
   cmd->add_option("--bins", o->bins,
                   "Mutual information (--tau ami or auto): equal-width histogram bins per axis")
+      ->capture_default_str();
+  cmd->add_option("--mi-estimator", o->mi_estimator,
+                  "Mutual information (--tau ami or auto): tisean (one histogram of bins x bins "
+                  "boxes over the data's range, as TISEAN's mutual) or averaged (the mean over "
+                  "4 x 4 grids shifted by quarter bins: smoother, but it can smooth away a "
+                  "shallow first minimum)")
       ->capture_default_str();
   cmd->add_option("--rtol", o->rtol,
                   "False neighbours: R_tol, false if the added coordinate's gap exceeds R_tol "

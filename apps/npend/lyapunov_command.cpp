@@ -662,7 +662,7 @@ void add_lyapunov_command(CLI::App& app, command_list& commands) {
                   "columns)");
   cmd->add_option("--theiler", o->theiler,
                   "With --input: neighbours closer in time than this (s) are not used "
-                  "(default: (dim - 1) tau)");
+                  "(default: max(1, dim - 1) tau)");
   cmd->add_option("--horizon", o->horizon,
                   "With --input: the stretching curve's longest time in s (default: 40 tau, at "
                   "most a quarter of the series)");

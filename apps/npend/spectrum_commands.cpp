@@ -211,8 +211,9 @@ void add_spectrum_commands(CLI::App& app, command_list& commands) {
     o->series.add_to(*cmd);
     cmd->add_option("--max-lag", o->max_lag, "Largest lag in s (default: half the series)");
     cmd->add_option("--estimator", o->estimator,
-                    "biased (lag k summed over N - k products, divided by N; the default, as "
-                    "TISEAN) or unbiased (divided by N - k: no taper, noisier at long lags)")
+                    "biased (lag k summed over N - k products, divided by N; the default, "
+                    "tapered by 1 - k/N) or unbiased (divided by N - k, as TISEAN's corr and "
+                    "autocor: no taper, noisier at long lags)")
         ->capture_default_str();
     cmd->add_flag("--json", o->json, "Print JSON");
     cmd->add_option(

@@ -222,3 +222,23 @@ TEST_CASE("npend lyapunov --input: no linear region, no exponent (null) and the 
   REQUIRE(text.exit_code == 0);
   CHECK(text.out.find("no estimate of the maximal exponent") != std::string::npos);
 }
+
+TEST_CASE("npend lyapunov --input --fit: a given range is judged as the automatic one") {
+  // The chaotic start of the test above: its x3 curve rises steeply within the embedding
+  // window (5 tau) and saturates there, so no range of it is linear. A range given inside
+  // that window looked straight enough to the bend test alone (0:3 s gave 0.31 +- 0.12 /s
+  // as a linear region, while the equations give a maximal exponent near 1.5 /s).
+  const auto dir = std::filesystem::path(npend::test::temporary_directory("cli-lyapunov-fit"));
+  const std::string trajectory = (dir / "strong.csv").string();
+  REQUIRE(
+      run_npend("simulate --links 3 --phi 1.5,1.5,1.5 --t-end 1000 --dt 0.01 --out " + trajectory)
+          .exit_code == 0);
+  const auto r = run_npend("lyapunov --input " + trajectory + " --column x_3 --fit 0:3 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["fit_range_method"] == "given");
+  CHECK(j["linear_region"] == false);
+  CHECK(j["maximal_exponent"].is_null());
+  REQUIRE(!j["warnings"].empty());
+  CHECK(j["warnings"][0].get<std::string>().find("no estimate: ") == 0);
+}

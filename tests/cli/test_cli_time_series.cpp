@@ -198,7 +198,9 @@ TEST_CASE("npend time series: each bad input gets its message and exit status 2"
   const fs::path dir = temporary_directory("cli-errors");
   const std::string sines = write_sines(dir, 64);
   const std::string text_cell = write_text(dir, "cell.csv", "t,x\n0,1\n0.1,2\n0.2,oops\n");
-  const std::string nan_cell = write_text(dir, "nan.csv", "t,x\n0,1\n0.1,NaN\n");
+  std::string nan_rows = "t,x\n0,1\n0.1,NaN\n";
+  for (int j = 2; j < 20; ++j) nan_rows += fmt::format("{},{}\n", 0.1 * j, j);
+  const std::string nan_cell = write_text(dir, "nan.csv", nan_rows);
   const std::string short_file = write_text(dir, "short.csv", "t,x\n0,1\n0.1,2\n");
   std::string jitter = "t,x\n";
   for (int j = 0; j < 40; ++j)
@@ -214,7 +216,8 @@ TEST_CASE("npend time series: each bad input gets its message and exit status 2"
        "--column: " + sines + " has no column 'z'; its signals are x (2), y (3)"},
       {"spectrum --input " + text_cell, text_cell + ":4: column 'x': 'oops' is not a number"},
       {"autocorrelation --input " + nan_cell,
-       nan_cell + ":3: column 'x': 'NaN' is not a finite number"},
+       "--column: column 'x' of " + nan_cell +
+           " is nan at t = 0.1 s (data row 2); the columns analysed must be finite"},
       {"embed --input " + short_file, short_file + ": 2 samples; at least 64 are needed"},
       {"spectrum --input " + uneven, uneven + ":22: time column 't' is not uniformly spaced"},
       {"spectrum --input " + no_time,
@@ -400,4 +403,109 @@ TEST_CASE("npend embed: false-neighbour tolerances and their per-criterion fract
   const auto strict = at("--rtol 1e-9 --references 500");
   CHECK(strict["false_neighbours_options"]["reference_points"] == 500);
   CHECK(strict["false_neighbours_distance"][0].get<double>() > 0.99);
+}
+
+TEST_CASE("npend time series: a NaN in a column not analysed blocks nothing") {
+  const fs::path dir = temporary_directory("cli-nan-column");
+  std::string text = "t,x,y\n";
+  for (int j = 0; j < 64; ++j)
+    text += fmt::format("{},{},{}\n", 0.01 * j, std::sin(0.3 * j), j == 20 ? "nan" : "1e-3");
+  const std::string file = write_text(dir, "nan.csv", text);
+  const auto r = run_npend("autocorrelation --input " + file + " --column x --json");
+  CHECK(r.exit_code == 0);
+  CHECK(npend::test::is_input_error(run_npend("autocorrelation --input " + file + " --column y"),
+                                    "--column: column 'y' of " + file +
+                                        " is nan at t = 0.2 s (data row 21); the columns "
+                                        "analysed must be finite"));
+}
+
+TEST_CASE("npend lyapunov: SIGTERM while reading an endless --input stops it, with a message") {
+  // A pipe that delivers two rows and then nothing, without ever ending.
+  const auto r = npend::test::run_shell(
+      "(printf 't,x\\n0,1\\n'; sleep 4) | timeout --preserve-status -s TERM 1 " +
+      std::string(NPEND_CLI_PATH) + " lyapunov --input /dev/stdin");
+  INFO(r.err);
+  CHECK(r.exit_code == 128 + 15);
+  CHECK(r.err == "npend lyapunov: interrupted while reading '/dev/stdin'; nothing analysed\n");
+}
+
+namespace {
+
+// TISEAN's `mutual`, written out independently: the series scaled to [0, 1] cut into `bins`
+// equal boxes (the maximum in the last), and for each lag k the pairs (x_j, x_{j+k}):
+// I = Σ p_ij ln(p_ij / (p_i p_j)) over bins × bins boxes, marginals of the same pairs (nats).
+std::vector<double> tisean_mutual(const std::vector<double>& x, int bins, std::size_t lags) {
+  const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
+  std::vector<int> box(x.size());
+  for (std::size_t j = 0; j < x.size(); ++j)
+    box[j] = std::min(bins - 1, static_cast<int>((x[j] - *lo) / (*hi - *lo) * bins));
+  std::vector<double> information;
+  for (std::size_t k = 0; k < lags; ++k) {
+    std::vector<double> joint(static_cast<std::size_t>(bins * bins)), first(bins), second(bins);
+    const std::size_t pairs = x.size() - k;
+    for (std::size_t j = 0; j < pairs; ++j) {
+      joint[static_cast<std::size_t>(box[j] * bins + box[j + k])] += 1.0 / pairs;
+      first[static_cast<std::size_t>(box[j])] += 1.0 / pairs;
+      second[static_cast<std::size_t>(box[j + k])] += 1.0 / pairs;
+    }
+    double sum = 0;
+    for (int a = 0; a < bins; ++a)
+      for (int b = 0; b < bins; ++b) {
+        const double p = joint[static_cast<std::size_t>(a * bins + b)];
+        if (p > 0) sum += p * std::log(p / (first[a] * second[b]));
+      }
+    information.push_back(sum);
+  }
+  return information;
+}
+
+}  // namespace
+
+TEST_CASE("npend embed: the mutual-information delay of the weak triple pendulum is TISEAN's") {
+  // The paper's weak excitation, as the demo starts it: the triple pendulum (1 kg, 1 m) at
+  // rest in a zigzag (s, -s, s) with E = eps m g l, eps = 0.01; its potential
+  // m g l (3 + 2 + 1)(1 - cos s) gives cos s = 1 - eps/6. 2^14 samples at 1 ms of x3.
+  const fs::path dir = temporary_directory("cli-embed-weak-ami");
+  const double s = std::acos(1 - 0.01 / 6);
+  const std::string file = (dir / "weak.csv").string();
+  REQUIRE(run_npend(fmt::format("simulate --links 3 --phi {0:.17g},{1:.17g},{0:.17g} --t-end "
+                                "16.383 --dt 0.001 --out {2}",
+                                s, -s, file))
+              .exit_code == 0);
+  const auto x = load(file, "x_3");
+  REQUIRE(x.values.size() == 16384);
+  const auto r = run_npend("embed --input " + file + " --column x_3 --tau ami --dim 2 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  const auto& ami = j["mutual_information"];
+  CHECK(ami["estimator"] == "tisean");
+  CHECK(ami["bins"] == 16);
+  // The curve is TISEAN's histogram estimate at every lag (npend's in bits, TISEAN's in nats).
+  const auto info = ami["information"].get<std::vector<double>>();
+  const auto reference = tisean_mutual(x.values, 16, info.size());
+  for (std::size_t k = 0; k < info.size(); ++k) {
+    CAPTURE(k);
+    CHECK(info[k] * std::log(2.0) == doctest::Approx(reference[k]).epsilon(1e-12));
+  }
+  // TISEAN's curve dips at 0.35-0.42 s: lower there than before and after.
+  const auto lowest = [&](double from, double to) {
+    double v = INFINITY;
+    for (std::size_t k = 0; k < reference.size(); ++k)
+      if (k * 0.001 >= from && k * 0.001 <= to) v = std::min(v, reference[k]);
+    return v;
+  };
+  CHECK(lowest(0.35, 0.42) < lowest(0.25, 0.30));
+  CHECK(lowest(0.35, 0.42) < lowest(0.42, 0.46));
+  // And the delay is that first minimum.
+  const double first = ami["first_minimum"].get<double>();
+  CHECK(first >= 0.35);
+  CHECK(first <= 0.42);
+  CHECK(j["tau"].get<double>() == doctest::Approx(first));
+  // The averaged shifted histograms smooth that dip away and take a later minimum.
+  const auto averaged = nlohmann::json::parse(
+      run_npend("embed --input " + file + " --column x_3 --tau ami --dim 2 --mi-estimator "
+                "averaged --json")
+          .out);
+  CHECK(averaged["mutual_information"]["estimator"] == "averaged");
+  CHECK(averaged["mutual_information"]["first_minimum"].get<double>() > 0.42);
 }

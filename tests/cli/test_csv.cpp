@@ -5,7 +5,12 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
+#include <string>
 
 using npend::cli::input_error;
 using npend::cli::parse_csv;
@@ -64,10 +69,6 @@ TEST_CASE("parse_csv: whitespace-separated files read as their comma-separated t
 TEST_CASE("parse_csv: every malformed input gets a one-line message with its line") {
   CHECK(error_of([] { parse_csv("t,x\n0,1\n0.1,abc\n", "d.csv"); }) ==
         "d.csv:3: column 'x': 'abc' is not a number");
-  CHECK(error_of([] { parse_csv("t,x\n0,nan\n", "d.csv"); }) ==
-        "d.csv:2: column 'x': 'nan' is not a finite number");
-  CHECK(error_of([] { parse_csv("t,x\n0,-inf\n", "d.csv"); }) ==
-        "d.csv:2: column 'x': '-inf' is not a finite number");
   CHECK(error_of([] { parse_csv("1,2\n3\n", "d.csv"); }) ==
         "d.csv:2: 1 cells, but the first line has 2");
   CHECK(error_of([] { parse_csv("1,,2\n", "d.csv"); }) == "d.csv:1: column 2: empty cell");
@@ -143,4 +144,87 @@ TEST_CASE("select_signal: by name, by column number, and helpful refusals") {
         "--column: '1' is the time column of s.csv; choose a signal");
   CHECK(error_of([&] { select_signal(s, "t", "--column"); }) ==
         "--column: 't' is the time column of s.csv; choose a signal");
+}
+
+TEST_CASE("parse_csv: a byte order mark, quoted numbers and Fortran D exponents") {
+  // A spreadsheet's UTF-8 BOM is no part of the first header name.
+  const auto bom = parse_csv("\xEF\xBB\xBFt,x\n0,1\n0.5,2\n", "b.csv");
+  CHECK(bom.names == std::vector<std::string>{"t", "x"});
+  // "1.5" and '1.5' are numbers; quoted names are names.
+  const auto quoted = parse_csv("\"t\",'x'\n\"0\",'1.5'\n\"0.1\", \"-2\"\n", "q.csv");
+  CHECK(quoted.names == std::vector<std::string>{"t", "x"});
+  CHECK(quoted.columns[1] == std::vector<double>{1.5, -2});
+  const auto data = parse_csv("'0','1.5'\n'0.1','2'\n", "q.csv");
+  CHECK(data.names.empty());
+  CHECK(data.columns[1] == std::vector<double>{1.5, 2});
+  // TISEAN's and Fortran's exponents: 1.0D-3 is 1.0e-3, a data row and not a header.
+  const auto fortran = parse_csv("1.0D-3 2.5d+2\n-4.D1 +1D0\n", "f.dat");
+  CHECK(fortran.names.empty());
+  CHECK(fortran.columns[0] == std::vector<double>{1.0e-3, -40});
+  CHECK(fortran.columns[1] == std::vector<double>{250, 1});
+  // A name with a d stays a name.
+  CHECK(parse_csv("dx,d\n1,2\n", "n.csv").names == std::vector<std::string>{"dx", "d"});
+}
+
+TEST_CASE("parse_csv: NaN and infinities are kept; the column analysed must be finite") {
+  const auto t = parse_csv("t,x,y\n0,1,nan\n0.1,2,-inf\n0.2,3,4\n", "d.csv");
+  CHECK(std::isnan(t.columns[2][0]));
+  CHECK(t.columns[2][1] == -INFINITY);
+  const auto s = signals_from_csv(t, "d.csv", std::nullopt, 2);
+  // A NaN in y blocks nothing when x is analysed.
+  CHECK(select_signal(s, "x", "--column").values == std::vector<double>{1, 2, 3});
+  CHECK(error_of([&] { select_signal(s, "y", "--column"); }) ==
+        "--column: column 'y' of d.csv is nan at t = 0 s (data row 1); the columns analysed "
+        "must be finite");
+  // The time column is always used.
+  CHECK(error_of([] {
+          signals_from_csv(parse_csv("t,x\n0,1\nnan,2\n", "d.csv"), "d.csv", std::nullopt, 2);
+        }) == "d.csv:3: time column 't': nan is not a finite number");
+  // A constant column has nothing to analyse.
+  const auto c = signals_from_csv(parse_csv("t,x,y\n0,1,5\n1,2,5\n", "c.csv"), "c.csv",
+                                  std::nullopt, 2);
+  CHECK(error_of([&] { select_signal(c, "y", "--column"); }) ==
+        "--column: 'y' of c.csv is constant (5 in every sample): nothing varies to analyse");
+  CHECK(error_of([] {
+          signals_from_csv(parse_csv("t,x\n0,1\n", "o.csv"), "o.csv", std::nullopt, 2);
+        }) == "o.csv: 1 sample; at least 2 are needed");
+}
+
+TEST_CASE("parse_csv: binary data is refused without echoing its bytes") {
+  // A NUL or another control character: a binary file, named by its first such byte.
+  CHECK(error_of([] { parse_csv(std::string_view("t,x\n0,1\n\x89PNG\x00\x1a", 14), "p.csv"); }) ==
+        "p.csv:3: binary data (byte 0x00), not a table of numbers");
+  // Bytes that are no UTF-8 but no control characters either: a cell that is not a number,
+  // quoted short and escaped.
+  const std::string garbage = "t,x\n0," + std::string(400, '\xff') + "\n";
+  const std::string message = error_of([&] { parse_csv(garbage, "g.csv"); });
+  std::string escaped;
+  for (int k = 0; k < 40; ++k) escaped += "\\xff";
+  CHECK(message == "g.csv:2: column 'x': '" + escaped + "...' is not a number");
+  CHECK(message.size() < 250);
+  // UTF-8 text is quoted as it is.
+  CHECK(error_of([] { parse_csv("t,x\n0,φ\n", "u.csv"); }) ==
+        "u.csv:2: column 'x': 'φ' is not a number");
+}
+
+TEST_CASE("read_text_file: a directory, more than the cap, binary data at once") {
+  const auto dir = std::filesystem::temp_directory_path() / "npend-read-text-file";
+  std::filesystem::create_directories(dir);
+  CHECK(error_of([&] { npend::cli::read_text_file(dir.string(), "--input"); }) ==
+        "--input: '" + dir.string() + "' is a directory");
+  const auto big = (dir / "big.csv").string();
+  {
+    std::ofstream out(big);
+    out << "t,x\n";
+    for (int j = 0; j < 200; ++j) out << j << "," << j * j << "\n";
+  }
+  CHECK(npend::cli::read_text_file(big, "--input").size() == std::filesystem::file_size(big));
+  CHECK(error_of([&] { npend::cli::read_text_file(big, "--input", 1000); }) ==
+        "--input: '" + big + "' holds more than 1000 bytes, the most npend reads as a table of "
+        "numbers");
+  // An endless device of random bytes: refused at its first binary byte, not read on.
+  const std::string urandom = error_of([] { npend::cli::read_text_file("/dev/urandom", "--input"); });
+  CHECK(urandom.starts_with("/dev/urandom:"));
+  CHECK(urandom.find(": binary data (byte 0x") != std::string::npos);
+  std::filesystem::remove_all(dir);
 }

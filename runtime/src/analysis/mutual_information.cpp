@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -26,7 +27,25 @@ std::size_t cell_crossing_lags(std::span<const double> x, std::size_t cells) {
   return std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(width / *middle)));
 }
 
+constexpr std::array estimator_names{
+    std::pair{mutual_information_estimator::tisean, std::string_view{"tisean"}},
+    std::pair{mutual_information_estimator::averaged, std::string_view{"averaged"}},
+};
+
 }  // namespace
+
+std::string_view mutual_information_estimator_name(mutual_information_estimator e) {
+  for (const auto& [estimator, name] : estimator_names)
+    if (estimator == e) return name;
+  throw std::invalid_argument("mutual_information_estimator_name: unknown estimator");
+}
+
+std::optional<mutual_information_estimator> mutual_information_estimator_from_name(
+    std::string_view name) {
+  for (const auto& [estimator, known] : estimator_names)
+    if (known == name) return estimator;
+  return std::nullopt;
+}
 
 mutual_information_result average_mutual_information(std::span<const double> x, double dt,
                                                      std::size_t max_lag,
@@ -37,9 +56,11 @@ mutual_information_result average_mutual_information(std::span<const double> x, 
         fmt::format("max_lag must be at most N − 2 = {} for the {} samples of x, got {}",
                     n < 2 ? 0 : n - 2, n, max_lag));
   detail::require_sample_spacing(dt);
-  const std::size_t bins = options.bins, shifts = options.shifts;
+  const std::size_t bins = options.bins;
+  // TISEAN's single histogram is the averaged one with one grid.
+  const std::size_t shifts =
+      options.estimator == mutual_information_estimator::averaged ? 4 : 1;
   if (bins < 2) throw std::invalid_argument(fmt::format("bins must be at least 2, got {}", bins));
-  if (shifts < 1) throw std::invalid_argument("shifts must be at least 1");
   detail::require_finite_series(x, "x", 2);
   detail::require_varying(x, "x", "its mutual information is undefined");
   const auto [lo_it, hi_it] = std::minmax_element(x.begin(), x.end());

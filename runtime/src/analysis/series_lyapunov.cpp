@@ -6,6 +6,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string_view>
+#include <tuple>
+#include <utility>
 #include <nanoflann.hpp>
 #include <stdexcept>
 
@@ -328,30 +331,112 @@ double curve_at(const series_lyapunov_result& r, const std::vector<double>& s, d
   return nan;
 }
 
-// Whether the fit range is a linear region (series_lyapunov.hpp says when it is not).
-void judge_linear_region(series_lyapunov_result& r) {
-  const std::vector<double> s = middle_curve(r.stretching.curves);
+// The embedding window max(1, (m − 1)τ) in samples.
+std::size_t embedding_window(const series_lyapunov_options& o) {
+  return std::max<std::size_t>(1, (o.stretching.dimension - 1) * o.stretching.delay);
+}
+
+// Whether the curve saturated before [from, to]: S grew by at least 1 from Δt = 0 to `from`
+// and by less than half of that within the range. The growths go to `before` and `within`.
+bool saturated_before(const series_lyapunov_result& r, const std::vector<double>& s, double from,
+                      double to, double& before, double& within) {
   double start = nan;
   for (double v : s)
     if (std::isfinite(v)) {
       start = v;
       break;
     }
-  const double from = curve_at(r, s, r.fit_from), to = curve_at(r, s, r.fit_to);
-  r.growth_before_fit = from - start;
-  r.growth_in_fit = to - from;
+  const double at_from = curve_at(r, s, from);
+  before = at_from - start;
+  within = curve_at(r, s, to) - at_from;
+  return before >= 1 && within < 0.5 * before;
+}
+
+// Why a curve that saturated before `range` (starting at `from` s) has no linear region there.
+std::string saturation_reason(double before, double from, double within, std::string_view range) {
+  return fmt::format(
+      "the stretching curve grew by {:.2g} (ln units) before {} ({:.4g} s) and by only {:.2g} "
+      "within it: the neighbours separated within the embedding window, as false neighbours of "
+      "the embedding do, so its slope is not the maximal exponent (embed more observables, or a "
+      "longer series)",
+      before, range, from, within);
+}
+
+// The automatic fit range on the middle curve (s): from the end of the embedding window to
+// half-way up to saturation (series_lyapunov.hpp).
+std::pair<double, double> automatic_fit_range(const series_lyapunov_result& r,
+                                              const series_lyapunov_options& o) {
+  const std::vector<double> s = middle_curve(r.stretching.curves);
+  // After the embedding window (m − 1)τ: before it the neighbours' separation still
+  // turns into the unstable direction and the delay coordinates mix old and new samples.
+  const std::size_t window = embedding_window(o);
+  std::size_t first = 0;
+  while (first < s.size() && (r.stretching.steps[first] < window || !std::isfinite(s[first])))
+    ++first;
+  if (first + 2 >= s.size()) first = 0;
+  while (first < s.size() && !std::isfinite(s[first])) ++first;
+  if (first == s.size())
+    throw std::invalid_argument(
+        "series_lyapunov: no reference vector has a neighbour within the radii");
+  double top = s[first];
+  for (std::size_t p = first; p < s.size(); ++p)
+    if (std::isfinite(s[p])) top = std::max(top, s[p]);
+  const double half = s[first] + 0.5 * (top - s[first]);
+  std::size_t from = first, to = s.size() - 1;
+  // A curve that rises by less than 1 (a factor e) has no saturation to stop before: all of it.
+  for (std::size_t p = first; top - s[first] >= 1 && p < s.size(); ++p)
+    if (std::isfinite(s[p]) && s[p] >= half) {
+      to = p;
+      break;
+    }
+  // At least three points of the curve.
+  while (to < from + 2 && to + 1 < s.size()) ++to;
+  while (to < from + 2 && from > 0) --from;
+  return {static_cast<double>(r.stretching.steps[from]) * r.dt,
+          static_cast<double>(r.stretching.steps[to]) * r.dt};
+}
+
+// Whether the fit range is a linear region (series_lyapunov.hpp says when it is not). A
+// given range is judged as the automatic one is, and more: the curve must not have saturated
+// before the automatic range (then no range of it measures the exponent), and the range must
+// not start within the embedding window, where the automatic range never starts.
+void judge_linear_region(series_lyapunov_result& r, const series_lyapunov_options& o) {
+  const std::vector<double> s = middle_curve(r.stretching.curves);
+  const bool saturated = saturated_before(r, s, r.fit_from, r.fit_to, r.growth_before_fit,
+                                          r.growth_in_fit);
   const auto& f = r.fits[r.fits.size() / 2];
   const double half = 0.5 * (r.fit_to - r.fit_from);
   const double bend = std::fabs(f.slope_first_half - f.slope_second_half) * half;
-  if (r.growth_before_fit >= 1 && r.growth_in_fit < 0.5 * r.growth_before_fit) {
+  const double window = static_cast<double>(embedding_window(o)) * r.dt;
+  if (saturated) {
     r.linear_region = false;
-    r.nonlinearity = fmt::format(
-        "the stretching curve grew by {:.2g} (ln units) before the fit range ({:.4g} s) and by "
-        "only {:.2g} within it: the neighbours separated within the embedding window, as false "
-        "neighbours of the embedding do, so its slope is not the maximal exponent (embed more "
-        "observables, or a longer series)",
-        r.growth_before_fit, r.fit_from, r.growth_in_fit);
-  } else if (bend > std::max(0.25 * std::fabs(r.growth_in_fit), 0.1)) {
+    r.nonlinearity =
+        saturation_reason(r.growth_before_fit, r.fit_from, r.growth_in_fit, "the fit range");
+    return;
+  }
+  if (!r.automatic_range) {
+    const auto [from, to] = automatic_fit_range(r, o);
+    double before = 0, within = 0;
+    if (saturated_before(r, s, from, to, before, within)) {
+      r.linear_region = false;
+      r.nonlinearity = fmt::format(
+          "no range of the curve is linear, the given {:.4g} ... {:.4g} s neither: {}",
+          r.fit_from, r.fit_to,
+          saturation_reason(before, from, within, "the range chosen after the embedding window"));
+      return;
+    }
+    if (r.fit_from < window * (1 - 1e-9)) {
+      r.linear_region = false;
+      r.nonlinearity = fmt::format(
+          "the fit range starts at {:.4g} s, within the embedding window max(1, m - 1) tau = "
+          "{:.4g} s, where the separations still turn into the unstable direction and the "
+          "delay coordinates mix old and new samples: the curve bends there (start the fit "
+          "range at {:.4g} s or later)",
+          r.fit_from, window, window);
+      return;
+    }
+  }
+  if (bend > std::max(0.25 * std::fabs(r.growth_in_fit), 0.1)) {
     r.linear_region = false;
     r.nonlinearity = fmt::format(
         "the stretching curve bends in the fit range {:.4g} ... {:.4g} s: its slope is {:.3g} /s "
@@ -376,35 +461,7 @@ series_lyapunov_result fit_stretching(stretching_result stretching, double dt,
     r.fit_to = *o.fit_to;
   } else {
     r.automatic_range = true;
-    const std::vector<double> s = middle_curve(curves);
-    // After the embedding window (m − 1)τ: before it the neighbours' separation still
-    // turns into the unstable direction and the delay coordinates mix old and new samples.
-    const std::size_t window =
-        std::max<std::size_t>(1, (o.stretching.dimension - 1) * o.stretching.delay);
-    std::size_t first = 0;
-    while (first < s.size() && (r.stretching.steps[first] < window || !std::isfinite(s[first])))
-      ++first;
-    if (first + 2 >= s.size()) first = 0;
-    while (first < s.size() && !std::isfinite(s[first])) ++first;
-    if (first == s.size())
-      throw std::invalid_argument(
-          "series_lyapunov: no reference vector has a neighbour within the radii");
-    double top = s[first];
-    for (std::size_t p = first; p < s.size(); ++p)
-      if (std::isfinite(s[p])) top = std::max(top, s[p]);
-    const double half = s[first] + 0.5 * (top - s[first]);
-    std::size_t from = first, to = s.size() - 1;
-    // A curve that rises by less than 1 (a factor e) has no saturation to stop before: all of it.
-    for (std::size_t p = first; top - s[first] >= 1 && p < s.size(); ++p)
-      if (std::isfinite(s[p]) && s[p] >= half) {
-        to = p;
-        break;
-      }
-    // At least three points of the curve.
-    while (to < from + 2 && to + 1 < s.size()) ++to;
-    while (to < from + 2 && from > 0) --from;
-    r.fit_from = t[from];
-    r.fit_to = t[to];
+    std::tie(r.fit_from, r.fit_to) = automatic_fit_range(r, o);
   }
 
   std::vector<double> slopes;
@@ -457,7 +514,7 @@ series_lyapunov_result fit_stretching(stretching_result stretching, double dt,
                                  : 0.0) +
                             r.radius_uncertainty * r.radius_uncertainty +
                             r.range_uncertainty * r.range_uncertainty);
-  judge_linear_region(r);
+  judge_linear_region(r, o);
   return r;
 }
 

@@ -12,11 +12,11 @@ namespace npend {
 
 /// How the lagged products are averaged.
 enum class autocorrelation_estimator {
-  /// Σ_{j<N−k} y_j y_{j+k} / N: the usual estimate (TISEAN's), a positive semi-definite
-  /// sequence whose magnitude shrinks by (1 − k/N); what Wiener–Khinchin gives.
+  /// Σ_{j<N−k} y_j y_{j+k} / N: the usual estimate of textbooks (Box & Jenkins), a positive
+  /// semi-definite sequence whose magnitude shrinks by (1 − k/N); what Wiener–Khinchin gives.
   biased,
   /// Σ_{j<N−k} y_j y_{j+k} / (N − k): no (1 − k/N) taper, at the price of a variance that
-  /// grows as the overlap N − k shrinks.
+  /// grows as the overlap N − k shrinks. TISEAN's `corr` and `autocor` divide so.
   unbiased,
 };
 

@@ -148,6 +148,10 @@ series_lyapunov_result series_lyapunov_exponent(std::span<const double> x, doubl
 ///   - the slopes over the two halves of the fit range differ by more than a quarter of the
 ///     growth within it (and by more than 0.1 in ln units over a half): the curve bends
 ///     where a straight line was fitted.
+/// A given fit range is judged as the automatic one would be, and is not a linear region
+/// either when the first test fails for the automatic range (the curve saturated within the
+/// embedding window: no range of it measures λ₁), or when it starts within the embedding
+/// window max(1, (m − 1)τ), where the automatic range never starts and the curve bends.
 series_lyapunov_result series_lyapunov_exponent(std::span<const std::vector<double>> series,
                                                 double dt,
                                                 const series_lyapunov_options& options = {});
