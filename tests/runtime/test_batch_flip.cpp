@@ -40,7 +40,8 @@ std::vector<double> grid_starts(int count, double from, double to) {
 
 // A reference rk4 written out here: odeint's runge_kutta4 step sum for sum on the scalar
 // kernel (std::sin), which also records whether SLEEF's sines and cosines equalled std::sin's
-// at every evaluation along the way.
+// at every evaluation along the way. Its time is the end of the step at whose end an arm is
+// upright: the step inside which flip_time locates the flip.
 struct reference_flip {
   double time = inf;
   bool sines_agreed = true;
@@ -83,6 +84,7 @@ reference_flip reference_flip_time(const npend::chain& c, std::vector<double> x,
     for (std::size_t i = 0; i < m; ++i)
       x[i] = x[i] + sixth * k1[i] + third * k2[i] + third * k3[i] + sixth * k4[i];
     if (flipped()) {
+      rhs(x, k1);  // the rate at the step's end, which the flip's interpolant takes too
       r.time = static_cast<double>(s) * dt;
       return r;
     }
@@ -100,13 +102,18 @@ TEST_CASE("flip_times: runs on the batch lanes for point-mass chains, not for ph
   CHECK(npend::batch_lanes(npend::chain(rods)) == 0);
 }
 
+// Whether the lanes' time a and the library's b are the same cell's value up to round-off:
+// SLEEF's sines against std::sin's, an ulp apart, grown by the flow (e^(λ t) ≲ 1e5 over a
+// few seconds), which the flip located inside its step shows (a step-resolved time hid it).
+bool close_times(double a, double b) { return same(a, b) || std::fabs(a - b) <= 1e-9; }
+
 TEST_CASE("flip_times: within a step of the scalar flip_time, mostly the same value") {
   const npend::chain c(npend::chain_parameters::uniform(2));
   const std::vector<double> starts = grid_starts(24, -3.1, 3.1);
   const npend::flip_options o{5.0, 0.01, 0};
   const std::vector<double> got = npend::flip_times(c, starts, o);
   REQUIRE(got.size() == starts.size() / 4);
-  int equal = 0, finite = 0;
+  int equal = 0, near = 0, finite = 0;
   for (std::size_t i = 0; i < got.size(); ++i) {
     const std::vector<double> x(starts.begin() + static_cast<long>(4 * i),
                                 starts.begin() + static_cast<long>(4 * i + 4));
@@ -119,11 +126,13 @@ TEST_CASE("flip_times: within a step of the scalar flip_time, mostly the same va
     else
       CHECK(std::fabs(got[i] - want) <= o.dt * (1 + 1e-9));
     equal += same(got[i], want) ? 1 : 0;
+    near += close_times(got[i], want) ? 1 : 0;
     finite += std::isfinite(want) ? 1 : 0;
   }
-  MESSAGE(equal << " of " << got.size() << " cells the same value (" << finite << " flip)");
+  MESSAGE(equal << " of " << got.size() << " cells the same value, " << near
+                << " within 1e-9 s (" << finite << " flip)");
   CHECK(finite > 50);
-  CHECK(equal >= static_cast<int>(got.size()) - 2);
+  CHECK(near >= static_cast<int>(got.size()) - 2);
 }
 
 TEST_CASE("flip_times: the first flip of one chosen link, as the scalar flip_time finds it") {
@@ -140,7 +149,7 @@ TEST_CASE("flip_times: the first flip of one chosen link, as the scalar flip_tim
     CAPTURE(link);
     const npend::flip_options o{3.0, 0.01, link};
     const std::vector<double> got = npend::flip_times(c, three, o);
-    int equal = 0, later_than_any = 0;
+    int equal = 0, near = 0, later_than_any = 0;
     for (std::size_t i = 0; i < got.size(); ++i) {
       const std::vector<double> x(three.begin() + static_cast<long>(6 * i),
                                   three.begin() + static_cast<long>(6 * i + 6));
@@ -151,19 +160,22 @@ TEST_CASE("flip_times: the first flip of one chosen link, as the scalar flip_tim
       else
         CHECK(std::fabs(got[i] - want) <= o.dt * (1 + 1e-9));
       equal += same(got[i], want) ? 1 : 0;
+      near += close_times(got[i], want) ? 1 : 0;
       later_than_any += got[i] > any[i] ? 1 : 0;
     }
-    MESSAGE(equal << " of " << got.size() << " cells the same value; " << later_than_any
+    MESSAGE(equal << " of " << got.size() << " cells the same value, " << near
+                  << " within 1e-9 s; " << later_than_any
                   << " flip later than the first flip of any link");
-    CHECK(equal >= static_cast<int>(got.size()) - 2);
+    CHECK(near >= static_cast<int>(got.size()) - 2);
     CHECK(later_than_any > 0);
   }
 }
 
 TEST_CASE("flip_times: the value of the reference rk4 wherever the sines agree") {
   // Short runs from near upright, so that many trajectories see only sines that SLEEF and
-  // std::sin round the same way; those must give exactly the reference's time, and the
-  // reference (odeint's sums written out) exactly flip_time's.
+  // std::sin round the same way; those must give exactly flip_time's time (the same steps,
+  // the same rates at the flip step's ends, the same interpolant), and flip_time's lies in
+  // the reference's (odeint's sums written out) flip step.
   const npend::chain c(npend::chain_parameters::uniform(2));
   std::mt19937_64 rng(42);
   std::uniform_real_distribution<double> angle(2.6, 3.1), sign(-1, 1), momentum(-3, 3);
@@ -182,10 +194,14 @@ TEST_CASE("flip_times: the value of the reference rk4 wherever the sines agree")
                                 starts.begin() + static_cast<long>(4 * i + 4));
     const reference_flip want = reference_flip_time(c, x, o.t_end, o.dt);
     INFO("start " << i << ": lanes " << got[i] << ", reference " << want.time);
-    CHECK(same(want.time, npend::flip_time(c, x, o)));
+    const double library = npend::flip_time(c, x, o);
+    if (std::isfinite(want.time) && want.time > 0)
+      CHECK((library > want.time - o.dt && library <= want.time));
+    else
+      CHECK(same(want.time, library));
     if (want.sines_agreed) {
       ++agreed;
-      CHECK(same(got[i], want.time));
+      CHECK(same(got[i], library));
     } else if (std::isfinite(want.time)) {
       CHECK(std::fabs(got[i] - want.time) <= o.dt * (1 + 1e-9));
     }

@@ -117,8 +117,9 @@ TEST_CASE("Gauss-Legendre maps: the energy stays bounded where rk4's drifts") {
 }
 
 TEST_CASE("Gauss-Legendre maps: flip times on the lanes are flip_time's") {
-  // The flip is seen at the end of a step, as with rk4; over 5 s the lanes' and the library's
-  // trajectories stay within round-off, so the step is the same but for a grazing cell.
+  // The flip is located inside its step, as with rk4; over 5 s the lanes' and the library's
+  // trajectories stay within round-off, so the times agree to round-off grown by the flow
+  // (1e-9 s) but for a grazing cell.
   const npend::chain c(npend::chain_parameters::uniform(2));
   std::vector<double> starts;
   for (int j = 0; j < 16; ++j)
@@ -130,10 +131,11 @@ TEST_CASE("Gauss-Legendre maps: flip times on the lanes are flip_time's") {
   int equal = 0, finite = 0;
   for (std::size_t i = 0; i < lanes.size(); ++i) {
     const double want = npend::flip_time(c, std::span(starts).subspan(4 * i, 4), o);
-    equal += same_value(lanes[i], want) ? 1 : 0;
+    equal += same_value(lanes[i], want) || std::fabs(lanes[i] - want) <= 1e-9 ? 1 : 0;
     finite += std::isfinite(want) ? 1 : 0;
   }
-  MESSAGE(equal << " of " << lanes.size() << " cells the same time (" << finite << " flip)");
+  MESSAGE(equal << " of " << lanes.size() << " cells the same time within 1e-9 s (" << finite
+                << " flip)");
   CHECK(finite > 50);
   CHECK(equal >= static_cast<int>(lanes.size()) - 2);
   // The same start in any slot: the same bits.

@@ -85,6 +85,104 @@ bool has_flipped(const double* x, std::size_t n, const flip_options& o) {
   return false;
 }
 
+// The first θ in [0, 1] at which the cubic Hermite interpolant of an angle over a step of h
+// — p(0) = y0, p(1) = y1, p'(0) = h f0, p'(1) = h f1 — reaches the upright ±π it passed
+// (the sign of y1; |y0| < π ≤ |y1|). The cubic is cut at its turning points into monotone
+// pieces, searched in order; the first whose end is upright is bisected down to adjacent
+// doubles. 1 where rounding leaves the cubic just short of π at the end.
+double hermite_upright_fraction(double y0, double f0, double y1, double f1, double h) {
+  const double s = y1 < 0 ? -1.0 : 1.0;
+  const double d0 = h * f0, d1 = h * f1, rise = y1 - y0;
+  // s p(θ) − π = c0 + c1 θ + c2 θ² + c3 θ³.
+  const double c0 = s * y0 - std::numbers::pi, c1 = s * d0, c2 = s * (3 * rise - 2 * d0 - d1),
+               c3 = s * (d0 + d1 - 2 * rise);
+  const auto g = [&](double t) { return c0 + t * (c1 + t * (c2 + t * c3)); };
+  // The turning points in (0, 1): the roots of c1 + 2 c2 θ + 3 c3 θ², then the end.
+  std::array<double, 3> ends{};
+  std::size_t count = 0;
+  const auto turning = [&](double r) {
+    if (r > 0 && r < 1) ends[count++] = r;
+  };
+  const double a = 3 * c3, b = 2 * c2;
+  if (a != 0) {
+    const double discriminant = b * b - 4 * a * c1;
+    if (discriminant > 0) {
+      const double q = -0.5 * (b + std::copysign(std::sqrt(discriminant), b));
+      turning(q / a);
+      if (q != 0) turning(c1 / q);
+    }
+  } else if (b != 0) {
+    turning(-c1 / b);
+  }
+  if (count == 2 && ends[1] < ends[0]) std::swap(ends[0], ends[1]);
+  ends[count++] = 1;
+  double lo = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    double hi = ends[i];
+    if (!(g(hi) >= 0)) {
+      lo = hi;
+      continue;
+    }
+    for (;;) {
+      const double mid = lo + 0.5 * (hi - lo);
+      if (mid <= lo || mid >= hi) return hi;
+      (g(mid) >= 0 ? hi : lo) = mid;
+    }
+  }
+  return 1;
+}
+
+// The flip time inside a fixed step from t0 to t0 + h, at whose end a watched arm is upright
+// (and none at its start): the earliest hermite_upright_fraction of the watched arms upright
+// at the end, from the angles phi0, phi1 and their rates dphi0, dphi1 (dim n) at the ends.
+// The step's own interpolant, accurate to O(h⁴) as rk4 is; the lanes and the library call
+// it with the same numbers, so that they agree to round-off.
+double hermite_flip_time(const double* phi0, const double* dphi0, const double* phi1,
+                         const double* dphi1, std::size_t n, double t0, double h,
+                         const flip_options& o) {
+  double theta = 1;
+  for (std::size_t k = 0; k < n; ++k)
+    if (watches_arm(o.link, k + 1) && std::fabs(phi1[k]) >= std::numbers::pi)
+      theta = std::min(theta, hermite_upright_fraction(phi0[k], dphi0[k], phi1[k], dphi1[k], h));
+  return t0 + theta * h;
+}
+
+// Whether the energy at x1, the state at time t1 at the end of the step in which a flip was
+// seen, lets the flip be believed: |H(x1) − h0| ≤ flip_energy_tolerance · h0, h0 = H(x0)
+// (for a damped chain, whose H only falls, H(x1) − h0 ≤ flip_energy_tolerance · h0). A
+// driven chain is fed energy by its pivot and is not checked. False for a non-finite state.
+bool flip_energy_holds(const chain& c, double h0, std::span<const double> x1, double t1) {
+  const chain_parameters& p = c.parameters();
+  if (p.pivot.moves()) return true;
+  const double drift = c.hamiltonian(x1, t1) - h0;
+  const double allowed = flip_energy_tolerance * h0;
+  return p.is_damped() ? drift <= allowed : std::fabs(drift) <= allowed;
+}
+
+// flip_time's failure for a flip the energy does not back.
+[[noreturn]] void throw_untrusted_flip(double t1) {
+  throw integration_error(
+      fmt::format("flip: the energy at t = {} is off by more than {:g} of the start's, so the "
+                  "flip there is a numerical artefact; try a smaller dt",
+                  t1, flip_energy_tolerance),
+      t1);
+}
+
+// The flip time inside a fixed step from t0 (state before, flipped at none) to t0 + h
+// (state after, flipped), by hermite_flip_time with the rates from `system`; throws
+// integration_error where flip_energy_holds does not.
+template <class System>
+double located_flip(const chain& c, const System& system, double h0,
+                    const std::vector<double>& before, const std::vector<double>& after,
+                    double t0, double h, const flip_options& o) {
+  const std::size_t n = before.size() / 2;
+  if (!flip_energy_holds(c, h0, after, t0 + h)) throw_untrusted_flip(t0 + h);
+  std::vector<double> f0(before.size()), f1(before.size());
+  system(before, f0, t0);
+  system(after, f1, t0 + h);
+  return hermite_flip_time(before.data(), f0.data(), after.data(), f1.data(), n, t0, h, o);
+}
+
 // The flip time inside a step from t0 (not flipped) to t1 (flipped), flipped_at(t) telling
 // the dense output's verdict: bisection down to adjacent doubles, the first time found
 // flipped. The scalar path and the lanes bisect alike, so that they agree to round-off.
@@ -116,18 +214,27 @@ void dopri5_steps(const chain& c, std::span<const double> x0, double t_end, doub
   });
 }
 
-// flip_time with a Gauss–Legendre stepper, through npend::integrate's grid of dt: the first
-// grid point at which an arm is upright.
+// flip_time with a Gauss–Legendre stepper, through npend::integrate's grid of dt (its steps):
+// the first step at whose end an arm is upright, the flip located inside it as rk4's.
 double flip_time_gauss(const chain& c, std::span<const double> x0, const flip_options& o) {
   const auto n = static_cast<std::size_t>(c.links());
   integration_options io;
   io.stepper = o.stepping.stepper;
   io.dt = o.dt;
   io.t_end = o.t_end;
-  double found = std::numeric_limits<double>::infinity();
+  const double h0 = c.hamiltonian(x0);
+  const chain_system system(c);
+  std::vector<double> before(x0.begin(), x0.end()), after(2 * n);
+  double t_before = 0, found = std::numeric_limits<double>::infinity();
   integrate(c, x0, io, [&](double t, std::span<const double> x) {
-    if (t == 0 || !has_flipped(x.data(), n, o)) return observer_action::proceed;
-    found = t;
+    if (t == 0) return observer_action::proceed;
+    if (!has_flipped(x.data(), n, o)) {
+      std::copy(x.begin(), x.end(), before.begin());
+      t_before = t;
+      return observer_action::proceed;
+    }
+    std::copy(x.begin(), x.end(), after.begin());
+    found = located_flip(c, system, h0, before, after, t_before, o.dt, o);
     return observer_action::stop;
   });
   return found;
@@ -135,7 +242,8 @@ double flip_time_gauss(const chain& c, std::span<const double> x0, const flip_op
 
 double flip_time_dopri5(const chain& c, std::span<const double> x0, const flip_options& o) {
   const auto n = static_cast<std::size_t>(c.links());
-  double found = std::numeric_limits<double>::infinity();
+  const double h0 = c.hamiltonian(x0);
+  double found = std::numeric_limits<double>::infinity(), untrusted = 0;
   std::vector<double> x(2 * n);
   dopri5_steps(c, x0, o.t_end, o.dt, o.stepping, [&](const integration_step& step) {
     if (!has_flipped(step.x_end().data(), n, o)) return false;
@@ -143,9 +251,14 @@ double flip_time_dopri5(const chain& c, std::span<const double> x0, const flip_o
       step.state_at(at, x);
       return has_flipped(x.data(), n, o);
     });
-    if (t <= o.t_end) found = t;
+    if (t > o.t_end) return true;
+    if (flip_energy_holds(c, h0, step.x_end(), step.t_end()))
+      found = t;
+    else
+      untrusted = step.t_end();
     return true;
   });
+  if (untrusted > 0) throw_untrusted_flip(untrusted);
   return found;
 }
 
@@ -190,9 +303,13 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
   boost::numeric::odeint::runge_kutta4<std::vector<double>> stepper;
   const chain_system system(c);
   const auto steps = whole_steps(o.t_end, o.dt);
+  const double h0 = c.hamiltonian(x0);
+  std::vector<double> before(x.size());
   for (long long k = 1; k <= steps; ++k) {
-    stepper.do_step(system, x, static_cast<double>(k - 1) * o.dt, o.dt);
-    if (flipped(x)) return static_cast<double>(k) * o.dt;
+    const double t0 = static_cast<double>(k - 1) * o.dt;
+    std::copy(x.begin(), x.end(), before.begin());
+    stepper.do_step(system, x, t0, o.dt);
+    if (flipped(x)) return located_flip(c, system, h0, before, x, t0, o.dt, o);
     if (!std::isfinite(x[0]))
       throw integration_error(
           fmt::format("flip: the state became non-finite at t = {}; try a smaller dt",
@@ -277,8 +394,9 @@ void divide_lane(const Stepper& rk, double* x, std::size_t first, std::size_t d,
 }
 
 // The flip times of the starts `queue` (indices of states in `starts`) on the lanes of a
-// fixed-step stepper (rk4 or Gauss–Legendre, made by make(dt)): the end of the first step
-// at which an arm is upright, as flip_time finds it. A cell whose Gauss–Legendre lane could
+// fixed-step stepper (rk4 or Gauss–Legendre, made by make(dt)): located inside the first
+// step at whose end an arm is upright, NaN where the energy does not back the flip, as
+// flip_time finds them. A cell whose Gauss–Legendre lane could
 // not solve its stage equations by fixed-point iteration goes to flip_time (the library's
 // Newton iteration).
 template <class Make>
@@ -289,7 +407,9 @@ void flip_on_lanes(const chain& c, std::span<const double> starts,
   const std::size_t m = 2 * n;
   auto rk = make(o.dt);
   const long long steps = whole_steps(o.t_end, o.dt);
-  double angles[chain_layout::max_links];
+  double angles[chain_layout::max_links], angles_before[chain_layout::max_links],
+      rates[chain_layout::max_links], rates_before[chain_layout::max_links];
+  std::vector<double> after(m);
   std::vector<std::size_t> to_library;
   const auto start = [&](double* x, std::size_t l, std::size_t cell) {
     for (std::size_t i = 0; i < m; ++i) x[rk.at(i, l)] = starts[cell * m + i];
@@ -302,7 +422,19 @@ void flip_on_lanes(const chain& c, std::span<const double> starts,
       return std::numeric_limits<double>::quiet_NaN();
     }
     for (std::size_t i = 0; i < n; ++i) angles[i] = x[rk.at(i, l)];
-    if (has_flipped(angles, n, o)) return static_cast<double>(s.steps) * o.dt;
+    if (has_flipped(angles, n, o)) {
+      // As located_flip: the energy first, then the step's Hermite interpolant, the rates
+      // from the lane's own rhs at the two ends.
+      const double t0 = static_cast<double>(s.steps - 1) * o.dt;
+      for (std::size_t i = 0; i < m; ++i) after[i] = x[rk.at(i, l)];
+      if (!flip_energy_holds(c, c.hamiltonian(starts.subspan(s.cell * m, m)), after, t0 + o.dt))
+        return std::numeric_limits<double>::quiet_NaN();
+      const double* before = rk.state_before();
+      for (std::size_t i = 0; i < n; ++i) angles_before[i] = before[rk.at(i, l)];
+      rk.derivative_at(before, l, 0, n, rates_before);
+      rk.derivative_at(x, l, 0, n, rates);
+      return hermite_flip_time(angles_before, rates_before, angles, rates, n, t0, o.dt, o);
+    }
     if (!std::isfinite(angles[0])) return std::numeric_limits<double>::quiet_NaN();
     if (s.steps == steps) return std::numeric_limits<double>::infinity();
     return std::nullopt;
@@ -342,7 +474,7 @@ bool dopri5_lane_failed(const lane_dopri5& rk, const double* x, std::size_t l,
 
 // Runs the starts `queue` (the state alone) on dopri5 lanes, each from t = 0 with the
 // trial step dt under the tolerances of `stepping`: after every accepted step,
-// settle(rk, x, l) gives the cell's value or std::nullopt to go on. A lane whose step fails
+// settle(rk, x, l, cell) gives the cell's value or std::nullopt to go on. A lane whose step fails
 // (where npend::integrate would throw integration_error) gives NaN.
 template <class Settle>
 void run_dopri5_cells(const batch_kernels& k, const chain& c, std::span<const double> starts,
@@ -357,11 +489,11 @@ void run_dopri5_cells(const batch_kernels& k, const chain& c, std::span<const do
     rk.restart(l, 0, dt);
   };
   const auto done = [&](const double* x, std::size_t l,
-                        const lane_slot&) -> std::optional<double> {
+                        const lane_slot& s) -> std::optional<double> {
     if (dopri5_lane_failed(rk, x, l, m, min_step))
       return std::numeric_limits<double>::quiet_NaN();
     if (!rk.accepted(l)) return std::nullopt;
-    return settle(rk, x, l);
+    return settle(rk, x, l, s.cell);
   };
   run_on_lanes(rk, queue, start, done, out);
 }
@@ -372,16 +504,22 @@ void flip_on_dopri5_lanes(const batch_kernels& k, const chain& c, std::span<cons
                           const std::vector<std::size_t>& queue, const flip_options& o,
                           std::vector<double>& out) {
   const auto n = static_cast<std::size_t>(c.links());
+  const std::size_t m = 2 * n;
   double angles[chain_layout::max_links];
-  const auto settle = [&](const lane_dopri5& rk, const double* x,
-                          std::size_t l) -> std::optional<double> {
+  std::vector<double> after(m);
+  const auto settle = [&](const lane_dopri5& rk, const double* x, std::size_t l,
+                          std::size_t cell) -> std::optional<double> {
     for (std::size_t i = 0; i < n; ++i) angles[i] = x[rk.at(i, l)];
     if (has_flipped(angles, n, o)) {
+      for (std::size_t i = 0; i < m; ++i) after[i] = x[rk.at(i, l)];
       const double t = locate_flip(rk.step_begin(l), rk.time(l), [&](double at) {
         rk.state_at(l, at, 0, n, angles);
         return has_flipped(angles, n, o);
       });
-      return t <= o.t_end ? t : std::numeric_limits<double>::infinity();
+      if (t > o.t_end) return std::numeric_limits<double>::infinity();
+      const double h0 = c.hamiltonian(starts.subspan(cell * m, m));
+      return flip_energy_holds(c, h0, after, rk.time(l)) ? t
+                                                         : std::numeric_limits<double>::quiet_NaN();
     }
     if (rk.time(l) >= o.t_end) return std::numeric_limits<double>::infinity();
     return std::nullopt;
@@ -576,8 +714,8 @@ void final_coordinates_on_dopri5_lanes(const batch_kernels& k, const chain& c,
                                        const std::vector<std::size_t>& queue,
                                        const map_cell_options& o, std::vector<double>& out) {
   std::vector<double> y(static_cast<std::size_t>(c.state_size()));
-  const auto settle = [&](const lane_dopri5& rk, const double*,
-                          std::size_t l) -> std::optional<double> {
+  const auto settle = [&](const lane_dopri5& rk, const double*, std::size_t l,
+                          std::size_t) -> std::optional<double> {
     if (rk.time(l) < o.t_end) return std::nullopt;
     rk.state_at(l, o.t_end, 0, y.size(), y.data());
     return std::all_of(y.begin(), y.end(), [](double v) { return std::isfinite(v); })

@@ -37,6 +37,16 @@ struct map_stepping {
   void validate(std::string_view what) const;
 };
 
+/// How far the energy may have drifted, relative to the start's, when a flip is seen: at the
+/// end of the step in which an arm passes the upright, |H − H(x0)| ≤ flip_energy_tolerance ·
+/// H(x0) (H = T + V with V from the hanging chain, a sum of non-negative terms, and H(x0) ≥
+/// 2 g G_k > 0 wherever a flip is possible, so no cancellation). Beyond it the flip is a
+/// numerical artefact — a step too long for a stiff chain (a nearly massless link, a long
+/// chain) blowing the state up — and the cell failed (flip_time throws integration_error,
+/// the maps give NaN). A damped chain is held to H − H(x0) ≤ the same (its H only falls);
+/// a driven one, fed energy by its pivot, is not checked.
+inline constexpr double flip_energy_tolerance = 1e-2;
+
 struct flip_options {
   double t_end = 100;  ///< give up after this time (s): the cell is +inf
   double dt = 0.01;    ///< rk4's step (s); dopri5's first trial step
@@ -45,14 +55,16 @@ struct flip_options {
 };
 
 /// The time (s) at which an arm (or arm `link`) of the chain started at x0 first passes the
-/// upright position, |φ_k| ≥ π (the angles are not wrapped). With rk4: the end of the first
-/// step of `dt` at which it does, so resolved to a step. With dopri5: located inside the
-/// first accepted step that ends past the upright, by bisection on the stepper's dense
-/// output down to adjacent doubles (an arm that passes π and falls back within one step
-/// is missed, as with rk4). +inf if it does not by t_end, or if energy_forbids_flip (then
-/// without integrating). Throws std::invalid_argument for bad options or a non-conservative
-/// chain, npend::integration_error if the state becomes non-finite (or dopri5's step
-/// collapses).
+/// upright position, |φ_k| ≥ π (the angles are not wrapped), located inside the first step
+/// at whose end an arm is upright. With rk4, gauss4 and gauss6 (fixed steps of `dt`): where
+/// the step's cubic Hermite interpolant of φ_k — from the angles and their rates f at the
+/// step's two ends — reaches ±π, found on its monotone pieces by bisection down to adjacent
+/// doubles; as accurate as the trajectory (O(dt⁴)). With dopri5: by bisection on the
+/// stepper's dense output. An arm that passes π and falls back within one step is missed.
+/// +inf if it does not by t_end, or if energy_forbids_flip (then without integrating).
+/// Throws std::invalid_argument for bad options, npend::integration_error if the state
+/// becomes non-finite (or dopri5's step collapses) or if the energy at the end of the flip's
+/// step is off by more than flip_energy_tolerance (the flip is then an artefact).
 double flip_time(const chain& c, std::span<const double> x0, const flip_options& options);
 
 /// flip_time of many start states at once: `starts` holds count = starts.size() / 2n states,
@@ -63,9 +75,11 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
 /// start only, never on its slot or on the other starts. The lanes take the same steps as
 /// flip_time (odeint's runge_kutta4, or its dopri5 with each lane's own step control and
 /// dense output, the same sums in the same order) with SLEEF's sines and cosines (within 1
-/// ulp) for std::sin's, so a cell's time equals flip_time's up to round-off (rk4: to a step
-/// at most on regular cells). Where flip_time would throw
-/// integration_error (the state became non-finite) the value is NaN. Throws
+/// ulp) for std::sin's, and locate the flip and check its energy as flip_time does (the
+/// rates at the step's ends from the lanes' rhs), so a cell's time equals flip_time's up to
+/// round-off (bit for bit where SLEEF's sines equal std::sin's). Where flip_time would
+/// throw integration_error (the state became non-finite, an untrusted flip) the value is
+/// NaN. Throws
 /// std::invalid_argument as flip_time, and for a size that is not a multiple of 2n.
 std::vector<double> flip_times(const chain& c, std::span<const double> starts,
                                const flip_options& options);

@@ -72,13 +72,26 @@ void lane_rk4::step(int blocks) {
   for (std::size_t i = 0; i < size; ++i)
     tmp[i] = x[i] + zero * k1[i] + zero * k2[i] + full * k3[i];
   rhs(blocks, tmp, k4);
+  // The new state into the other buffer, which then becomes state(): the old one stays.
+  double* next = m_before.data();
 #pragma omp simd
   for (std::size_t i = 0; i < size; ++i)
-    x[i] = x[i] + sixth * k1[i] + third * k2[i] + third * k3[i] + sixth * k4[i];
+    next[i] = x[i] + sixth * k1[i] + third * k2[i] + third * k3[i] + sixth * k4[i];
+  m_x.swap(m_before);
 }
 
 void lane_layout::rhs(int blocks, const double* x, double* dxdt) {
   m_system(blocks, m_block, x, dxdt);
+}
+
+void lane_layout::derivative_at(const double* x, std::size_t l, std::size_t first,
+                                std::size_t count, double* out) {
+  m_probe.resize(m_block);
+  m_probe_f.resize(m_block);
+  for (std::size_t i = 0; i < coordinates(); ++i)
+    std::fill_n(m_probe.begin() + static_cast<std::ptrdiff_t>(i * W), W, x[at(i, l)]);
+  m_system(1, m_block, m_probe.data(), m_probe_f.data());
+  for (std::size_t i = first; i < first + count; ++i) out[i - first] = m_probe_f[i * W + l % W];
 }
 
 void lane_rk4::copy_lane(std::size_t to, std::size_t from) {
@@ -333,7 +346,7 @@ void lane_dopri5::copy_lane(std::size_t to, std::size_t from) {
 
 template <int Stages>
 lane_gauss<Stages>::lane_gauss(lane_system system, double dt)
-    : lane_layout(std::move(system)), m_dt(dt), m_tmp(m_x.size()) {
+    : lane_layout(std::move(system)), m_dt(dt), m_tmp(m_x.size()), m_before(m_x.size()) {
   for (int i = 0; i < s; ++i) {
     m_z[static_cast<std::size_t>(i)].assign(m_x.size(), 0.0);
     m_f[static_cast<std::size_t>(i)].assign(m_x.size(), 0.0);
@@ -462,8 +475,9 @@ void lane_gauss<Stages>::step(int blocks) {
       }
     }
   }
-  // x1 = x0 + Σ_i d_i Z_i.
+  // x1 = x0 + Σ_i d_i Z_i, into the other buffer, which then becomes state(): x0 stays.
   double* xs = m_x.data();
+  double* next = m_before.data();
   std::array<const double*, Stages> zs;
   for (int i = 0; i < s; ++i) zs[static_cast<std::size_t>(i)] = m_z[static_cast<std::size_t>(i)].data();
   each([&](std::size_t o, std::size_t) {
@@ -472,9 +486,10 @@ void lane_gauss<Stages>::step(int blocks) {
       double increment = 0;
       for (int i = 0; i < s; ++i)
         increment += m_d[static_cast<std::size_t>(i)] * zs[static_cast<std::size_t>(i)][o + l];
-      xs[o + l] += increment;
+      next[o + l] = xs[o + l] + increment;
     }
   });
+  m_x.swap(m_before);
   for (std::size_t l = 0; l < used; ++l) m_previous[l] = 1;
 }
 

@@ -90,6 +90,13 @@ class lane_layout {
     return (l / W) * m_block + i * W + l % W;
   }
 
+  /// The system's dxdt at lane l's coordinates in x (laid out as state()): coordinates
+  /// first .. first + count - 1 into out. One block's rhs on copies of the lane, so the same
+  /// bits as the lane's own steps compute at that state; for a value wanted once per cell
+  /// (the flip lanes' interpolant), not per step.
+  void derivative_at(const double* x, std::size_t l, std::size_t first, std::size_t count,
+                     double* out);
+
  protected:
   /// The system's dxdt on each of the first `blocks` blocks of x.
   void rhs(int blocks, const double* x, double* dxdt);
@@ -97,6 +104,7 @@ class lane_layout {
   lane_system m_system;
   std::size_t m_block;  // B
   std::vector<double> m_x;
+  std::vector<double> m_probe, m_probe_f;  // derivative_at's block
 };
 
 // rk4 on the lanes: odeint's runge_kutta4 step, sum for sum, so that each lane computes what
@@ -110,6 +118,7 @@ class lane_rk4 : public lane_layout {
         m_k3(m_x.size()),
         m_k4(m_x.size()),
         m_tmp(m_x.size()),
+        m_before(m_x.size()),
         // odeint's coefficients a_ij dt and b_i dt, as it rounds them.
         m_half(0.5 * dt),
         m_zero(0.0 * dt),
@@ -117,8 +126,10 @@ class lane_rk4 : public lane_layout {
         m_sixth((1.0 / 6.0) * dt),
         m_third((1.0 / 3.0) * dt) {}
 
-  /// One rk4 step of dt for the first `blocks` blocks.
+  /// One rk4 step of dt for the first `blocks` blocks. The state before it stays in
+  /// state_before() (the two buffers trade places: state() moves with every step).
   void step(int blocks);
+  const double* state_before() const { return m_before.data(); }
 
   /// As lane_gauss's: an rk4 lane has nothing to forget and never fails.
   void restart(std::size_t) {}
@@ -128,7 +139,7 @@ class lane_rk4 : public lane_layout {
   void copy_lane(std::size_t to, std::size_t from);
 
  private:
-  std::vector<double> m_k1, m_k2, m_k3, m_k4, m_tmp;
+  std::vector<double> m_k1, m_k2, m_k3, m_k4, m_tmp, m_before;
   double m_half, m_zero, m_full, m_sixth, m_third;
 };
 
@@ -217,8 +228,10 @@ class lane_gauss : public lane_layout {
     m_failed[l] = 0;
   }
 
-  /// One step of dt for every lane of the first `blocks` blocks.
+  /// One step of dt for every lane of the first `blocks` blocks. The state before it stays
+  /// in state_before() (the two buffers trade places: state() moves with every step).
   void step(int blocks);
+  const double* state_before() const { return m_before.data(); }
 
   /// Whether lane l's stage iteration failed (in any step since its restart).
   bool failed(std::size_t l) const { return m_failed[l] != 0; }
@@ -231,7 +244,7 @@ class lane_gauss : public lane_layout {
   // previous step's collocation polynomial, and d = bᵀA⁻¹ (x1 = x0 + Σ d_i Z_i).
   std::array<std::array<double, Stages>, Stages> m_extrapolation{};
   std::array<double, Stages> m_d{};
-  std::vector<double> m_tmp;
+  std::vector<double> m_tmp, m_before;
   std::array<std::vector<double>, Stages> m_z, m_f, m_f_kept;
   // Per lane: a previous step to extrapolate from, failure, still iterating (1/0), and the
   // iteration's last correction norm.
@@ -249,7 +262,8 @@ struct lane_slot {
 };
 
 // Runs the cells `queue` on the lanes of rk (a lane_rk4, lane_dopri5 or lane_gauss): start(x, l, cell)
-// writes cell's start into lane l of x = rk.state(); after every step, done(x, l, slot) —
+// writes cell's start into lane l of x = rk.state() (read again after every step: a stepper
+// may keep the state before the step in a second buffer); after every step, done(x, l, slot) —
 // slot.steps (the steps, or the attempts, taken) already counted —
 // returns the cell's value once it is finished, std::nullopt otherwise; the value goes to
 // out[slot.cell] and the lane takes the next cell. Once the
@@ -298,6 +312,7 @@ void run_on_lanes(Stepper& rk, const std::vector<std::size_t>& queue, const Star
   int blocks = compact();
   while (blocks > 0) {
     rk.step(blocks);
+    x = rk.state();
     bool emptied = false;
     for (std::size_t b = 0; b < static_cast<std::size_t>(blocks); ++b) {
       long long most = 0;
