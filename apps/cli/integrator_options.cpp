@@ -28,6 +28,13 @@ void integrator_options::add_stepper_options(CLI::App& command, std::string_view
       fmt::format("{}Relative error tolerance of the adaptive steppers (default: 1e-10)", note));
 }
 
+void check_step_count(double t_end, double dt, std::string_view options,
+                      std::string_view advice) {
+  if (t_end / dt > integrator_options::max_steps)
+    throw input_error(fmt::format("{}: {:.3g} steps is more than the limit of {:.0e}; {}",
+                                  options, t_end / dt, integrator_options::max_steps, advice));
+}
+
 integration_options integrator_options::make() const {
   integration_options o;
   o.t_start = 0;
@@ -37,10 +44,7 @@ integration_options integrator_options::make() const {
   if (o.dt <= 0) throw input_error(fmt::format("--dt: must be positive, got {}", o.dt));
   if (o.dt > o.t_end)
     throw input_error(fmt::format("--dt: {} is longer than --t-end {}", o.dt, o.t_end));
-  if (o.t_end / o.dt > max_steps)
-    throw input_error(fmt::format(
-        "--t-end/--dt: {:.3g} steps is more than the limit of {:.0e}; use a larger --dt",
-        o.t_end / o.dt, max_steps));
+  check_step_count(o.t_end, o.dt, "--t-end/--dt");
   if (!stepper.empty()) {
     try {
       o.stepper = parse_stepper_kind(stepper);

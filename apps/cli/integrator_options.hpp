@@ -33,4 +33,10 @@ struct integrator_options {
   static constexpr double max_steps = 1e9;
 };
 
+/// Refuses a run of more than integrator_options::max_steps steps of dt up to t_end: throws
+/// input_error "<options>: N steps is more than the limit of 1e+09; <advice>". Every
+/// command whose runs step at a fixed dt checks its longest run with it, before it starts.
+void check_step_count(double t_end, double dt, std::string_view options,
+                      std::string_view advice = "use a larger --dt");
+
 }  // namespace npend::cli

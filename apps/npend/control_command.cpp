@@ -29,8 +29,11 @@ struct control_command_options {
   bool json = false;
 };
 
+// The step of the runs that find the largest catch (gauss6).
+constexpr double catch_dt = 1e-3;
+
 // Whether the feedback brings the chain started at x* + δ (every angle) back to within 1e-6
-// of x* by t_end (gauss6, dt = 1e-3); a run that fails to integrate is not caught.
+// of x* by t_end (gauss6, dt = catch_dt); a run that fails to integrate is not caught.
 bool catches(const chain& c, const lqr_design& d, double delta, double t_end,
              run_control* control) {
   std::vector<double> x0 = d.equilibrium;
@@ -38,7 +41,7 @@ bool catches(const chain& c, const lqr_design& d, double delta, double t_end,
   integration_options o;
   o.stepper = stepper_kind::gauss6;
   o.t_end = t_end;
-  o.dt = 1e-3;
+  o.dt = catch_dt;
   o.control = control;
   try {
     const auto r = integrate_system(make_feedback_system(c, d), x0, o);
@@ -98,6 +101,8 @@ int run_control_design(const control_command_options& o) {
   if (!(o.catch_time > 0) || !std::isfinite(o.catch_time))
     throw cli::input_error(
         fmt::format("--catch-time: must be a positive time in s, got {}", o.catch_time));
+  cli::check_step_count(o.catch_time, catch_dt, "--catch-time",
+                        "each run steps 0.001 s; use a shorter --catch-time");
   const lqr_design d = o.control.design(c);
   const int n = c.links(), dim = c.state_size(), m = static_cast<int>(d.actuated.size());
   std::vector<int> joints;

@@ -26,6 +26,7 @@
 #include "chain_options.hpp"
 #include "command.hpp"
 #include "input_parsing.hpp"
+#include "integrator_options.hpp"
 #include "map_tile_queue.hpp"
 #include "npend/analysis/chaos_map.hpp"
 #include "npend/analysis/map_grid.hpp"
@@ -35,6 +36,7 @@
 #include "plotting.hpp"
 #include "section_spec.hpp"
 #include "terminal_run.hpp"
+#include "thread_count.hpp"
 #ifdef NPEND_WITH_MPI
 #include "map_mpi.hpp"
 #endif
@@ -51,7 +53,7 @@ struct map_command_options {
   std::string stepper, abs_tol, rel_tol;  // as typed; empty: rk4, tolerances 1e-10
   double t_end = 100, dt = 0.01;
   int flip_link = 0, gali_order = 0, threads = 0, tile = 16;
-  bool resume = false, json = false;
+  bool resume = false, json = false, force = false;
   std::string merge_dir;  // npend map merge DIR [--json]
   bool merge_json = false;
 };
@@ -155,8 +157,9 @@ struct tile_layout {
   }
 };
 
-// FNV-1a (64 bit) of the run's identity: the tag at the head of every tile file, which ties
-// the tile to its run.json without repeating the identity in each tile.
+// FNV-1a (64 bit): of the run's identity, the tag at the head of every tile file, which ties
+// the tile to its run.json without repeating the identity in each tile; and of each tile's
+// data, its checksum.
 std::uint64_t fnv1a(std::string_view text) {
   std::uint64_t hash = 0xcbf29ce484222325ULL;
   for (const unsigned char ch : text) {
@@ -364,15 +367,24 @@ map_run prepare_run(const map_command_options& o) {
   if (!(o.t_end > 0) || !(o.dt > 0) || o.dt > o.t_end)
     throw cli::input_error(
         fmt::format("--t-end and --dt: need 0 < dt <= t-end, got {} and {}", o.dt, o.t_end));
+  // Each cell steps dt (dopri5: lays its grid of dt) to t_end, the limit every command keeps.
+  cli::check_step_count(o.t_end, o.dt, "--t-end/--dt",
+                        "use a larger --dt (the limit is per cell)");
   if (o.flip_link < 0 || o.flip_link > n)
     throw cli::input_error(
         fmt::format("--flip-link: 1..{} (or 0: any arm), got {}", n, o.flip_link));
   if (o.tile < 1 || o.tile > 1024)
     throw cli::input_error(fmt::format("--tile: 1..1024, got {}", o.tile));
-  if (o.threads < 0) throw cli::input_error(fmt::format("--threads: >= 0, got {}", o.threads));
+  cli::check_thread_count(o.threads, "--threads");
+  if (o.force && (o.resume || !o.part.empty()))
+    throw cli::input_error(
+        "--force: only for a fresh run (--resume and --part keep the folder's tiles)");
   const part_share part = o.part.empty() ? part_share{} : parse_part(o.part);
   set_base_start(o, n, grid);
   // The chain and options a cell can take, checked before any thread starts.
+  if (cell.quantity != map_quantity::gali && o.gali_order != 0)
+    throw cli::input_error(fmt::format("--gali-order: only with --quantity gali, not {}",
+                                       map_quantity_name(cell.quantity)));
   if (cell.quantity == map_quantity::gali && o.gali_order != 0 &&
       (o.gali_order < 2 || o.gali_order > 2 * n))
     throw cli::input_error(
@@ -419,13 +431,59 @@ void check_same_map(const map_run& run, std::string_view option) {
         "{}: {} holds a different map (other chain, axes, quantity or times)", option, run.o.out));
 }
 
-// A new run: the folder's old tiles go, run.json says which map the new ones belong to.
+// Whether `name` is a file npend map writes in DIR/tiles: run.json, tile_NNNNNN.bin, or the
+// hidden temporary of either (".<name>.npend-XXXXXX", cli::temporary_sibling) that a killed
+// process may have left.
+bool own_tile_file(std::string name) {
+  constexpr std::string_view temporary = ".npend-";
+  if (name.size() > 1 + temporary.size() + 6 && name.front() == '.' &&
+      name.compare(name.size() - 6 - temporary.size(), temporary.size(), temporary) == 0)
+    name = name.substr(1, name.size() - 1 - 6 - temporary.size());
+  if (name == "run.json") return true;
+  return name.size() == 15 && name.rfind("tile_", 0) == 0 &&
+         name.compare(11, 4, ".bin") == 0 &&
+         name.find_first_not_of("0123456789", 5) == 11;
+}
+
+// Removes npend's own files from DIR/tiles (own_tile_file), then the folder if that left it
+// empty: a file someone else put there stays, and so does the folder holding it.
+void remove_own_tiles(const map_run& run) {
+  std::error_code ec;
+  std::vector<fs::path> own;
+  for (const auto& entry : fs::directory_iterator(run.tiles(), ec))
+    if (own_tile_file(entry.path().filename().string()) && !entry.is_directory(ec))
+      own.push_back(entry.path());
+  for (const fs::path& path : own) fs::remove(path, ec);
+  fs::remove(run.tiles(), ec);  // only if empty
+}
+
+// A new run: run.json says which map the new tiles belong to. A tiles folder that holds
+// anything (an interrupted run of this or another map, a part of a job array, files of the
+// user's) is refused, and with --force only npend's own files are removed from it.
 void start_fresh_folder(const map_run& run) {
   std::error_code ec;
   fs::create_directories(run.dir, ec);
   if (ec)
     throw cli::input_error(fmt::format("--out: cannot create '{}': {}", run.o.out, ec.message()));
-  fs::remove_all(run.tiles(), ec);
+  if (fs::is_directory(run.tiles(), ec) && !fs::is_empty(run.tiles(), ec)) {
+    if (!run.o.force) {
+      nlohmann::json record;
+      if (fs::exists(run.run_file(), ec)) try {
+          record = read_run_file(run.run_file(), "--out");
+        } catch (const cli::input_error&) {
+        }
+      if (record.is_object() && record["identity"] == run.identity)
+        throw cli::input_error(fmt::format(
+            "--out: {} holds an unfinished run of this map: finish it with --resume, or start "
+            "afresh with --force",
+            run.tiles().string()));
+      throw cli::input_error(fmt::format(
+          "--out: {} holds another run's tiles or other files: give another --out, or --force "
+          "to remove npend's tiles from it (other files stay)",
+          run.tiles().string()));
+    }
+    remove_own_tiles(run);
+  }
   fs::create_directories(run.tiles(), ec);
   if (ec)
     throw cli::input_error(fmt::format("--out: cannot write in '{}': {}", run.o.out, ec.message()));
@@ -469,6 +527,63 @@ void prepare_folder(const map_run& run) {
   check_same_map(run, "--resume");
 }
 
+// A tile file: the run's tag, the FNV-1a (64 bit) checksum of the data, then the data: the
+// values as float64 in the machine's byte order.
+void write_tile(const map_run& run, int index, const std::vector<double>& values) {
+  const std::string data = bytes_of(values);
+  const std::uint64_t checksum = fnv1a(data);
+  std::string bytes(reinterpret_cast<const char*>(&run.tag), sizeof run.tag);
+  bytes.append(reinterpret_cast<const char*>(&checksum), sizeof checksum);
+  bytes += data;
+  // Not synced: a tile is checked when read back (its size, the run's tag and the checksum),
+  // so one that a crash of the machine left incomplete or garbled is found; syncing each cost
+  // 0.2 ms a tile, 60 ms on a 256^2 map, all of it serial (the disk takes one fsync at a time).
+  cli::write_file_atomically(run.tile_path(index), bytes, cli::durability::cached);
+}
+
+// A tile read back: its values, or what is wrong with the file.
+struct tile_contents {
+  std::vector<double> values;
+  std::string problem;  // empty: the values are the tile's
+};
+
+tile_contents load_tile(const map_run& run, int index) {
+  const fs::path path = run.tile_path(index);
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in) return {{}, fmt::format("tile {} cannot be read", path.string())};
+  std::vector<double> values(run.layout.bounds(index, run.grid.x, run.grid.y).cells());
+  constexpr std::size_t head = 2 * sizeof(std::uint64_t);  // the tag and the checksum
+  const std::size_t expected = head + values.size() * sizeof(double);
+  if (bytes.size() != expected)
+    return {{},
+            fmt::format("tile {} is incomplete ({} bytes, expected {}: a crash may have cut it "
+                        "short)",
+                        path.string(), bytes.size(), expected)};
+  std::uint64_t tag = 0, checksum = 0;
+  std::memcpy(&tag, bytes.data(), sizeof tag);
+  std::memcpy(&checksum, bytes.data() + sizeof tag, sizeof checksum);
+  if (tag != run.tag)
+    return {{},
+            fmt::format("tile {} was written by another run (of another map than {})",
+                        path.string(), run.run_file().string())};
+  const std::string_view data(bytes.data() + head, bytes.size() - head);
+  if (fnv1a(data) != checksum)
+    return {{},
+            fmt::format("tile {} is damaged: its data do not match its checksum", path.string())};
+  std::memcpy(values.data(), data.data(), data.size());
+  return {std::move(values), {}};
+}
+
+// The values of a tile that must be sound (assembling the map); std::runtime_error naming the
+// tile and what is wrong with it otherwise.
+std::vector<double> read_tile(const map_run& run, int index) {
+  tile_contents tile = load_tile(run, index);
+  if (!tile.problem.empty())
+    throw std::runtime_error(tile.problem + "; remove it and finish with --resume");
+  return std::move(tile.values);
+}
+
 // How many of a tile's cells need integrating, estimated from up to 4 x 4 of them: the
 // energy rules many flip-map cells out, and such a cell costs nothing.
 int tile_work_estimate(const map_run& run, int index) {
@@ -481,13 +596,23 @@ int tile_work_estimate(const map_run& run, int index) {
   return work;
 }
 
+// A tile a resumed run finds is kept if it reads back sound (load_tile); one that does not is
+// computed again, and stderr says why.
+bool tile_done(const map_run& run, int index) {
+  if (!run.o.resume || !fs::exists(run.tile_path(index))) return false;
+  const std::string problem = load_tile(run, index).problem;
+  if (problem.empty()) return true;
+  fmt::print(stderr, "npend map: note: {}; computing it again\n", problem);
+  return false;
+}
+
 // This run's tiles (its part's), without those a resumed run finds done, the most work
 // first: whoever takes the last tiles then takes cheap ones, and no worker waits long for
 // another at the end. (Each tile's values do not depend on the order.)
 std::vector<int> pending_tiles(const map_run& run) {
   std::vector<std::pair<int, int>> pending;  // (-work, tile)
   for (int t = 0; t < run.layout.count(); ++t)
-    if (run.part.has(t) && !(run.o.resume && fs::exists(run.tile_path(t))))
+    if (run.part.has(t) && !tile_done(run, t))
       pending.emplace_back(-tile_work_estimate(run, t), t);
   std::sort(pending.begin(), pending.end());
   std::vector<int> tiles;
@@ -504,8 +629,9 @@ long tiles_present(const map_run& run) {
 
 // The values of tile `index`, row-major within the tile; a cell the energy rules out or
 // whose integration fails is NaN. The tile's cells go to the library together, so that they
-// run on the batch kernels' lanes together (each value the same as map_cell's).
-std::vector<double> compute_tile(const map_run& run, int index) {
+// run on the batch kernels' lanes together (each value the same as map_cell's). The cells
+// poll `stop` inside their steps; once it asks to stop, the values are not the tile's.
+std::vector<double> compute_tile(const map_run& run, int index, run_control& stop) {
   const tile_bounds b = run.layout.bounds(index, run.grid.x, run.grid.y);
   std::vector<int> columns, rows;
   for (int j = b.y0; j < b.y1; ++j)
@@ -513,40 +639,9 @@ std::vector<double> compute_tile(const map_run& run, int index) {
       columns.push_back(i);
       rows.push_back(j);
     }
-  return map_grid_values(run.grid, columns, rows, run.cell);
-}
-
-// A tile file: the run's tag, then the values as float64 in the machine's byte order.
-void write_tile(const map_run& run, int index, const std::vector<double>& values) {
-  std::string bytes(reinterpret_cast<const char*>(&run.tag), sizeof run.tag);
-  bytes += bytes_of(values);
-  // Not synced: a tile is checked when read back (its size and the run's tag), so one that a
-  // crash of the machine left incomplete is found; syncing each cost 0.2 ms a tile, 60 ms on
-  // a 256^2 map, all of it serial (the disk takes one fsync at a time).
-  cli::write_file_atomically(run.tile_path(index), bytes, cli::durability::cached);
-}
-
-std::vector<double> read_tile(const map_run& run, int index) {
-  const fs::path path = run.tile_path(index);
-  std::ifstream in(path, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in) throw std::runtime_error(fmt::format("tile {} cannot be read", path.string()));
-  std::vector<double> values(run.layout.bounds(index, run.grid.x, run.grid.y).cells());
-  const std::size_t expected = sizeof run.tag + values.size() * sizeof(double);
-  if (bytes.size() != expected)
-    throw std::runtime_error(
-        fmt::format("tile {} is damaged ({} bytes, expected {}); remove it and finish with "
-                    "--resume",
-                    path.string(), bytes.size(), expected));
-  std::uint64_t tag = 0;
-  std::memcpy(&tag, bytes.data(), sizeof tag);
-  if (tag != run.tag)
-    throw std::runtime_error(
-        fmt::format("tile {} belongs to a different map than {} (or a crash of the machine "
-                    "damaged it); remove it and finish with --resume",
-                    path.string(), run.run_file().string()));
-  std::memcpy(values.data(), bytes.data() + sizeof tag, values.size() * sizeof(double));
-  return values;
+  map_cell_options cell = run.cell;
+  cell.control = &stop;
+  return map_grid_values(run.grid, columns, rows, cell);
 }
 
 struct tiles_outcome {
@@ -554,19 +649,42 @@ struct tiles_outcome {
   std::exception_ptr error;  // the first tile that failed (not thrown: MPI must abort the job)
 };
 
+// What the cells of every thread poll inside their steps: a signal (the command line's
+// control), or a tile that failed on another thread. Polled from many threads at once, it
+// only reads flags.
+class cells_stop final : public run_control {
+ public:
+  cells_stop(const cli::terminal_run& control, const std::atomic<bool>& failed)
+      : m_control(control), m_failed(failed) {}
+  bool stop_requested() override { return m_failed.load() || m_control.interrupted(); }
+
+ private:
+  const cli::terminal_run& m_control;
+  const std::atomic<bool>& m_failed;
+};
+
 // Computes the tiles `queue` hands out on `threads` threads, each written as soon as it is
-// done, until the queue runs dry, a signal asks to stop or a tile fails. `total`: the tiles
-// the progress bar counts (shown only with `show_progress`).
+// done, until the queue runs dry, a signal asks to stop or a tile fails. A signal abandons
+// the tiles in flight at once (their cells poll it inside their steps): they are not
+// written, and a resumed run computes them. `total`: the tiles the progress bar counts
+// (shown only with `show_progress`).
 tiles_outcome compute_tiles(const map_run& run, tile_queue& queue, int threads,
                             cli::terminal_run& control, long total, bool show_progress) {
   std::atomic<bool> stop{false};
+  cells_stop cells(control, stop);
   std::exception_ptr error;
 #pragma omp parallel num_threads(threads)
   {
     bool finished = false;
     for (int index; !stop.load() && (index = queue.next(finished)) >= 0;) {
       try {
-        write_tile(run, index, compute_tile(run, index));
+        std::vector<double> values = compute_tile(run, index, cells);
+        if (cells.stop_requested()) {  // abandoned part way: not this tile's values
+          stop = true;
+          queue.stop();
+          break;
+        }
+        write_tile(run, index, values);
       } catch (...) {
 #pragma omp critical(npend_map_error)
         if (!error) error = std::current_exception();
@@ -712,9 +830,20 @@ cli::plot_outcome write_png(const fs::path& dir, const map_command_options& o, c
 
 // Reads every tile into the map and writes map.npy (and map.csv for small grids), map.png,
 // map.gp and map.json, then removes the tiles; returns map.json's content. `facts`: how the
-// run went (threads, ranks, merged), added to map.json.
+// run went (threads, ranks, merged), added to map.json. A signal (`control`) stops it before
+// map.npy and before map.json, keeping the tiles: throws cli::interrupted saying so (the
+// output files' temporaries go as they unwind).
 nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
-                            std::chrono::steady_clock::time_point started) {
+                            std::chrono::steady_clock::time_point started,
+                            const cli::terminal_run& control) {
+  const auto stop_if_interrupted = [&] {
+    if (control.interrupted())
+      throw cli::interrupted(
+          fmt::format("interrupted while assembling the map; its tiles stay in {}: npend map "
+                      "merge {} assembles it",
+                      run.tiles().string(), run.o.out),
+          control.exit_code());
+  };
   const map_command_options& o = run.o;
   const axis &ax = run.grid.x, &ay = run.grid.y;
   // Row-major, row 0 = the first y value.
@@ -724,12 +853,14 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
                 static_cast<std::size_t>(i)];
   };
   for (int t = 0; t < run.layout.count(); ++t) {
+    stop_if_interrupted();
     const std::vector<double> values = read_tile(run, t);
     const tile_bounds b = run.layout.bounds(t, ax, ay);
     std::size_t k = 0;
     for (int j = b.y0; j < b.y1; ++j)
       for (int i = b.x0; i < b.x1; ++i) cell(i, j) = values[k++];
   }
+  stop_if_interrupted();
   const std::string header = npy_header(ay.count, ax.count);
   cli::write_file_atomically(run.dir / "map.npy", header + bytes_of(grid));
   const bool small = static_cast<long>(ax.count) * ay.count <= max_csv_cells;
@@ -793,8 +924,9 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
   if (!drawn.rendered) fmt::print(stderr, "npend map: note: {}\n", drawn.message);
   summary["wall_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  stop_if_interrupted();
   cli::write_file_atomically(run.dir / "map.json", summary.dump(2) + "\n");
-  fs::remove_all(run.tiles(), ec);
+  remove_own_tiles(run);
   return summary;
 }
 
@@ -837,14 +969,15 @@ void print_part_summary(const map_run& run, long computed, double seconds) {
 
 // After the tiles: a part stops here, a whole run assembles the map.
 int finish_map(const map_run& run, long computed, const nlohmann::json& facts,
-               const std::string& how, std::chrono::steady_clock::time_point started) {
+               const std::string& how, std::chrono::steady_clock::time_point started,
+               const cli::terminal_run& control) {
   if (run.parted()) {
     print_part_summary(
         run, computed,
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     return 0;
   }
-  print_map_summary(run, assemble_map(run, facts, started), how);
+  print_map_summary(run, assemble_map(run, facts, started, control), how);
   return 0;
 }
 
@@ -866,13 +999,14 @@ int run_map(const map_command_options& o) {
   if (outcome.error) std::rethrow_exception(outcome.error);
   if (outcome.interrupted) return report_interrupted(run, control.exit_code());
   return finish_map(run, total, {{"threads", threads}}, fmt::format("on {} threads", threads),
-                    started);
+                    started, control);
 }
 
 // `npend map merge DIR`: the map from the tiles that --part runs left in DIR/tiles/, exactly
 // as one uninterrupted run would have written it.
 int run_merge(const std::string& folder, bool json) {
   const auto started = std::chrono::steady_clock::now();
+  cli::terminal_run control;  // Ctrl-C stops the merge, keeping the tiles
   if (folder.empty()) throw cli::input_error("merge: the folder name is empty");
   const fs::path file = fs::path(folder) / "tiles" / "run.json";
   if (!fs::exists(file))
@@ -906,7 +1040,7 @@ int run_merge(const std::string& folder, bool json) {
         "--resume to keep the tiles that are there)",
         missing.size(), run.layout.count(), run.tiles().string(), names));
   }
-  return finish_map(run, 0, {{"merged", true}}, "by merging its tiles", started);
+  return finish_map(run, 0, {{"merged", true}}, "by merging its tiles", started, control);
 }
 
 #ifdef NPEND_WITH_MPI
@@ -968,7 +1102,7 @@ int run_map_on_ranks(const map_command_options& o, mpi::session& mpi) {
     return finish_map(
         run, total,
         {{"threads", threads}, {"ranks", mpi.size()}, {"tiles_per_rank", tiles_per_rank}},
-        fmt::format("on {} ranks x {} threads", mpi.size(), threads), started);
+        fmt::format("on {} ranks x {} threads", mpi.size(), threads), started, control);
   });
   mpi.finalize();
   return finished.get();
@@ -1038,8 +1172,8 @@ void add_map_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--component", o->component,
                   "state: which coordinate at --t-end, phi1..phiN or p1..pN (default phi1)");
   cmd->add_option("--gali-order", o->gali_order,
-                  "gali: k of GALI_k, 2..2n (default 0: n + 1, the least k beyond a torus's "
-                  "dimension)");
+                  "--quantity gali only: k of GALI_k, 2..2n (default 0: n + 1, the least k "
+                  "beyond a torus's dimension)");
   cmd->add_option("--phi", o->phi, "The start's other angles (rad; default 0)");
   cmd->add_option("--p", o->p, "The start's other momenta (kg m^2/s; default 0)");
   cmd->add_option("--dphi", o->dphi,
@@ -1056,11 +1190,16 @@ void add_map_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--abs-tol", o->abs_tol, "dopri5: absolute error tolerance (default 1e-10)");
   cmd->add_option("--rel-tol", o->rel_tol, "dopri5: relative error tolerance (default 1e-10)");
   cmd->add_option("--flip-link", o->flip_link, "flip: only arm K counts (default 0: any arm)");
-  cmd->add_option("--threads", o->threads, "Threads (default: every core; per rank under MPI)");
+  cmd->add_option("--threads", o->threads,
+                  "Threads (default: every core; at most 4 x the hardware threads; per rank "
+                  "under MPI)");
   cmd->add_option("--tile", o->tile, "Cells per tile side (default 16)");
   cmd->add_option("--out", o->out, "The folder for map.npy, map.png and map.json (required)");
   cmd->add_flag("--resume", o->resume,
                 "Finish an interrupted map in --out (same command): its finished tiles are kept");
+  cmd->add_flag("--force", o->force,
+                "Start afresh in an --out whose tiles/ holds another run (an unfinished map, "
+                "a job array's parts): removes npend's tile files from it, nothing else");
   cmd->add_option("--part", o->part,
                   "I/N: compute only the tiles whose index is I-1 modulo N into --out's tiles/ "
                   "(one job of an array of N; no map: npend map merge DIR assembles it)");

@@ -18,6 +18,7 @@
 #include "npend/analysis/normal_modes.hpp"
 #include "npend/analysis/power_spectrum.hpp"
 #include "section_spec.hpp"
+#include "thread_count.hpp"
 
 namespace npend::python {
 
@@ -143,7 +144,12 @@ std::vector<double> values_in_parallel(std::size_t total, std::size_t chunk, int
   return out;
 }
 
-int team_size(int threads) { return threads > 0 ? threads : omp_get_max_threads(); }
+// The OpenMP team for `threads` (0: every core); ValueError naming threads outside
+// 0..cli::max_threads(), checked before any thread starts.
+int team_size(int threads) {
+  cli::check_thread_count(threads, "threads");
+  return threads > 0 ? threads : omp_get_max_threads();
+}
 
 std::vector<double> cells_in_parallel(const chain& c, const state_batch& starts,
                                       const map_cell_options& o, int threads,

@@ -3,9 +3,11 @@
 // the same bytes as an uninterrupted one.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -485,6 +487,195 @@ TEST_CASE("npend map --part and merge: a folder or a tile of another map is refu
                 fs::copy_options::overwrite_existing);
   const auto merged = run_npend("map merge " + mine.string());
   CHECK(merged.exit_code == 1);
-  CHECK(merged.err.find("tile_000003.bin belongs to a different map") != std::string::npos);
+  CHECK(merged.err == "npend map: error: tile " + (mine / "tiles" / "tile_000003.bin").string() +
+                          " was written by another run (of another map than " +
+                          (mine / "tiles" / "run.json").string() +
+                          "); remove it and finish with --resume\n");
   CHECK_FALSE(fs::exists(mine / "map.npy"));
+  // A tile cut short (as a crash of the machine may leave it) is named as such.
+  const fs::path cut = mine / "tiles" / "tile_000001.bin";
+  const std::string whole_tile = npend::test::read_text(cut.string());
+  std::ofstream(cut, std::ios::binary | std::ios::trunc) << whole_tile.substr(0, 20);
+  const auto cut_merge = run_npend("map merge " + mine.string());
+  CHECK(cut_merge.exit_code == 1);
+  CHECK(cut_merge.err.find("tile " + cut.string() + " is incomplete (20 bytes, expected " +
+                           std::to_string(whole_tile.size()) +
+                           ": a crash may have cut it short)") != std::string::npos);
+}
+
+namespace {
+
+// The names of the files in `dir` (none if it does not exist).
+std::vector<std::string> file_names(const fs::path& dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// Whether `dir` or its tiles/ holds a hidden temporary (".<name>.npend-XXXXXX").
+bool has_temporaries(const fs::path& dir) {
+  for (const fs::path& folder : {dir, dir / "tiles"})
+    for (const std::string& name : file_names(folder))
+      if (name.find(".npend-") != std::string::npos) return true;
+  return false;
+}
+
+struct signalled_run {
+  int status = -1;
+  double seconds = -1;  // from the signal to the process's end
+};
+
+// Starts npend with `args` in the background, sends it `signal` `delay` seconds after
+// `ready` (a file) appears, and measures how long it takes to end. A watchdog kills it after
+// 60 s, so that a run that ignores the signal fails the test instead of hanging it.
+signalled_run signal_after(const std::string& args, const fs::path& ready, double delay,
+                           const std::string& signal = "TERM") {
+  const auto r = npend::test::run_shell(
+      std::string(NPEND_CLI_PATH) + " " + args +
+      " >/dev/null 2>&1 & pid=$!; for i in $(seq 1200); do [ -e " + ready.string() +
+      " ] && break; sleep 0.01; done; sleep " + std::to_string(delay) +
+      "; (sleep 60; kill -KILL $pid) 2>/dev/null & dog=$!; t0=$(date +%s.%N); kill -" + signal +
+      " $pid; wait $pid; status=$?; t1=$(date +%s.%N); kill $dog 2>/dev/null; "
+      "echo $status $(awk -v a=$t0 -v b=$t1 'BEGIN { print b - a }')");
+  signalled_run out;
+  std::istringstream(r.out) >> out.status >> out.seconds;
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("npend map: SIGTERM abandons the tiles in flight at once, on the lanes and cell by cell") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-abandon"));
+  // One tile of 4 cells, each 1e8 steps (minutes): the run can only end in time by leaving
+  // its tile unfinished. --rods goes cell by cell; point masses on the batch lanes.
+  const std::string one_tile =
+      "map --links 2 --x phi1:1:2:2 --y phi2:1:2:2 --tile 2 --threads 1 --t-end 1e6 ";
+  const std::vector<std::pair<std::string, std::string>> runs = {
+      {"lanes, rk4", "--quantity state"},
+      {"lanes, dopri5", "--quantity state --stepper dopri5"},
+      {"lanes, lyapunov", "--quantity lyapunov"},
+      {"lanes, megno", "--quantity megno"},
+      {"cell by cell, rk4", "--rods --quantity state"},
+      {"cell by cell, megno", "--rods --quantity megno"},
+      {"cell by cell, gauss6 lyapunov", "--rods --quantity lyapunov --stepper gauss6"}};
+  int k = 0;
+  for (const auto& [what, options] : runs) {
+    CAPTURE(what);
+    const fs::path out = dir / std::to_string(k++);
+    const auto killed = signal_after(one_tile + options + " --out " + out.string(),
+                                     out / "tiles" / "run.json", 0.3);
+    CHECK(killed.status == 128 + 15);
+    CHECK(killed.seconds >= 0);
+    CHECK(killed.seconds < 1.5);
+    CHECK(file_names(out / "tiles") == std::vector<std::string>{"run.json"});
+    CHECK_FALSE(fs::exists(out / "map.npy"));
+  }
+}
+
+TEST_CASE("npend map: killed in its only tile, the run ends at once and --resume gives one run's "
+          "bytes") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-abandon-resume"));
+  // Uniform rods go cell by cell: 4 cells of 2e6 rk4 steps, a tile of some 3 s of CPU time
+  // (0.33 s at --t-end 2000), so that a run that finished its tile before it ended took
+  // seconds after the signal.
+  const std::string map =
+      "map --links 2 --rods --x phi1:1:2:2 --y phi2:1:2:2 --quantity state --t-end 20000 "
+      "--tile 2 --threads 1";
+  REQUIRE(run_npend(map + " --out " + (dir / "whole").string()).exit_code == 0);
+  const fs::path part = dir / "part";
+  const auto killed =
+      signal_after(map + " --out " + part.string(), part / "tiles" / "run.json", 0.3);
+  CHECK(killed.status == 128 + 15);
+  CHECK(killed.seconds < 1.5);
+  CHECK(file_names(part / "tiles") == std::vector<std::string>{"run.json"});
+  const auto resumed = run_npend(map + " --resume --out " + part.string());
+  REQUIRE(resumed.exit_code == 0);
+  CHECK(npend::test::read_text((dir / "whole" / "map.npy").string()) ==
+        npend::test::read_text((part / "map.npy").string()));
+}
+
+TEST_CASE("npend map: a fresh run refuses a folder holding another run; --force removes only "
+          "npend's files") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-fresh-folder"));
+  REQUIRE(run_npend(grid + " --out " + (dir / "whole").string()).exit_code == 0);
+  const fs::path mine = dir / "mine", tiles = mine / "tiles";
+  REQUIRE(run_part(mine, "1/2").exit_code == 0);  // half a job array of this map
+  std::ofstream(tiles / "notes.txt") << "mine\n";  // and a file that is not npend's
+  const std::vector<std::string> before = file_names(tiles);
+  REQUIRE(before.size() == 1 + 1 + 5);  // run.json, notes.txt, tiles 0, 2, 4, 6, 8
+  const auto again = run_npend(grid + " --out " + mine.string());
+  CHECK(npend::test::is_input_error(
+      again, "--out: " + tiles.string() +
+                 " holds an unfinished run of this map: finish it with --resume, or start "
+                 "afresh with --force"));
+  const auto other = run_npend(grid + " --dt 0.02 --out " + mine.string());
+  CHECK(npend::test::is_input_error(
+      other, "--out: " + tiles.string() +
+                 " holds another run's tiles or other files: give another --out, or --force to "
+                 "remove npend's tiles from it (other files stay)"));
+  CHECK(file_names(tiles) == before);
+  // --force starts afresh: the map of one run, npend's tile files gone, the user's file kept.
+  REQUIRE(run_npend(grid + " --force --out " + mine.string()).exit_code == 0);
+  CHECK(npend::test::read_text((dir / "whole" / "map.npy").string()) ==
+        npend::test::read_text((mine / "map.npy").string()));
+  CHECK(file_names(tiles) == std::vector<std::string>{"notes.txt"});
+  CHECK(npend::test::read_text((tiles / "notes.txt").string()) == "mine\n");
+}
+
+TEST_CASE("npend map merge and --resume: a tile whose data changed fails its checksum") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-checksum"));
+  REQUIRE(run_npend(grid + " --out " + (dir / "whole").string()).exit_code == 0);
+  const fs::path parts = dir / "parts", tile = parts / "tiles" / "tile_000003.bin";
+  REQUIRE(run_part(parts, "1/1").exit_code == 0);
+  // One bit of the tile's last value flipped: the size and the run's tag stay right.
+  std::string bytes = npend::test::read_text(tile.string());
+  REQUIRE(bytes.size() == 16 + 16 * sizeof(double));  // tag, checksum, 4 x 4 values
+  bytes[bytes.size() - 3] = static_cast<char>(bytes[bytes.size() - 3] ^ 0x10);
+  std::ofstream(tile, std::ios::binary | std::ios::trunc) << bytes;
+  const auto merged = run_npend("map merge " + parts.string());
+  CHECK(merged.exit_code == 1);
+  CHECK(merged.err == "npend map: error: tile " + tile.string() +
+                          " is damaged: its data do not match its checksum; remove it and finish "
+                          "with --resume\n");
+  CHECK_FALSE(fs::exists(parts / "map.npy"));
+  // Resuming computes that tile again, and says so.
+  const auto resumed =
+      run_npend(grid + " --threads 1 --part 1/1 --resume --json --out " + parts.string());
+  REQUIRE(resumed.exit_code == 0);
+  CHECK(resumed.err == "npend map: note: tile " + tile.string() +
+                           " is damaged: its data do not match its checksum; computing it "
+                           "again\n");
+  CHECK(nlohmann::json::parse(resumed.out)["tiles_computed"] == 1);
+  REQUIRE(run_npend("map merge " + parts.string()).exit_code == 0);
+  CHECK(npend::test::read_text((dir / "whole" / "map.npy").string()) ==
+        npend::test::read_text((parts / "map.npy").string()));
+}
+
+TEST_CASE("npend map merge: Ctrl-C while assembling keeps the tiles, says so, leaves no "
+          "temporary") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-merge-interrupt"));
+  // 1024^2 cells the energy rules out: nothing to integrate, an 8 MB map.npy and a picture
+  // of a million cells to make: a second or more.
+  const std::string big = "map --links 2 --x phi1:-0.1:0.1:1024 --y phi2:-0.1:0.1:1024 "
+                          "--t-end 1 --tile 256 --threads 2";
+  REQUIRE(run_npend(big + " --part 1/1 --out " + dir.string()).exit_code == 0);
+  const std::vector<std::string> tiles = file_names(dir / "tiles");
+  REQUIRE(tiles.size() == 1 + 4 * 4);
+  // In a subshell, so that the stderr run_shell captures is the merge's.
+  const auto merge = npend::test::run_shell(
+      "(" + std::string(NPEND_CLI_PATH) + " map merge " + dir.string() +
+      " >/dev/null & pid=$!; sleep 0.3; kill -INT $pid; wait $pid; echo $?)");
+  CHECK(merge.out == "130\n");
+  CHECK(merge.err == "npend map: interrupted while assembling the map; its tiles stay in " +
+                         (dir / "tiles").string() + ": npend map merge " + dir.string() +
+                         " assembles it\n");
+  CHECK_FALSE(has_temporaries(dir));
+  CHECK_FALSE(fs::exists(dir / "map.json"));
+  CHECK(file_names(dir / "tiles") == tiles);
+  REQUIRE(run_npend("map merge " + dir.string()).exit_code == 0);
+  CHECK(fs::exists(dir / "map.json"));
+  CHECK_FALSE(fs::exists(dir / "tiles"));
 }

@@ -91,7 +91,7 @@ TEST_CASE("npend map under mpirun: killed part way and resumed, the bytes of one
       "map --links 2 --rods --x phi1:-3.1:3.1:32 --y phi2:-3.1:3.1:32 --quantity lyapunov "
       "--t-end 100 --tile 4 --threads 1";
   REQUIRE(npend::test::run_npend(big + " --out " + (dir / "one").string()).exit_code == 0);
-  // mpirun passes the SIGTERM on to the ranks (here after a second or two), which stop after
+  // mpirun passes the SIGTERM on to the ranks (here after a second or two), which abandon
   // the tiles in flight; --t-end 100 keeps the run going that long.
   const fs::path part = dir / "part";
   const auto killed = npend::test::run_shell(

@@ -2,6 +2,7 @@
 energy bound of Heyl's flip map."""
 
 import math
+import os
 
 import numpy as np
 import pytest
@@ -87,6 +88,30 @@ def test_bad_map_input():
         npend.map(npend.Chain(2, damping=0.1), ("energy", 0, 1, 2), ("phi1", 0, 1, 2))
     with pytest.raises(ValueError, match="built-in drive"):
         npend.map(c, ("drive-frequency", 1, 2, 2), ("phi1", 0, 1, 2))
+
+
+def test_thread_counts_beyond_the_bound_are_refused():
+    # Tens of thousands of threads crashed the interpreter (the thread library failed); the
+    # bound is 4 x the hardware threads, and a negative count is refused as on the command line.
+    c = npend.Chain(2)
+    bound = 4 * max(1, os.cpu_count() or 1)
+    for threads in (100000, bound + 1, -1):
+        with pytest.raises(ValueError, match="threads: 0 .every core. or 1.." + str(bound)):
+            npend.map(c, ("phi1", 0, 1, 2), ("phi2", 0, 1, 2), t_end=1, threads=threads)
+        with pytest.raises(ValueError, match="threads"):
+            npend.map_cells(c, [0.5, 0.5, 0, 0], t_end=1, threads=threads)
+    m = npend.map(c, ("phi1", 0, 1, 2), ("phi2", 0, 1, 2), t_end=1, threads=bound)
+    assert m.shape == (2, 2)
+
+
+def test_axes_that_do_not_increase_or_overflow_are_refused():
+    c = npend.Chain(2)
+    with pytest.raises(ValueError, match="x: phi1: FROM 1 is above TO 0"):
+        npend.map(c, ("phi1", 1, 0, 4), ("phi2", 0, 1, 2))
+    with pytest.raises(ValueError, match="y: phi2: FROM = TO = 1 would repeat one value 3 times"):
+        npend.map(c, ("phi1", 0, 1, 2), ("phi2", 1, 1, 3))
+    with pytest.raises(ValueError, match="too wide"):
+        npend.map(c, ("phi1", -1e308, 1e308, 4), ("phi2", 0, 1, 2))
 
 
 def test_indicator_cells_are_the_indicators_at_t_end():

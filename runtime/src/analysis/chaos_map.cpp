@@ -65,12 +65,38 @@ bool energy_forbids_flip(const chain& c, std::span<const double> x0, int link) {
 
 namespace {
 
+// Refuses (std::invalid_argument, as npend::output_steps) a cell of more steps of dt up to
+// t_end than a step count holds exactly (2^53): the lanes count them in long long.
+void check_cell_steps(double t_end, double dt) {
+  integration_options io;
+  io.t_end = t_end;
+  io.dt = dt;
+  output_steps(io);
+}
+
 void check_flip_options(const flip_options& o) {
   if (!(o.dt > 0) || !(o.t_end >= o.dt) || !std::isfinite(o.t_end))
     throw std::invalid_argument(
         fmt::format("flip: need 0 < dt <= t_end, got dt = {}, t_end = {}", o.dt, o.t_end));
+  check_cell_steps(o.t_end, o.dt);
   o.stepping.validate("flip");
 }
+
+// A run control that passes on only the stop requests: a map's cells run on many threads at
+// once, and each cell's own progress means nothing to the caller.
+class stop_only final : public run_control {
+ public:
+  explicit stop_only(run_control* parent) : m_parent(parent) {}
+  bool stop_requested() override { return npend::stop_requested(m_parent); }
+  /// This control, or null where there is no parent to ask.
+  run_control* get() { return m_parent != nullptr ? this : nullptr; }
+
+ private:
+  run_control* m_parent;
+};
+
+// How often (in steps) a cell stepped one at a time polls its run control.
+constexpr long long steps_between_polls = 256;
 
 // The whole rk4 steps of dt up to t_end (a last shorter step, where a quantity takes one,
 // lands on t_end).
@@ -201,8 +227,10 @@ double locate_flip(double t0, double t1, const Flipped& flipped_at) {
 // past t_end so that the steps, not the grid, end the run.
 template <class OnStep>
 void dopri5_steps(const chain& c, std::span<const double> x0, double t_end, double dt,
-                  const map_stepping& stepping, const OnStep& on_step) {
+                  const map_stepping& stepping, run_control* control, const OnStep& on_step) {
+  stop_only stop(control);
   integration_options io;
+  io.control = stop.get();
   io.stepper = stepper_kind::dopri5;
   io.dt = dt;
   io.t_end = dt * (std::ceil(t_end / dt) + 1);
@@ -218,15 +246,17 @@ void dopri5_steps(const chain& c, std::span<const double> x0, double t_end, doub
 // the first step at whose end an arm is upright, the flip located inside it as rk4's.
 double flip_time_gauss(const chain& c, std::span<const double> x0, const flip_options& o) {
   const auto n = static_cast<std::size_t>(c.links());
+  stop_only stop(o.control);
   integration_options io;
   io.stepper = o.stepping.stepper;
   io.dt = o.dt;
   io.t_end = o.t_end;
+  io.control = stop.get();
   const double h0 = c.hamiltonian(x0);
   const chain_system system(c);
   std::vector<double> before(x0.begin(), x0.end()), after(2 * n);
   double t_before = 0, found = std::numeric_limits<double>::infinity();
-  integrate(c, x0, io, [&](double t, std::span<const double> x) {
+  const auto r = integrate(c, x0, io, [&](double t, std::span<const double> x) {
     if (t == 0) return observer_action::proceed;
     if (!has_flipped(x.data(), n, o)) {
       std::copy(x.begin(), x.end(), before.begin());
@@ -237,7 +267,7 @@ double flip_time_gauss(const chain& c, std::span<const double> x0, const flip_op
     found = located_flip(c, system, h0, before, after, t_before, o.dt, o);
     return observer_action::stop;
   });
-  return found;
+  return r.stopped && std::isinf(found) ? std::numeric_limits<double>::quiet_NaN() : found;
 }
 
 double flip_time_dopri5(const chain& c, std::span<const double> x0, const flip_options& o) {
@@ -245,7 +275,7 @@ double flip_time_dopri5(const chain& c, std::span<const double> x0, const flip_o
   const double h0 = c.hamiltonian(x0);
   double found = std::numeric_limits<double>::infinity(), untrusted = 0;
   std::vector<double> x(2 * n);
-  dopri5_steps(c, x0, o.t_end, o.dt, o.stepping, [&](const integration_step& step) {
+  dopri5_steps(c, x0, o.t_end, o.dt, o.stepping, o.control, [&](const integration_step& step) {
     if (!has_flipped(step.x_end().data(), n, o)) return false;
     const double t = locate_flip(step.t_begin(), step.t_end(), [&](double at) {
       step.state_at(at, x);
@@ -259,7 +289,8 @@ double flip_time_dopri5(const chain& c, std::span<const double> x0, const flip_o
     return true;
   });
   if (untrusted > 0) throw_untrusted_flip(untrusted);
-  return found;
+  return std::isinf(found) && stop_requested(o.control) ? std::numeric_limits<double>::quiet_NaN()
+                                                        : found;
 }
 
 }  // namespace
@@ -306,6 +337,8 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
   const double h0 = c.hamiltonian(x0);
   std::vector<double> before(x.size());
   for (long long k = 1; k <= steps; ++k) {
+    if (k % steps_between_polls == 0 && stop_requested(o.control))
+      return std::numeric_limits<double>::quiet_NaN();
     const double t0 = static_cast<double>(k - 1) * o.dt;
     std::copy(x.begin(), x.end(), before.begin());
     stepper.do_step(system, x, t0, o.dt);
@@ -322,13 +355,15 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
 namespace {
 
 // The values of the starts `cells` by `cell` (the library's scalar path; starts of m numbers
-// each, one after another) into out, NaN where the integration fails (integration_error).
+// each, one after another) into out, NaN where the integration fails (integration_error),
+// and where `control` asked to stop before the cell began.
 template <class Cell>
 void by_library(std::span<const double> starts, std::size_t m,
                 const std::vector<std::size_t>& cells, const Cell& cell,
-                std::vector<double>& out) {
+                std::vector<double>& out, run_control* control = nullptr) {
   for (const std::size_t i : cells) try {
-      out[i] = cell(starts.subspan(i * m, m));
+      out[i] = stop_requested(control) ? std::numeric_limits<double>::quiet_NaN()
+                                       : cell(starts.subspan(i * m, m));
     } catch (const integration_error&) {
       out[i] = std::numeric_limits<double>::quiet_NaN();
     }
@@ -343,9 +378,10 @@ std::vector<std::size_t> all_cells(std::size_t count) {
 
 // Each start's value by `cell`, one after another: by_library of every start.
 template <class Cell>
-std::vector<double> cell_by_cell(std::span<const double> starts, std::size_t m, const Cell& cell) {
+std::vector<double> cell_by_cell(std::span<const double> starts, std::size_t m, const Cell& cell,
+                                 run_control* control = nullptr) {
   std::vector<double> out(starts.size() / m);
-  by_library(starts, m, all_cells(out.size()), cell, out);
+  by_library(starts, m, all_cells(out.size()), cell, out, control);
   return out;
 }
 
@@ -372,7 +408,28 @@ using detail::lane_kernels;
 using detail::lane_rk4;
 using detail::lane_slot;
 using detail::lane_system;
-using detail::run_on_lanes;
+
+// detail::run_on_lanes under a run control (null: none), polled every 16 steps: once it asks
+// to stop, every lane's cell ends at its next step as NaN, and so does each cell still
+// queued (one step each), so that the caller gets back at once.
+template <class Stepper, class Start, class Done, class Watch = detail::always_look>
+void run_on_lanes(run_control* control, Stepper& rk, const std::vector<std::size_t>& queue,
+                  const Start& start, const Done& done, std::vector<double>& out,
+                  const Watch& watch = {}) {
+  if (control == nullptr) return detail::run_on_lanes(rk, queue, start, done, out, watch);
+  bool stopping = control->stop_requested();
+  long long polls = 0;
+  const auto watch_or_stop = [&](const double* x, std::size_t b, long long most) {
+    if (b == 0 && ++polls % 16 == 0) stopping = stopping || control->stop_requested();
+    return stopping || watch(x, b, most);
+  };
+  const auto done_or_stop = [&](double* x, std::size_t l,
+                                lane_slot& slot) -> std::optional<double> {
+    if (stopping) return std::numeric_limits<double>::quiet_NaN();
+    return done(x, l, slot);
+  };
+  detail::run_on_lanes(rk, queue, start, done_or_stop, out, watch_or_stop);
+}
 
 // Σ v_i² of the vector at coordinates first .. first + d - 1 of lane l.
 template <class Stepper>
@@ -456,7 +513,7 @@ void flip_on_lanes(const chain& c, std::span<const double> starts,
     for (std::size_t l = b * W; l < (b + 1) * W; ++l) look |= rk.failed(l);
     return look;
   };
-  run_on_lanes(rk, queue, start, done, out, watch);
+  run_on_lanes(o.control, rk, queue, start, done, out, watch);
   by_library(starts, m, to_library,
              [&](std::span<const double> x0) { return flip_time(c, x0, o); }, out);
 }
@@ -479,7 +536,8 @@ bool dopri5_lane_failed(const lane_dopri5& rk, const double* x, std::size_t l,
 template <class Settle>
 void run_dopri5_cells(const batch_kernels& k, const chain& c, std::span<const double> starts,
                       const std::vector<std::size_t>& queue, const map_stepping& stepping,
-                      double dt, const Settle& settle, std::vector<double>& out) {
+                      double dt, run_control* control, const Settle& settle,
+                      std::vector<double>& out) {
   const auto m = static_cast<std::size_t>(c.state_size());
   lane_dopri5 rk(lane_system(k, c.packed_parameters().data(), c.links(), 0, false),
                  stepping.abs_tol, stepping.rel_tol);
@@ -495,7 +553,7 @@ void run_dopri5_cells(const batch_kernels& k, const chain& c, std::span<const do
     if (!rk.accepted(l)) return std::nullopt;
     return settle(rk, x, l, s.cell);
   };
-  run_on_lanes(rk, queue, start, done, out);
+  run_on_lanes(control, rk, queue, start, done, out);
 }
 
 // flip_on_lanes with dopri5: each lane under its own step control, the flip located in the
@@ -524,7 +582,7 @@ void flip_on_dopri5_lanes(const batch_kernels& k, const chain& c, std::span<cons
     if (rk.time(l) >= o.t_end) return std::numeric_limits<double>::infinity();
     return std::nullopt;
   };
-  run_dopri5_cells(k, c, starts, queue, o.stepping, o.dt, settle, out);
+  run_dopri5_cells(k, c, starts, queue, o.stepping, o.dt, o.control, settle, out);
 }
 
 // The maximal Lyapunov exponents of the starts `queue` on the lanes, as
@@ -559,7 +617,7 @@ void lyapunov_on_lanes(const batch_kernels& k, const chain& c, std::span<const d
     if (s.steps == total) return s.sum / t_total;
     return std::nullopt;
   };
-  run_on_lanes(rk, queue, start, done, out);
+  run_on_lanes(lo.integration.control, rk, queue, start, done, out);
 }
 
 // lyapunov_on_lanes with dopri5, as maximal_lyapunov_exponent runs it: each renormalisation
@@ -609,7 +667,7 @@ void lyapunov_on_dopri5_lanes(const batch_kernels& k, const chain& c,
     rk.restart(l, static_cast<double>(s.reached) * dt, dt);
     return std::nullopt;
   };
-  run_on_lanes(rk, queue, start, done, out);
+  run_on_lanes(lo.integration.control, rk, queue, start, done, out);
 }
 
 // The chaos indicators of the starts `queue` on the lanes, as chaos_indicators computes them
@@ -620,7 +678,8 @@ void lyapunov_on_dopri5_lanes(const batch_kernels& k, const chain& c,
 template <class Pick>
 void indicators_on_lanes(const batch_kernels& k, const chain& c, std::span<const double> starts,
                          const std::vector<std::size_t>& queue, double t_end, double dt,
-                         std::size_t vectors, const Pick& pick, std::vector<double>& out) {
+                         std::size_t vectors, run_control* control, const Pick& pick,
+                         std::vector<double>& out) {
   const auto d = static_cast<std::size_t>(c.state_size());
   lane_rk4 rk(lane_system(k, c.packed_parameters().data(), c.links(),
                           static_cast<int>(vectors), true),
@@ -651,7 +710,7 @@ void indicators_on_lanes(const batch_kernels& k, const chain& c, std::span<const
     return pick(chaos_indicator_sample_of(static_cast<double>(total) * dt, s.peak,
                                           x[rk.at(sys.y(), l)], x[rk.at(sys.z(), l)], w, d));
   };
-  run_on_lanes(rk, queue, start, done, out);
+  run_on_lanes(control, rk, queue, start, done, out);
 }
 
 // Coordinate o.component of each start's state at o.t_end on the lanes, as final_coordinate
@@ -690,10 +749,14 @@ void final_coordinates_on_lanes(const chain& c, std::span<const double> starts,
     std::vector<std::size_t> live;
     for (const std::size_t cell : queue)
       if (!lost[cell]) live.push_back(cell);
-    run_on_lanes(rk, live, start, done, unused);
+    run_on_lanes(o.control, rk, live, start, done, unused);
   };
   advance(o.dt, steps);
   if (rest > 1e-9 * o.dt) advance(rest, 1);
+  if (stop_requested(o.control)) {  // the cells did not all reach t_end
+    for (const std::size_t cell : queue) out[cell] = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
   for (const std::size_t cell : queue) {
     if (lost[cell]) {
       failed.push_back(cell);
@@ -722,7 +785,7 @@ void final_coordinates_on_dopri5_lanes(const batch_kernels& k, const chain& c,
                ? y[static_cast<std::size_t>(o.component)]
                : std::numeric_limits<double>::quiet_NaN();
   };
-  run_dopri5_cells(k, c, starts, queue, o.stepping, o.dt, settle, out);
+  run_dopri5_cells(k, c, starts, queue, o.stepping, o.dt, o.control, settle, out);
 }
 
 }  // namespace
@@ -741,8 +804,8 @@ std::vector<double> flip_times(const chain& c, std::span<const double> starts,
   const std::size_t count = starts.size() / m;
   const batch_kernels* k = lane_kernels(c);
   if (k == nullptr)
-    return cell_by_cell(starts, m,
-                        [&](std::span<const double> x0) { return flip_time(c, x0, o); });
+    return cell_by_cell(
+        starts, m, [&](std::span<const double> x0) { return flip_time(c, x0, o); }, o.control);
   std::vector<double> out(count, std::numeric_limits<double>::quiet_NaN());
   // What flip_time settles without integrating; the rest queue for the lanes.
   std::vector<std::size_t> queue;
@@ -811,6 +874,7 @@ lyapunov_options map_lyapunov_options(const map_cell_options& o) {
   lo.integration.dt = o.dt;
   lo.integration.abs_tol = o.stepping.abs_tol;
   lo.integration.rel_tol = o.stepping.rel_tol;
+  lo.integration.control = o.control;
   return lo;
 }
 
@@ -853,7 +917,9 @@ double indicator_cell(const chain& c, std::span<const double> x0, const map_cell
   io.t_end = o.t_end;
   io.dt = o.dt;
   io.vectors = indicator_vectors(c, o);
-  return indicator_value(o.quantity, chaos_indicators(c, x0, io).last);
+  io.control = o.control;
+  const chaos_indicator_result r = chaos_indicators(c, x0, io);
+  return r.stopped ? std::numeric_limits<double>::quiet_NaN() : indicator_value(o.quantity, r.last);
 }
 
 // Coordinate o.component of the state at t_end: rk4 steps of dt (the last one shortened to
@@ -861,11 +927,13 @@ double indicator_cell(const chain& c, std::span<const double> x0, const map_cell
 double final_coordinate(const chain& c, std::span<const double> x0, const map_cell_options& o) {
   if (o.stepping.stepper == stepper_kind::dopri5) {
     std::vector<double> x(x0.size());
-    dopri5_steps(c, x0, o.t_end, o.dt, o.stepping, [&](const integration_step& step) {
+    bool reached = false;
+    dopri5_steps(c, x0, o.t_end, o.dt, o.stepping, o.control, [&](const integration_step& step) {
       if (step.t_end() < o.t_end) return false;
       step.state_at(o.t_end, x);
-      return true;
+      return reached = true;
     });
+    if (!reached) return std::numeric_limits<double>::quiet_NaN();  // asked to stop
     for (const double v : x)
       if (!std::isfinite(v))
         throw integration_error("state: the state became non-finite", o.t_end);
@@ -875,20 +943,25 @@ double final_coordinate(const chain& c, std::span<const double> x0, const map_ce
   const auto steps = whole_steps(o.t_end, o.dt);
   const double rest = o.t_end - static_cast<double>(steps) * o.dt;
   const auto run = [&](auto& stepper, const auto& system) {
-    for (long long k = 1; k <= steps; ++k)
+    for (long long k = 1; k <= steps; ++k) {
+      if (k % steps_between_polls == 0 && stop_requested(o.control)) return false;
       stepper.do_step(system, x, static_cast<double>(k - 1) * o.dt, o.dt);
+    }
     if (rest > 1e-9 * o.dt) stepper.do_step(system, x, static_cast<double>(steps) * o.dt, rest);
+    return true;
   };
+  bool reached = false;  // false: asked to stop
   if (o.stepping.stepper == stepper_kind::gauss4) {
     gauss_legendre4 stepper;
-    run(stepper, make_implicit_system(c));
+    reached = run(stepper, make_implicit_system(c));
   } else if (o.stepping.stepper == stepper_kind::gauss6) {
     gauss_legendre6 stepper;
-    run(stepper, make_implicit_system(c));
+    reached = run(stepper, make_implicit_system(c));
   } else {
     boost::numeric::odeint::runge_kutta4<std::vector<double>> stepper;
-    run(stepper, chain_system(c));
+    reached = run(stepper, chain_system(c));
   }
+  if (!reached) return std::numeric_limits<double>::quiet_NaN();
   for (const double v : x)
     if (!std::isfinite(v))
       throw integration_error("state: the state became non-finite; try a smaller dt", o.t_end);
@@ -911,6 +984,7 @@ void map_cell_options::validate(const chain& c) const {
   if (!(dt > 0) || !(t_end >= dt) || !std::isfinite(t_end))
     throw std::invalid_argument(fmt::format("{}: need 0 < dt <= t_end, got dt = {}, t_end = {}",
                                             map_quantity_name(quantity), dt, t_end));
+  check_cell_steps(t_end, dt);
   stepping.validate(map_quantity_name(quantity));
   if (!map_takes_stepper(quantity, stepping.stepper))
     throw std::invalid_argument(
@@ -946,10 +1020,15 @@ double map_cell(const chain& c, std::span<const double> x0, const map_cell_optio
 }
 
 std::vector<double> map_cells(const chain& c, std::span<const double> starts,
-                              const map_cell_options& options) {
+                              const map_cell_options& requested) {
+  // The cells' own integrations hear only the stop requests of the caller's control.
+  stop_only stop(requested.control);
+  map_cell_options options = requested;
+  options.control = stop.get();
   if (options.quantity == map_quantity::flip) {
     auto times = flip_times(c, starts,
-                            {options.t_end, options.dt, options.flip_link, options.stepping});
+                            {options.t_end, options.dt, options.flip_link, options.stepping,
+                             options.control});
     mark_forbidden(c, starts, options.flip_link, times);
     return times;
   }
@@ -970,9 +1049,13 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
     // Gauss–Legendre's Lyapunov exponents come from its tangent map (the derivative of each
     // step, lyapunov.cpp), which the lanes do not have: cell by cell.
     if (k == nullptr || is_gauss_legendre(options.stepping.stepper))
-      return cell_by_cell(starts, m, [&](std::span<const double> x0) {
-        return maximal_lyapunov_exponent(c, x0, lo).exponents.front();
-      });
+      return cell_by_cell(
+          starts, m,
+          [&](std::span<const double> x0) {
+            const lyapunov_result r = maximal_lyapunov_exponent(c, x0, lo);
+            return r.stopped ? std::numeric_limits<double>::quiet_NaN() : r.exponents.front();
+          },
+          options.control);
     check_starts("");
     if (options.stepping.stepper == stepper_kind::dopri5)
       lyapunov_on_dopri5_lanes(*k, c, starts, all_cells(out.size()), lo, out);
@@ -980,20 +1063,20 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
       lyapunov_on_lanes(*k, c, starts, all_cells(out.size()), lo, out);
   } else if (is_indicator(options.quantity)) {
     if (k == nullptr)
-      return cell_by_cell(starts, m, [&](std::span<const double> x0) {
-        return indicator_cell(c, x0, options);
-      });
+      return cell_by_cell(
+          starts, m, [&](std::span<const double> x0) { return indicator_cell(c, x0, options); },
+          options.control);
     check_starts("chaos indicators: ");
     const auto pick = [&](const chaos_indicator_sample& sample) {
       return indicator_value(options.quantity, sample);
     };
     indicators_on_lanes(*k, c, starts, all_cells(out.size()), options.t_end, options.dt,
-                        indicator_vectors(c, options), pick, out);
+                        indicator_vectors(c, options), options.control, pick, out);
   } else {
     if (k == nullptr)
-      return cell_by_cell(starts, m, [&](std::span<const double> x0) {
-        return final_coordinate(c, x0, options);
-      });
+      return cell_by_cell(
+          starts, m, [&](std::span<const double> x0) { return final_coordinate(c, x0, options); },
+          options.control);
     if (options.stepping.stepper == stepper_kind::dopri5) {
       final_coordinates_on_dopri5_lanes(*k, c, starts, all_cells(out.size()), options, out);
     } else {
@@ -1004,7 +1087,7 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
       // Cells a Gauss–Legendre lane could not solve: the library's Newton iteration.
       by_library(starts, m, failed,
                  [&](std::span<const double> x0) { return final_coordinate(c, x0, options); },
-                 out);
+                 out, options.control);
     }
   }
   return out;

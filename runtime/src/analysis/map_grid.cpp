@@ -192,6 +192,18 @@ map_axis make_map_axis(std::string_view name, double from, double to, int count,
   if (count < 1 || count > 16384)
     throw std::invalid_argument(
         fmt::format("{}: the count must be a whole number 1..16384, got {}", name, count));
+  // The values are from + (to - from) i / (count - 1): an increasing axis whose width is a
+  // finite number (-1e308..1e308 overflows to inf, and the cells' values to NaN).
+  if (from > to)
+    throw std::invalid_argument(
+        fmt::format("{}: FROM {} is above TO {}; the values must increase", name, from, to));
+  if (from == to && count > 1)
+    throw std::invalid_argument(fmt::format(
+        "{}: FROM = TO = {} would repeat one value {} times; give a range or COUNT 1", name,
+        from, count));
+  if (!std::isfinite(to - from))
+    throw std::invalid_argument(fmt::format(
+        "{}: the range {}..{} is too wide: TO - FROM overflows a double", name, from, to));
   a.from = from;
   a.to = to;
   a.count = count;
@@ -263,6 +275,7 @@ std::vector<double> map_grid_values(const map_grid& grid, std::span<const int> c
   for (std::size_t k = 0; k < cells_i.size(); ++k)
     groups[{x_moves ? cells_i[k] : 0, y_moves ? cells_j[k] : 0}].cells.push_back(k);
   for (auto& [key, g] : groups) {
+    if (stop_requested(options.control)) break;  // the rest stay NaN
     const chain c(cell_parameters(grid, key.first, key.second));
     std::vector<std::size_t> reachable;
     for (const std::size_t k : g.cells) {

@@ -11,6 +11,7 @@
 #include "npend/analysis/chaos_indicators.hpp"
 #include "npend/analysis/lyapunov.hpp"
 #include "npend/chain.hpp"
+#include "npend/run_control.hpp"
 #include "npend/stepper_kind.hpp"
 
 namespace npend {
@@ -52,6 +53,10 @@ struct flip_options {
   double dt = 0.01;    ///< rk4's step (s); dopri5's first trial step
   int link = 0;        ///< 0: any arm; k ≥ 1: arm k only
   map_stepping stepping = {};
+  /// Polled for a stop request inside each cell's steps (may be null). Once it asks to
+  /// stop, the cells not yet finished end at once as NaN: the caller, who asked, drops the
+  /// values. Only stop_requested() is called, from every thread that runs cells at once.
+  run_control* control = nullptr;
 };
 
 /// The time (s) at which an arm (or arm `link`) of the chain started at x0 first passes the
@@ -61,10 +66,12 @@ struct flip_options {
 /// step's two ends — reaches ±π, found on its monotone pieces by bisection down to adjacent
 /// doubles; as accurate as the trajectory (O(dt⁴)). With dopri5: by bisection on the
 /// stepper's dense output. An arm that passes π and falls back within one step is missed.
-/// +inf if it does not by t_end, or if energy_forbids_flip (then without integrating).
-/// Throws std::invalid_argument for bad options, npend::integration_error if the state
-/// becomes non-finite (or dopri5's step collapses) or if the energy at the end of the flip's
-/// step is off by more than flip_energy_tolerance (the flip is then an artefact).
+/// +inf if it does not by t_end, or if energy_forbids_flip (then without integrating); NaN if
+/// options.control asked to stop first. Throws std::invalid_argument for bad options (also
+/// more than 2^53 steps of dt up to t_end, too many to count exactly) or a non-conservative
+/// chain, npend::integration_error if the state becomes non-finite (or dopri5's step
+/// collapses) or if the energy at the end of the flip's step is off by more than
+/// flip_energy_tolerance (the flip is then an artefact).
 double flip_time(const chain& c, std::span<const double> x0, const flip_options& options);
 
 /// flip_time of many start states at once: `starts` holds count = starts.size() / 2n states,
@@ -123,9 +130,13 @@ struct map_cell_options {
   int gali_order = 0;
   /// state: which coordinate of the final state, 0..2n-1 ([φ, p]; angles not wrapped).
   int component = 0;
+  /// Polled for a stop request inside each cell's steps, as flip_options::control: once it
+  /// asks to stop, the cells not yet finished are NaN (may be null).
+  run_control* control = nullptr;
 
   /// Throws std::invalid_argument naming the problem with these options for chain `c` (as
-  /// map_cell would on its first cell): dt or t_end, an arm that does not exist, a chain a
+  /// map_cell would on its first cell): dt or t_end (also more than 2^53 steps of dt up to
+  /// t_end, too many to count exactly), an arm that does not exist, a chain a
   /// flip map cannot take (see energy_forbids_flip). For callers that run cells where an
   /// exception cannot leave (threads).
   void validate(const chain& c) const;

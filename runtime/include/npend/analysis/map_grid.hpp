@@ -42,7 +42,8 @@ struct map_axis {
 
 /// The axis `name` (see map_axis::name) of an n-link chain with `count` values from `from` to
 /// `to`, both included. Throws std::invalid_argument naming the valid names, or for a count
-/// outside 1..16384 or a bound that is not finite.
+/// outside 1..16384, a bound that is not finite, from > to, from = to with count > 1, or
+/// bounds whose difference overflows.
 map_axis make_map_axis(std::string_view name, double from, double to, int count, int links);
 
 /// A map's grid: the chain and start that every cell shares, and the two axes that vary.
@@ -81,8 +82,9 @@ map_start map_cell_start(const map_grid& grid, int i, int j);
 
 /// The map's value at cell (i, j) for each (i, j) in `cells`, as map_cells computes them
 /// (cells with the same chain together, so that they run on the batch lanes together);
-/// NaN where the energy rules the cell out (map_cell_forbidden) or the integration fails.
-/// Throws std::invalid_argument as map_cells.
+/// NaN where the energy rules the cell out (map_cell_forbidden) or the integration fails,
+/// and every cell not finished once options.control asks to stop. Throws
+/// std::invalid_argument as map_cells.
 std::vector<double> map_grid_values(const map_grid& grid, std::span<const int> cells_i,
                                     std::span<const int> cells_j, const map_cell_options& options);
 
