@@ -68,8 +68,12 @@ TEST_CASE("average_mutual_information: independent samples share almost no infor
   for (std::size_t k = 1; k <= 5; ++k) CHECK(ami.information[k] < 0.02);
 }
 
-TEST_CASE("average_mutual_information: the first minimum of a sine is near a quarter period") {
-  const auto ami = average_mutual_information(sine(), sine_dt, 400);
+TEST_CASE("average_mutual_information: the averaged estimate's first minimum of a sine is near a quarter period") {
+  // A sine's pairs lie on a curve, and a single histogram's I(tau) zigzags from lag to lag by
+  // more than it falls (TISEAN's estimate, the default, finds its first dip at 0.107 s here):
+  // the averaged shifted histograms smooth that out.
+  const auto ami = average_mutual_information(
+      sine(), sine_dt, 400, {.estimator = mutual_information_estimator::averaged});
   REQUIRE(ami.first_minimum);
   // Pairs in quadrature lie on a circle: the least dependence a sine's pairs show.
   CHECK(*ami.first_minimum == doctest::Approx(pi / 2 / sine_omega).epsilon(0.1));
@@ -87,7 +91,9 @@ TEST_CASE("choose_delay: each method on a sine") {
   CHECK(zero.estimate == doctest::Approx(quarter).epsilon(0.01));
   const auto minimum = choose_delay(x, sine_dt, delay_method::acf_minimum);
   CHECK(minimum.estimate == doctest::Approx(2 * quarter).epsilon(0.01));
-  const auto automatic = choose_delay(x, sine_dt);
+  // The averaged estimate (on a sine the default single histogram zigzags: see above).
+  const auto automatic = choose_delay(x, sine_dt, delay_method::automatic,
+                                      {.estimator = mutual_information_estimator::averaged});
   REQUIRE(automatic.found);
   CHECK(automatic.method == delay_method::mutual_information);
   CHECK(automatic.estimate == doctest::Approx(quarter).epsilon(0.1));
@@ -98,7 +104,9 @@ TEST_CASE("choose_delay: each method on a sine") {
 
 TEST_CASE("false_nearest_neighbours: a sine embeds in 2 dimensions") {
   const auto x = sine();
-  const std::size_t tau = choose_delay(x, sine_dt).samples;
+  // A quarter period, the delay that puts a sine's delay vectors on a circle (the single
+  // histogram's mutual information, the default, zigzags on a sine: see above).
+  const std::size_t tau = choose_delay(x, sine_dt, delay_method::quarter_period).samples;
   const auto fnn = false_nearest_neighbours(x, tau, 5, {.theiler_window = tau});
   REQUIRE(fnn.found);
   CHECK(fnn.dimension == 2);
