@@ -1,5 +1,7 @@
 #include "time_series_source.hpp"
 
+#include "input_file.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -137,9 +139,7 @@ time_series select_signal(const sampled_signals& signals, std::string_view selec
 }
 
 std::string read_text_file(const std::string& path, std::string_view option) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw input_error(fmt::format("{}: cannot read '{}': {}", option, path, std::strerror(errno)));
+  std::ifstream in = open_input_file(path, option);
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw input_error(fmt::format("{}: cannot read '{}'", option, path));
