@@ -528,6 +528,12 @@ void write_tile(const map_run& run, int index, const std::vector<double>& values
 
 std::vector<double> read_tile(const map_run& run, int index) {
   const fs::path path = run.tile_path(index);
+  // A folder opens, and fails on the first read with a message about stream buffers.
+  std::error_code ec;
+  if (fs::is_directory(path, ec))
+    throw cli::input_error(fmt::format(
+        "tile {} is a directory, not a tile file; remove it and finish with --resume",
+        path.string()));
   std::ifstream in(path, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!in) throw std::runtime_error(fmt::format("tile {} cannot be read", path.string()));
@@ -730,6 +736,8 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
     for (int j = b.y0; j < b.y1; ++j)
       for (int i = b.x0; i < b.x1; ++i) cell(i, j) = values[k++];
   }
+  // The result files all or none (the tiles stay for --resume until they are in place).
+  cli::output_batch batch;
   const std::string header = npy_header(ay.count, ax.count);
   cli::write_file_atomically(run.dir / "map.npy", header + bytes_of(grid));
   const bool small = static_cast<long>(ax.count) * ay.count <= max_csv_cells;
@@ -794,6 +802,7 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
   summary["wall_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   cli::write_file_atomically(run.dir / "map.json", summary.dump(2) + "\n");
+  batch.commit_all();
   fs::remove_all(run.tiles(), ec);
   return summary;
 }
