@@ -23,10 +23,12 @@ constexpr std::string_view panel_defaults =
     "set mxtics; set mytics\n";
 
 // Runs gnuplot in `dir` on `script`, fed through its stdin; a failure to start it at all (no
-// pipe, no fork) comes back as status -1 with the reason, like a failed run.
+// pipe, no fork) comes back as status -1 with the reason, like a failed run. Named as the
+// file /dev/stdin, the script is loaded as a file is: gnuplot stops at the first error and
+// names it last (reading plain stdin it would go on, and end with some later line).
 program_result run_gnuplot(const std::filesystem::path& dir, const std::string& script) {
   try {
-    child_process gnuplot({"gnuplot"}, dir, true);
+    child_process gnuplot({"gnuplot", "/dev/stdin"}, dir, true);
     gnuplot.write(script);
     return gnuplot.finish();
   } catch (const std::runtime_error& e) {
