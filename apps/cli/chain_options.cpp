@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "input_file.hpp"
 #include "input_parsing.hpp"
 
 namespace npend::cli {
@@ -123,8 +124,7 @@ std::string option_text(const nlohmann::json& value, const std::string& key) {
 
 chain_options chain_options::with_file() const {
   if (chain_file.empty()) return *this;
-  std::ifstream in(chain_file);
-  if (!in) throw input_error(fmt::format("--chain: cannot read '{}'", chain_file));
+  std::ifstream in = open_input_file(chain_file, "--chain");
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(in);

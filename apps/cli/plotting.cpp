@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <stdexcept>
-#include <system_error>
 
 #include "child_process.hpp"
 #include "output_file.hpp"
@@ -23,12 +22,15 @@ constexpr std::string_view panel_defaults =
     "set tics nomirror out\n"
     "set mxtics; set mytics\n";
 
-// Runs `gnuplot -e "npend_output='<png>'" <script>` in `dir`; a failure to start it at all
-// (no pipe, no fork) comes back as status -1 with the reason, like a failed run.
-program_result run_gnuplot(const std::filesystem::path& dir, const std::string& script,
-                           const std::string& png) {
+// Runs gnuplot in `dir` on `script`, fed through its stdin; a failure to start it at all (no
+// pipe, no fork) comes back as status -1 with the reason, like a failed run. Named as the
+// file /dev/stdin, the script is loaded as a file is: gnuplot stops at the first error and
+// names it last (reading plain stdin it would go on, and end with some later line).
+program_result run_gnuplot(const std::filesystem::path& dir, const std::string& script) {
   try {
-    return run_program({"gnuplot", "-e", "npend_output=" + gnuplot_string(png), script}, dir);
+    child_process gnuplot({"gnuplot", "/dev/stdin"}, dir, true);
+    gnuplot.write(script);
+    return gnuplot.finish();
   } catch (const std::runtime_error& e) {
     return {-1, e.what()};
   }
@@ -99,17 +101,25 @@ plot_outcome write_plot(const std::filesystem::path& stem, const figure& f) {
   const std::filesystem::path png = stem.string() + ".png";
   write_file_atomically(script, gnuplot_script(f, png.filename().string()));
   const auto dir = script.has_parent_path() ? script.parent_path() : std::filesystem::path(".");
-  const auto temporary = temporary_sibling(png);
-  const signal_cleanup cleanup(temporary);
+  // gnuplot renders the kept script, reading each data file by the name it has now: in an
+  // output_batch that is still its temporary name (as the script's is, so it goes by stdin).
+  figure rendered = f;
+  for (auto& panel : rendered.panels)
+    for (auto& curve : panel.curves) {
+      const std::filesystem::path data(curve.data);
+      curve.data =
+          (data.parent_path() / output_batch::readable_name(dir / data).filename()).string();
+    }
+  atomic_output_file image(png);
   const program_result run =
-      run_gnuplot(dir, script.filename().string(), temporary.filename().string());
+      run_gnuplot(dir, gnuplot_script(rendered, image.temporary_path().filename().string()));
   const int status = run.status;
-  std::error_code ec;
-  if (status == 0 && std::filesystem::file_size(temporary, ec) > 0 && !ec) {
-    std::filesystem::rename(temporary, png, ec);
-    if (!ec) return {true, fmt::format("plot: {} (from {})", png.string(), script.string())};
+  if (status == 0) {
+    // A full disk or the file-size limit cuts the PNG short while gnuplot exits with 0.
+    check_written_image(image.temporary_path(), png, image_format::png);
+    image.commit();
+    return {true, fmt::format("plot: {} (from {})", png.string(), script.string())};
   }
-  std::filesystem::remove(temporary, ec);
   if (status == 127)
     return {false, fmt::format("gnuplot is not installed: the data and {} are written; render "
                                "the plot later with `gnuplot {}` in {}",

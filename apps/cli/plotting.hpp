@@ -49,7 +49,8 @@ struct plot_outcome {
 /// Writes stem.gp (atomically), then runs gnuplot in its folder to render stem.png (into a
 /// temporary file renamed into place). A missing gnuplot or a failed run is reported in the
 /// outcome, never thrown: the data and the script stay, and the user can render later.
-/// Throws std::runtime_error only if the script cannot be written.
+/// Throws std::runtime_error if the script cannot be written, or if gnuplot ends with
+/// status 0 but the PNG is missing or cut short (a full disk, the file-size limit).
 plot_outcome write_plot(const std::filesystem::path& stem, const figure& f);
 
 /// `text` as a gnuplot double-quoted string literal.

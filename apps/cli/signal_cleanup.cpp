@@ -10,7 +10,7 @@ namespace npend::cli {
 
 namespace {
 
-constexpr int slot_count = 64;
+constexpr int slot_count = 256;  // npend demo keeps its whole set of files pending
 constexpr std::size_t path_capacity = 4096;
 
 // Plain arrays, so that the handler only reads memory and calls unlink (async-signal-safe).
@@ -35,6 +35,13 @@ void remove_temporaries_on_signal() {
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
+  // Beyond the file-size limit (ulimit -f) SIGXFSZ would kill the process at once, leaving
+  // its temporary files; ignored, the write fails with EFBIG and is reported like a full
+  // disk. gnuplot and ffmpeg inherit this, and the files they write are checked.
+  struct sigaction ignore {};
+  ignore.sa_handler = SIG_IGN;
+  sigemptyset(&ignore.sa_mask);
+  sigaction(SIGXFSZ, &ignore, nullptr);
 }
 
 signal_cleanup::signal_cleanup(const std::filesystem::path& path) noexcept : m_slot(-1) {

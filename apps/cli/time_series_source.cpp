@@ -1,5 +1,7 @@
 #include "time_series_source.hpp"
 
+#include "input_file.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -162,10 +164,11 @@ std::string read_text_file(const std::string& path, std::string_view option,
                            std::size_t max_bytes) {
   std::error_code error;
   if (std::filesystem::is_directory(path, error))
-    throw input_error(fmt::format("{}: '{}' is a directory", option, path));
+    throw input_error(fmt::format("{}: '{}' is a directory, not a file", option, path));
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0)
     throw input_error(fmt::format("{}: cannot read '{}': {}", option, path, std::strerror(errno)));
+  note_input_file(path, option);
   struct closer {
     int fd;
     ~closer() { ::close(fd); }

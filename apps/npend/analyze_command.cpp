@@ -101,6 +101,8 @@ int run_analyze(const analyze_options& o) {
   const std::string event_what =
       fmt::format("{} ({})", event, cli::direction_name(options.event_direction));
   figure_folder folder(dir, "npend analyze: ", " of " + x.source);
+  // Every file or none: the figures, their data and the index appear together at the end.
+  cli::output_batch batch;
   const double duration = x.dt * static_cast<double>(x.values.size() - 1);
   folder.add("series", "Time series",
              fmt::format("{}(t) over the {} samples analysed below (dt = {:g} s). Regular motion "
@@ -227,6 +229,7 @@ int run_analyze(const analyze_options& o) {
   notes.insert(notes.end(), folder.notes().begin(), folder.notes().end());
   folder.index() = {title, preamble, facts, folder.index().entries, notes};
   const fs::path index = folder.write_index();
+  batch.commit_all();
   const std::vector<std::string>& files = folder.files();
   for (const auto& note : notes) fmt::print(stderr, "note: {}\n", note);
 

@@ -37,9 +37,11 @@ animation_style make_style(const animate_options& o, video_format format) {
   return style;
 }
 
-// An output file created up front, so that a bad path fails before the work.
+// An output file created up front, so that a bad path (or one the other output names too)
+// fails before the work.
 void open_output(std::optional<cli::atomic_output_file>& file, const std::string& path,
                  std::string_view option) {
+  cli::claim_output(path, option);
   try {
     file.emplace(path);
   } catch (const std::runtime_error& e) {
@@ -81,8 +83,7 @@ int run_animate(const animate_options& o) {
     return control.exit_code();
   }
   if (csv) {
-    const std::string table = frames_csv(motion);
-    std::fwrite(table.data(), 1, table.size(), csv->stream());
+    csv->write(frames_csv(motion));
     csv->commit();
   }
   fmt::print("{}: {} frames at {:g} fps, {}x{} px, t = 0 .. {:g} s\n", o.out, frames, style.fps,

@@ -93,8 +93,8 @@ std::string frames_csv(const sampled_motion& motion);
 /// requests go through `control` (may be null).
 ///
 /// Returns false, having committed nothing, when `control` asked to stop. Throws
-/// std::runtime_error when gnuplot or ffmpeg fails (naming the tool and its reason) or the
-/// output cannot be written.
+/// std::runtime_error when gnuplot or ffmpeg fails (naming the tool and its reason), or the
+/// output cannot be written or comes out incomplete (cli::check_written_image).
 bool render_animation(const chain& c, const sampled_motion& motion, const animation_style& style,
                       video_format format, cli::atomic_output_file& file, run_control* control);
 

@@ -28,6 +28,8 @@ std::string add_demo_animation(figure_folder& folder, const chain& c, std::span<
     require_animation_tools(video_format::gif);
     cli::atomic_output_file file(gif);
     drawn = drawn && render_animation(c, motion, style, video_format::gif, file, &control);
+  } catch (const cli::write_error&) {
+    throw;  // a full disk is not a missing tool: the demo fails
   } catch (const std::runtime_error& e) {
     folder.index().notes.push_back(
         fmt::format("{} not drawn: {}", gif.filename().string(), e.what()));

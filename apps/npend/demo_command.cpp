@@ -42,12 +42,15 @@ namespace {
 int run_demo(const std::string& out) {
   // A bad --out fails before anything is computed.
   const demo_context demo{chain(chain_parameters::uniform(3)), cli::output_folder(out, "--out")};
+  // Every file or none: an interrupted or failed demo leaves no half set of figures.
+  cli::output_batch batch;
   fmt::print("# npend demo: the planar triple pendulum (m = 1 kg, l = 1 m, g = 9.81 m/s^2)\n\n");
   demo_equations(demo);
   demo_motion(demo);
   demo_stability(demo);
   demo_forms_of_motion(demo);
   demo_physical(demo);
+  batch.commit_all();
   return 0;
 }
 

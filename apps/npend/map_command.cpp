@@ -549,6 +549,12 @@ struct tile_contents {
 
 tile_contents load_tile(const map_run& run, int index) {
   const fs::path path = run.tile_path(index);
+  // A folder opens, and fails on the first read with a message about stream buffers.
+  std::error_code ec;
+  if (fs::is_directory(path, ec))
+    throw cli::input_error(fmt::format(
+        "tile {} is a directory, not a tile file; remove it and finish with --resume",
+        path.string()));
   std::ifstream in(path, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!in) return {{}, fmt::format("tile {} cannot be read", path.string())};
@@ -861,6 +867,8 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
       for (int i = b.x0; i < b.x1; ++i) cell(i, j) = values[k++];
   }
   stop_if_interrupted();
+  // The result files all or none (the tiles stay for --resume until they are in place).
+  cli::output_batch batch;
   const std::string header = npy_header(ay.count, ax.count);
   cli::write_file_atomically(run.dir / "map.npy", header + bytes_of(grid));
   const bool small = static_cast<long>(ax.count) * ay.count <= max_csv_cells;
@@ -926,6 +934,7 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   stop_if_interrupted();
   cli::write_file_atomically(run.dir / "map.json", summary.dump(2) + "\n");
+  batch.commit_all();
   remove_own_tiles(run);
   return summary;
 }

@@ -10,6 +10,7 @@
 #include "command.hpp"
 #include "input_parsing.hpp"
 #include "npend/analysis/hanging_chain.hpp"
+#include "output_file.hpp"
 #include "series_output.hpp"
 
 namespace npend::app {
@@ -153,6 +154,8 @@ int run_rope(const rope_command_options& o) {
   require_positive(o.mass, "--mass", "the rope's total mass in kg");
   require_positive(o.g, "--g", "m/s^2");
   series_output files(o.out);
+  // Every file or none: the CSVs, the script and the plot appear together at the end.
+  cli::output_batch batch;
 
   std::vector<double> rope;
   for (int k = 1; k <= o.modes; ++k) rope.push_back(rope_frequency(k, o.length, o.g));
@@ -169,6 +172,7 @@ int run_rope(const rope_command_options& o) {
   }
   const std::vector<double> order = convergence_order(chains, o.modes);
   if (files.enabled()) write_files(files, o, chains, o.modes);
+  batch.commit_all();
 
   if (o.json) {
     nlohmann::json j{{"length", o.length}, {"mass", o.mass}, {"g", o.g}, {"modes", o.modes}};

@@ -1,7 +1,9 @@
 // npend simulate: integrate a chain from a start state and write the trajectory as CSV.
 #include <fmt/format.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <iterator>
 #include <nlohmann/json.hpp>
@@ -46,9 +48,11 @@ std::size_t parse_every(const std::string& text) {
 // `tensions` the rod tensions τ_i.
 class csv_writer {
  public:
-  csv_writer(const chain& c, std::FILE* stream, bool tensions)
+  // `name`: the file for messages ("stdout" for the stream of that name).
+  csv_writer(const chain& c, std::FILE* stream, std::string name, bool tensions)
       : m_chain(c),
         m_stream(stream),
+        m_name(std::move(name)),
         m_xy(static_cast<std::size_t>(2 * c.links())),
         m_tau(tensions ? static_cast<std::size_t>(c.links()) : 0) {}
 
@@ -80,14 +84,20 @@ class csv_writer {
     if (m_buffer.size() > (1u << 16)) flush();
   }
 
+  // A failed write (a full disk, the file-size limit) ends the run at once, with its reason:
+  // the stream's error flag alone would only show at the end, with errno long overwritten.
   void flush() {
-    std::fwrite(m_buffer.data(), 1, m_buffer.size(), m_stream);
+    errno = 0;
+    if (std::fwrite(m_buffer.data(), 1, m_buffer.size(), m_stream) != m_buffer.size())
+      throw cli::write_error(fmt::format("writing {} failed: {}", m_name,
+                                         errno != 0 ? std::strerror(errno) : "disk full?"));
     m_buffer.clear();
   }
 
  private:
   const chain& m_chain;
   std::FILE* m_stream;
+  std::string m_name;
   std::vector<double> m_xy, m_tau;
   std::string m_buffer;
 };
@@ -113,6 +123,7 @@ int run_simulate(const simulate_options& o) {
   options.control = &control;
   std::optional<cli::atomic_output_file> file;
   if (!o.out.empty()) {
+    cli::claim_output(o.out, "--out");
     try {
       file.emplace(o.out);
     } catch (const std::runtime_error& e) {
@@ -122,9 +133,9 @@ int run_simulate(const simulate_options& o) {
   // CSV to the file, or to stdout unless only the --json summary was asked for.
   std::optional<csv_writer> csv;
   if (file)
-    csv.emplace(c, file->stream(), o.tensions);
+    csv.emplace(c, file->stream(), fmt::format("'{}'", o.out), o.tensions);
   else if (!o.json)
-    csv.emplace(c, stdout, o.tensions);
+    csv.emplace(c, stdout, "stdout", o.tensions);
   if (csv) csv->header();
 
   // Damping, a moving pivot and a controller's torques all change H.

@@ -211,7 +211,7 @@ TEST_CASE("read_text_file: a directory, more than the cap, binary data at once")
   const auto dir = std::filesystem::temp_directory_path() / "npend-read-text-file";
   std::filesystem::create_directories(dir);
   CHECK(error_of([&] { npend::cli::read_text_file(dir.string(), "--input"); }) ==
-        "--input: '" + dir.string() + "' is a directory");
+        "--input: '" + dir.string() + "' is a directory, not a file");
   const auto big = (dir / "big.csv").string();
   {
     std::ofstream out(big);
