@@ -9,6 +9,7 @@
 
 #include "npend/chain_system.hpp"
 #include "npend/gauss_legendre.hpp"
+#include "npend/integration_error.hpp"
 
 namespace npend {
 
@@ -34,7 +35,18 @@ floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
   const auto system = make_implicit_system(c);
   const double dt = period / options.steps;
   for (int k = 0; k < options.steps; ++k) {
-    stepper.do_step_with_tangent(system, x, k * dt, dt, tangent);
+    try {
+      stepper.do_step_with_tangent(system, x, k * dt, dt, tangent);
+    } catch (const integration_error& e) {
+      // The step is the period over the steps: the stepper's "try a smaller dt" means more
+      // steps here.
+      std::string what = e.what();
+      const std::string hint = "; try a smaller dt";
+      if (what.size() >= hint.size() && what.ends_with(hint)) what.resize(what.size() - hint.size());
+      throw integration_error(
+          fmt::format("{}; try more steps per period (--steps, now {})", what, options.steps),
+          e.time());
+    }
     if (report_progress(options.control, k + 1, options.steps)) {
       r.stopped = true;
       return r;
