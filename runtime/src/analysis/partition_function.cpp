@@ -237,8 +237,7 @@ partition_result canonical_ensemble(const chain& c, std::span<const double> temp
   if (!(options.boltzmann > 0) || !std::isfinite(options.boltzmann))
     throw std::invalid_argument(fmt::format(
         "partition function: Boltzmann's constant must be positive, got {}", options.boltzmann));
-  const bool grid = options.rule == partition_rule::trapezoid ||
-                    (options.rule == partition_rule::automatic && c.links() <= 3);
+  const bool grid = chosen_partition_rule(options.rule, c.links()) == partition_rule::trapezoid;
   return grid ? trapezoid(c, temperatures, options) : quasi_monte_carlo(c, temperatures, options);
 }
 
