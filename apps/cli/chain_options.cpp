@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "input_file.hpp"
 #include "input_parsing.hpp"
@@ -29,6 +30,9 @@ void chain_options::add_to(CLI::App& command, bool links_required) {
   command.add_flag("--rods", rods,
                    "Physical chain: uniform rods, c = l/2 and J = m l^2/12 (instead of --com and "
                    "--inertia)");
+  command.add_flag("--no-rods", no_rods,
+                   "Physical chain: not uniform rods, whatever --chain FILE says (the command "
+                   "line overrides the file)");
   command.add_option("--stiffness", stiffness,
                      "Physical chain: torsion spring k_j at joint j in N m/rad on the joint angle "
                      "phi_j - phi_(j-1) (default: 0)");
@@ -106,17 +110,102 @@ const char* refusal_reason(model_support support) {
   }
 }
 
-// A JSON number or list of numbers as the text the command-line option would carry.
-std::string option_text(const nlohmann::json& value, const std::string& key) {
+// The keys of --chain FILE.json that hold per-link values (a number for every link, or a list
+// of one per link), with their options and symbols.
+struct list_key {
+  const char* key;
+  std::string chain_options::*member;
+  const char* symbol;
+};
+constexpr const char* known_keys =
+    "links, masses, lengths, g, com, inertia, rods, stiffness, rest_angles, damping, pivot";
+
+const std::vector<list_key>& list_keys() {
+  static const std::vector<list_key> keys{{"masses", &chain_options::masses, "m"},
+                                          {"lengths", &chain_options::lengths, "l"},
+                                          {"com", &chain_options::com, "c"},
+                                          {"inertia", &chain_options::inertia, "J"},
+                                          {"stiffness", &chain_options::stiffness, "k"},
+                                          {"rest_angles", &chain_options::rest_angles, "theta"},
+                                          {"damping", &chain_options::damping, "b"}};
+  return keys;
+}
+
+const list_key* find_list_key(const std::string& key) {
+  for (const auto& k : list_keys())
+    if (key == k.key) return &k;
+  return nullptr;
+}
+
+// What a key's value must be, for the message that refuses another.
+std::string expected_value(const std::string& key) {
+  if (key == "links") return "must be a whole number";
+  if (key == "rods") return "must be true or false";
+  if (key == "pivot") return "must be a string such as \"vertical:0.01:100\"";
+  if (key == "g") return "must be a number";
+  return "must be a number or a list of numbers";
+}
+
+// The file's JSON object, read with its checks made while parsing: a key given twice, an
+// unknown key, a list nested in a list and a list longer than the link count are refused as
+// soon as they are read (a long list costs no more than its first n + 1 items).
+nlohmann::json parse_chain_json(std::istream& in, const std::string& file, int links) {
+  std::set<std::string> seen;
+  std::string key;     // the top-level key being read
+  std::size_t items = 0;  // items read of its list
+  const auto error = [&](const std::string& what) {
+    return input_error(fmt::format("--chain {}: {}", file, what));
+  };
+  using event = nlohmann::json::parse_event_t;
+  const nlohmann::json::parser_callback_t check = [&](int depth, event e, nlohmann::json& parsed) {
+    if (depth == 0 && e != event::object_start && e != event::object_end)
+      throw error("the file must hold one JSON object");
+    if (depth == 1 && e == event::key) {
+      key = parsed.get<std::string>();
+      if (key != "links" && key != "rods" && key != "pivot" && key != "g" &&
+          find_list_key(key) == nullptr)
+        throw error(fmt::format("unknown key \"{}\" (known: {})", key, known_keys));
+      if (!seen.insert(key).second) throw error(fmt::format("\"{}\" is given twice", key));
+      items = 0;
+    } else if (depth == 1 && e == event::object_start) {
+      throw error(fmt::format("\"{}\" {}", key, expected_value(key)));
+    } else if (depth == 1 && e == event::array_start && find_list_key(key) == nullptr) {
+      throw error(fmt::format("\"{}\" {}", key, expected_value(key)));
+    } else if (depth >= 2 && (e == event::object_start || e == event::array_start)) {
+      throw error(fmt::format("\"{}\" {}", key, expected_value(key)));
+    } else if (depth == 2 && e == event::value && ++items > static_cast<std::size_t>(links)) {
+      const list_key* k = find_list_key(key);
+      throw error(fmt::format(
+          "\"{}\": expected {} values ({}_1..{}_{}) or one number for all links, got a longer list",
+          key, links, k->symbol, k->symbol, links));
+    }
+    return true;
+  };
+  try {
+    return nlohmann::json::parse(in, check);
+  } catch (const nlohmann::json::exception& e) {
+    throw error(fmt::format("not valid JSON ({})", e.what()));
+  }
+}
+
+// A JSON number, or a list of n numbers, as the text the command-line option would carry.
+std::string option_text(const nlohmann::json& value, const list_key& k, int links,
+                        const std::string& file) {
   const auto number = [&](const nlohmann::json& v) {
     if (!v.is_number())
-      throw input_error(fmt::format("--chain: \"{}\" must be a number or a list of numbers", key));
+      throw input_error(fmt::format("--chain {}: \"{}\" must be a number or a list of numbers",
+                                    file, k.key));
     return fmt::format("{}", v.get<double>());
   };
   if (!value.is_array()) return number(value);
+  // A list has one value per link; one number (not a list of one) stands for all links.
+  if (value.size() != static_cast<std::size_t>(links))
+    throw input_error(fmt::format(
+        "--chain {}: \"{}\": expected {} values ({}_1..{}_{}) or one number for all links, got a "
+        "list of {}",
+        file, k.key, links, k.symbol, k.symbol, links, value.size()));
   std::string out;
   for (const auto& v : value) out += (out.empty() ? "" : ",") + number(v);
-  if (out.empty()) throw input_error(fmt::format("--chain: \"{}\" is an empty list", key));
   return out;
 }
 
@@ -125,63 +214,59 @@ std::string option_text(const nlohmann::json& value, const std::string& key) {
 chain_options chain_options::with_file() const {
   if (chain_file.empty()) return *this;
   std::ifstream in = open_input_file(chain_file, "--chain");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw input_error(fmt::format("--chain: '{}' is not valid JSON ({})", chain_file, e.what()));
-  }
-  if (!j.is_object())
-    throw input_error(fmt::format("--chain: '{}' must hold one JSON object", chain_file));
+  const nlohmann::json j = parse_chain_json(in, chain_file, links);
+  const auto error = [&](const std::string& what) {
+    return input_error(fmt::format("--chain {}: {}", chain_file, what));
+  };
   chain_options merged = *this;
   // Each key fills its option unless the command line gave that option.
-  const std::pair<const char*, std::string chain_options::*> lists[] = {
-      {"masses", &chain_options::masses},
-      {"lengths", &chain_options::lengths},
-      {"g", &chain_options::g},
-      {"com", &chain_options::com},
-      {"inertia", &chain_options::inertia},
-      {"stiffness", &chain_options::stiffness},
-      {"rest_angles", &chain_options::rest_angles},
-      {"damping", &chain_options::damping}};
   for (const auto& [key, value] : j.items()) {
-    bool known = false;
-    for (const auto& [name, member] : lists)
-      if (key == name) {
-        known = true;
-        if ((merged.*member).empty()) merged.*member = option_text(value, key);
-      }
-    if (key == "links") {
-      known = true;
-      if (!value.is_number_integer())
-        throw input_error("--chain: \"links\" must be a whole number");
-      if (value.get<int>() != links)
-        throw input_error(
-            fmt::format("--chain: the file describes {} links, the command line asks for {}",
-                        value.get<int>(), links));
+    if (const list_key* k = find_list_key(key)) {
+      const std::string text = option_text(value, *k, links, chain_file);
+      if ((merged.*(k->member)).empty()) merged.*(k->member) = text;
+    } else if (key == "links") {
+      if (!value.is_number_integer()) throw error("\"links\" must be a whole number");
+      if (value.get<long long>() != links)
+        throw error(fmt::format("the file describes {} links, the command line asks for {}",
+                                value.dump(), links));
+    } else if (key == "g") {
+      if (!value.is_number()) throw error("\"g\" must be a number");
+      if (merged.g.empty()) merged.g = fmt::format("{}", value.get<double>());
     } else if (key == "rods") {
-      known = true;
-      if (!value.is_boolean()) throw input_error("--chain: \"rods\" must be true or false");
-      merged.rods = merged.rods || value.get<bool>();
+      if (!value.is_boolean()) throw error("\"rods\" must be true or false");
     } else if (key == "pivot") {
-      known = true;
       if (!value.is_string())
-        throw input_error("--chain: \"pivot\" must be a string such as \"vertical:0.01:100\"");
+        throw error("\"pivot\" must be a string such as \"vertical:0.01:100\"");
       if (merged.pivot.empty()) merged.pivot = value.get<std::string>();
     }
-    if (!known)
+  }
+  // "rods" stands for com and inertia: the command line's --rods overrides all three keys,
+  // its --no-rods the file's "rods", and its --com or --inertia cannot be mixed with the
+  // file's rods.
+  const bool file_rods = j.contains("rods") && j["rods"].get<bool>();
+  if (rods && no_rods) throw input_error("--rods and --no-rods exclude each other");
+  if (rods) {
+    merged.com = com;
+    merged.inertia = inertia;
+  } else if (file_rods && !no_rods) {
+    if (j.contains("com") || j.contains("inertia"))
+      throw error("\"rods\": true sets the centres of mass and inertias: leave out \"com\" and "
+                  "\"inertia\"");
+    if (!com.empty() || !inertia.empty())
       throw input_error(fmt::format(
-          "--chain: unknown key \"{}\" (known: links, masses, lengths, g, com, inertia, rods, "
-          "stiffness, rest_angles, damping, pivot)",
-          key));
+          "{}: the chain file {} has \"rods\": true, which sets the centres of mass and "
+          "inertias; add --no-rods to give them on the command line",
+          com.empty() ? "--inertia" : "--com", chain_file));
+    merged.rods = true;
   }
   merged.chain_file.clear();
   return merged;
 }
 
 chain chain_options::make_chain(model_support support, std::string_view name) const {
-  if (!chain_file.empty()) return with_file().make_chain(support, name);
   if (links < 1) throw input_error(fmt::format("--links: must be at least 1, got {}", links));
+  if (!chain_file.empty()) return with_file().make_chain(support, name);
+  if (rods && no_rods) throw input_error("--rods and --no-rods exclude each other");
   chain_parameters params = chain_parameters::uniform(links);
   if (!masses.empty()) params.masses = per_link(masses, "--masses", links, "m");
   if (!lengths.empty()) params.lengths = per_link(lengths, "--lengths", links, "l");
@@ -196,6 +281,12 @@ chain chain_options::make_chain(model_support support, std::string_view name) co
   if (!rest_angles.empty())
     params.rest_angles = per_link(rest_angles, "--rest-angles", links, "theta");
   if (!damping.empty()) params.damping = per_link(damping, "--damping", links, "b");
+  // A rest angle only shifts a spring's zero: without any spring it would be ignored.
+  if (!rest_angles.empty() &&
+      std::none_of(params.stiffness.begin(), params.stiffness.end(), [](double k) { return k > 0; }))
+    throw input_error(
+        "--rest-angles: the rest angles of the joint springs need springs: give --stiffness "
+        "(without it they change nothing)");
   if (!pivot.empty()) params.pivot = parse_pivot(pivot);
   const std::vector<std::string> refused = features_outside(params, support);
   if (!refused.empty())

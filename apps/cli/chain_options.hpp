@@ -24,6 +24,7 @@ struct chain_options {
   std::string masses, lengths, g;
   std::string com, inertia, stiffness, rest_angles, damping, pivot;
   bool rods = false;
+  bool no_rods = false;  ///< --no-rods: overrides "rods": true of a --chain file
   std::string chain_file;  ///< --chain FILE.json: the same parameters, under the JSON keys
 
   /// Adds --links (required unless `links_required` is false: for commands that can also
@@ -38,8 +39,11 @@ struct chain_options {
                    std::string_view name = "this command") const;
 
   /// These options with those of --chain FILE.json filled in where the command line left
-  /// them empty (itself without a file). Throws input_error for an unreadable file, bad
-  /// JSON, an unknown key, a value of the wrong type, or a link count other than --links.
+  /// them empty (itself without a file); --rods or --no-rods override the file's "rods",
+  /// "com" and "inertia". Throws input_error naming the file and the key for an unreadable
+  /// file, bad JSON, a key given twice, an unknown key, a value of the wrong type, a list
+  /// whose length is not the link count (refused while parsing once it is longer), or a
+  /// link count other than --links.
   chain_options with_file() const;
 };
 

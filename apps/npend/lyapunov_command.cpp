@@ -22,6 +22,7 @@
 #include "start_options.hpp"
 #include "terminal_run.hpp"
 #include "time_series_source.hpp"
+#include "work_estimate.hpp"
 
 namespace npend::app {
 
@@ -132,6 +133,36 @@ void write_files(series_output& files, const lyapunov_result& r, const chain& c,
        .panels = {panel}});
 }
 
+// What the run will cost, before it starts: integrating k tangent vectors of dimension d = 2n
+// along the trajectory, and re-orthonormalising them. Gauss–Legendre (s stages) solves its
+// implicit stages with dense (s d) x (s d) Newton matrices, O(d³) per step whatever k; the
+// explicit steppers evaluate J W per stage, O(n k) on the loop kernels (which apply J to a
+// vector without forming it) and O(d² k) on the unrolled ones.
+cli::work_estimate lyapunov_cost(const chain& c, const lyapunov_options& l, double k,
+                                 double members) {
+  const double n = c.links(), d = 2 * n;
+  const integration_options& o = l.integration;
+  const double steps = std::ceil(o.t_end / o.dt - 1e-9);
+  const double chunk = std::max(1.0, std::round(l.renormalisation_interval / o.dt));
+  const double qr = 4 * d * k * k;  // Householder QR of W and its Q, per chunk
+  double bytes = 0, step = 0;
+  if (o.stepper == stepper_kind::gauss4 || o.stepper == stepper_kind::gauss6) {
+    const double s = o.stepper == stepper_kind::gauss6 ? 3 : 2, S = s * d;
+    bytes = 8 * (4 * S * S + d * d + 4 * d * k);
+    step = 2 * (2.0 / 3.0) * S * S * S + 2 * S * S * k + s * d * d * (1 + 2 * k);
+  } else {
+    const double stages = o.stepper == stepper_kind::rk4      ? 4
+                          : o.stepper == stepper_kind::dopri5 ? 7
+                          : o.stepper == stepper_kind::rkf78  ? 13
+                                                              : 30;
+    bytes = 8 * ((c.runs_on_loops() ? 0 : d * d) + (stages + 4) * d * (k + 1));
+    step = stages * (c.runs_on_loops() ? 100 * n * (k + 1) : d * d * (1 + 2 * k));
+  }
+  return {.bytes = bytes,
+          .flops = members * (steps * step + steps / chunk * qr),
+          .flops_per_step = std::max(step, qr)};
+}
+
 // "± x (what it is)" for the text output.
 std::string uncertainty_label(bool ensemble, std::size_t count, double length) {
   return ensemble ? fmt::format(
@@ -182,6 +213,17 @@ int run_equations(const lyapunov_command_options& o) {
     for (const char* name : {"--ensemble-radius", "--seed"})
       if (given(o, name)) throw cli::input_error(fmt::format("{}: only with --ensemble K", name));
   }
+  const double vectors = o.maximal ? 1.0 : count ? *count : 2.0 * c.links();
+  cli::require_feasible(
+      lyapunov_cost(c, options, vectors, ensemble ? static_cast<double>(ensemble->members) : 1),
+      fmt::format("{} of {} links by {}{}",
+                  o.maximal ? "the maximal exponent"
+                  : count   ? fmt::format("the {} largest exponents", *count)
+                            : fmt::format("the spectrum ({} exponents)", 2 * c.links()),
+                  c.links(), stepper_name(options.integration.stepper),
+                  ensemble ? fmt::format(" for {} starts", ensemble->members) : ""),
+      "for a long chain take --maximal or --exponents K with an explicit stepper (--stepper "
+      "rk4), which costs O(n K) per step");
   series_output files(o.out);
 
   cli::terminal_run control;

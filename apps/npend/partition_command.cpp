@@ -21,7 +21,8 @@ struct partition_command_options {
   cli::chain_options chain;
   std::string temperature, scan, rule = "auto", out;
   int grid = 0, points = 65536, replicas = 16;
-  std::uint64_t seed = 1;
+  std::string seed;
+  const CLI::App* command = nullptr;
   double kb = 1;
   bool json = false;
 };
@@ -142,7 +143,26 @@ int run_partition(const partition_command_options& o) {
   options.grid = o.grid;
   options.points = o.points;
   options.replicas = o.replicas;
-  options.seed = o.seed;
+  // Options of the other rule would be ignored: refuse them.
+  const bool trapezoid =
+      chosen_partition_rule(options.rule, c.links()) == partition_rule::trapezoid;
+  const char* rule_name = trapezoid ? "trapezoid" : "qmc";
+  for (const char* name : {"--points", "--replicas", "--seed", "--grid"}) {
+    const bool of_trapezoid = std::string_view(name) == "--grid";
+    if (o.command->count(name) > 0 && of_trapezoid != trapezoid)
+      throw cli::input_error(fmt::format(
+          "{}: only for the {} rule; this run uses the {} rule{}", name,
+          of_trapezoid ? "trapezoid" : "qmc", rule_name,
+          o.rule == "auto" ? " (auto: trapezoid for n <= 3, qmc beyond; choose with --rule)"
+                           : ""));
+  }
+  if (!o.seed.empty()) {
+    const double seed = cli::parse_number(o.seed, "--seed");
+    if (seed != std::floor(seed) || seed < 0 || seed > 9.0e15)
+      throw cli::input_error(
+          fmt::format("--seed: must be a whole number 0..9e+15, got {}", o.seed));
+    options.seed = static_cast<std::uint64_t>(seed);
+  }
   options.boltzmann = o.kb;
   series_output files(o.out);
   cli::terminal_run control;
@@ -177,7 +197,7 @@ int run_partition(const partition_command_options& o) {
     if (r.rule == "trapezoid")
       j["grid"] = r.grid;
     else
-      j["points"] = r.points, j["replicas"] = r.replicas, j["seed"] = o.seed;
+      j["points"] = r.points, j["replicas"] = r.replicas, j["seed"] = options.seed;
     if (o.scan.empty()) {
       j.update(state_json(r.states.front()));
     } else {
@@ -218,6 +238,7 @@ void add_partition_command(CLI::App& app, command_list& commands) {
       "partition",
       "The canonical ensemble: partition function Z, free energy, mean energy, heat capacity "
       "and <cos phi_i> at a temperature or over a range, with error estimates");
+  o->command = cmd;
   o->chain.add_to(*cmd);
   cmd->add_option("--temperature", o->temperature,
                   "The temperature T (in energy units, J, with the default --kb 1)");
@@ -228,10 +249,10 @@ void add_partition_command(CLI::App& app, command_list& commands) {
                   "n <= 3 by default), qmc (randomised Sobol quasi-Monte Carlo) or auto "
                   "(default)");
   cmd->add_option("--grid", o->grid,
-                  "Trapezoid: points per angle, even (default 256, 128, 64 for 1, 2, 3 links)");
-  cmd->add_option("--points", o->points, "qmc: Sobol points per shift (default 65536)");
-  cmd->add_option("--replicas", o->replicas, "qmc: random shifts (default 16)");
-  cmd->add_option("--seed", o->seed, "qmc: seed of the random shifts (default 1)");
+                  "trapezoid only: points per angle, even (default 256, 128, 64 for 1, 2, 3 links)");
+  cmd->add_option("--points", o->points, "qmc only: Sobol points per shift (default 65536)");
+  cmd->add_option("--replicas", o->replicas, "qmc only: random shifts (default 16)");
+  cmd->add_option("--seed", o->seed, "qmc only: seed of the random shifts, a whole number 0..9e15 (default 1)");
   cmd->add_option("--kb", o->kb,
                   "Boltzmann's constant k in J/K (default 1: T in J; 1.380649e-23 for kelvin)");
   cmd->add_option("--out", o->out,

@@ -16,6 +16,7 @@
 #include "npend/analysis/toda_brumer.hpp"
 #include "series_output.hpp"
 #include "stability_tables.hpp"
+#include "work_estimate.hpp"
 
 namespace npend::app {
 
@@ -80,6 +81,18 @@ void print_modes_table(const linearisation& lin) {
 
 namespace {
 
+// Refuses, before it starts, linearisations of a chain too long for the dense n x n
+// generalised eigenproblem each of them is (normal_modes): about 10 matrices of n² doubles and
+// 12 n³ operations (Cholesky, reduction to tridiagonal form, QR with eigenvectors).
+void require_dense_modes(const chain& c, double count, std::string_view what) {
+  const double n = c.links();
+  cli::require_feasible(
+      {.bytes = 10 * 8 * n * n, .flops = count * 12 * n * n * n},
+      fmt::format("{} of {} links ({}a dense {} x {} eigenproblem)", what, c.links(),
+                  count > 1 ? fmt::format("{:g} times ", count) : "", c.links(), c.links()),
+      "npend rope gives the modes of a long hanging chain of point masses in O(n) memory");
+}
+
 // ---- npend equilibria -------------------------------------------------------------------
 
 struct equilibria_options {
@@ -112,6 +125,9 @@ std::vector<equilibrium> chosen_equilibria(const chain& c, const std::vector<std
 
 int run_equilibria(const equilibria_options& o) {
   const chain c = o.chain.make_chain(cli::model_support::rigid_links, "npend equilibria");
+  if (c.links() > max_equilibria_links)
+    require_dense_modes(c, o.at.empty() ? 2.0 : static_cast<double>(o.at.size()),
+                        "the linear stability");
   const auto eqs = chosen_equilibria(c, o.at);
   if (o.json) {
     nlohmann::json list = nlohmann::json::array();
@@ -139,6 +155,7 @@ struct modes_options {
 
 int run_modes(const modes_options& o) {
   const chain c = o.chain.make_chain(cli::model_support::rigid_links, "npend modes");
+  require_dense_modes(c, 1, "the normal modes");
   const int n = c.links();
   std::vector<double> at(static_cast<std::size_t>(n), 0.0);
   if (!o.at.empty()) at = cli::parse_angle_list(o.at, "--at", n);

@@ -2,6 +2,8 @@
 // exit status.
 #include <doctest/doctest.h>
 
+#include <chrono>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "npend/chain.hpp"
@@ -99,4 +101,59 @@ TEST_CASE("npend eval: one value of --masses or --lengths is every link's") {
   const auto j = nlohmann::json::parse(one.out);
   CHECK(j["masses"] == std::vector<double>{2, 2, 2});
   CHECK(j["lengths"] == std::vector<double>{0.5, 0.5, 0.5});
+}
+
+namespace {
+
+// A --chain file with `text` in a fresh folder; returns its path.
+std::string chain_file(const std::string& folder, const std::string& text) {
+  const std::string file = npend::test::temporary_directory(folder) + "/chain.json";
+  std::ofstream(file) << text;
+  return file;
+}
+
+}  // namespace
+
+TEST_CASE("npend eval --chain: a list longer than the link count is refused as it is read") {
+  // 300000 items took 27 s (a superlinear path) before the length was checked while parsing;
+  // now item 4 of a 3-link chain's list stops the parse.
+  std::string list = "1";
+  list.reserve(2 * 300000);
+  for (int i = 1; i < 300000; ++i) list += ",1";
+  const std::string file = chain_file("chain-long-list", R"({"masses": [)" + list + "]}");
+  const auto start = std::chrono::steady_clock::now();
+  const auto r = run_npend("eval --links 3 --chain " + file + " --state 0,0,0,0,0,0");
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  CHECK(npend::test::is_input_error(
+      r, "\"masses\": expected 3 values (m_1..m_3) or one number for all links, got a longer "
+         "list"));
+  CHECK(seconds < 2.0);
+}
+
+TEST_CASE("npend eval --chain: --no-rods and --rods override the file's rods, com and inertia") {
+  const std::string rods = chain_file("chain-rods", R"({"lengths": 0.5, "rods": true})");
+  const std::string state = " --state 0.3,-0.2,0.1,0.2 --json";
+  const auto rhs = [](const npend::test::command_result& r) {
+    REQUIRE(r.exit_code == 0);
+    return nlohmann::json::parse(r.out)["rhs"].get<std::vector<double>>();
+  };
+  // --no-rods: the point masses of the same lengths, as without the file.
+  const npend::chain point({{1, 1}, {0.5, 0.5}, 9.81});
+  const std::vector<double> x{0.3, -0.2, 0.1, 0.2};
+  CHECK(rhs(run_npend("eval --links 2 --chain " + rods + " --no-rods" + state)) == point.rhs(x));
+  // --no-rods --com: the command line's centres of mass.
+  npend::chain_parameters p{{1, 1}, {0.5, 0.5}, 9.81};
+  p.com = {0.3, 0.3};
+  CHECK(rhs(run_npend("eval --links 2 --chain " + rods + " --no-rods --com 0.3" + state)) ==
+        npend::chain(p).rhs(x));
+  // The file's rods with --com from the command line: refused, pointing to --no-rods.
+  CHECK(npend::test::is_input_error(
+      run_npend("eval --links 2 --chain " + rods + " --com 0.3" + state), "add --no-rods"));
+  // --rods over a file's com and inertia: uniform rods.
+  const std::string com =
+      chain_file("chain-com", R"({"lengths": 0.5, "com": [0.1, 0.2], "inertia": 0.01})");
+  p.make_uniform_rods();
+  CHECK(rhs(run_npend("eval --links 2 --chain " + com + " --rods" + state)) ==
+        npend::chain(p).rhs(x));
 }

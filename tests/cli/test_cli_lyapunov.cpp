@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -241,4 +242,20 @@ TEST_CASE("npend lyapunov --input --fit: a given range is judged as the automati
   CHECK(j["maximal_exponent"].is_null());
   REQUIRE(!j["warnings"].empty());
   CHECK(j["warnings"][0].get<std::string>().find("no estimate: ") == 0);
+}
+
+TEST_CASE("npend lyapunov: SIGTERM stops a long chain inside a re-orthonormalisation interval") {
+  // One interval of 50 s (50000 rk4 steps of 1000 links, tens of seconds): the run used to poll
+  // for a stop only between intervals, so SIGTERM after 3 s went unheeded until the end (exit 0).
+  const auto start = std::chrono::steady_clock::now();
+  const auto r = npend::test::run_shell(
+      "{ timeout --preserve-status -s TERM 3 " + std::string(NPEND_CLI_PATH) +
+      " lyapunov --links 1000 --phi 0.1 --t-end 50 --maximal --stepper rk4 "
+      "--renormalise-every 50; echo \"exit $?\"; }");
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  INFO(r.out, r.err);
+  CHECK(r.out.find("exit 143") != std::string::npos);
+  CHECK(r.err.find("npend lyapunov: interrupted at t = ") == 0);
+  CHECK(seconds < 8);
 }

@@ -315,6 +315,104 @@ TEST_CASE("physical chain: bad parameters are refused with the reason") {
   CHECK_THROWS_WITH_AS(chain{q}, doctest::Contains("g is 0"), std::invalid_argument);
 }
 
+namespace {
+
+// The smallest det A / Π A_ii (Hadamard's ratio, in [0, 1]) of the hand-written dense mass
+// matrix over configurations φ_1 = 0, φ_i = multiples of 2π/steps: A depends only on the
+// differences φ_i − φ_j, and the singular configurations (links lined up) lie on the grid.
+double smallest_det_ratio(const chain_parameters& p, int steps) {
+  const int n = p.links();
+  const auto zeros = std::vector<double>(static_cast<std::size_t>(n), 0.0);
+  const auto ref = npend::reference::dense_chain::physical(p.masses, p.lengths, p.g, p.com,
+                                                           p.inertia, zeros, zeros, zeros);
+  double smallest = INFINITY;
+  std::vector<int> k(static_cast<std::size_t>(n), 0);
+  for (;;) {
+    Eigen::VectorXd phi(n);
+    for (int i = 0; i < n; ++i) phi(i) = 2 * std::numbers::pi * k[static_cast<std::size_t>(i)] / steps;
+    const Eigen::MatrixXd A = ref.mass_matrix(phi);
+    // A zero on the diagonal of this positive semidefinite A makes it singular.
+    const double scale = A.diagonal().prod();
+    smallest = std::min(smallest, scale > 0 ? A.determinant() / scale : 0.0);
+    int i = 1;  // φ_1 stays 0
+    while (i < n && ++k[static_cast<std::size_t>(i)] == steps) k[static_cast<std::size_t>(i++)] = 0;
+    if (i == n) break;
+  }
+  return smallest;
+}
+
+}  // namespace
+
+TEST_CASE("physical chain: refused exactly when the dense mass matrix is singular somewhere") {
+  // Every chain of 2..4 links whose links each have c in {0, l/2, l, -l/2} (3 links: also
+  // -l/2) and J in {0, 0.2}: refused by the chain's rule exactly when det A reaches 0 on a
+  // grid of configurations, and otherwise bounded away from 0 there.
+  const std::vector<double> masses{1.0, 0.7, 1.4, 0.9}, lengths{1.0, 1.3, 0.8, 1.1};
+  int refused = 0, accepted = 0;
+  double largest_refused = 0, smallest_accepted = INFINITY;
+  for (int n = 2; n <= 4; ++n) {
+    const std::vector<double> fractions =
+        n <= 3 ? std::vector<double>{0.0, 0.5, 1.0, -0.5} : std::vector<double>{0.0, 0.5, 1.0};
+    const int kinds = 2 * static_cast<int>(fractions.size()), steps = n <= 3 ? 16 : 8;
+    int chains = 1;
+    for (int i = 0; i < n; ++i) chains *= kinds;
+    for (int code = 0; code < chains; ++code) {
+      chain_parameters p;
+      p.masses.assign(masses.begin(), masses.begin() + n);
+      p.lengths.assign(lengths.begin(), lengths.begin() + n);
+      for (int i = 0, rest = code; i < n; ++i, rest /= kinds) {
+        const int kind = rest % kinds;
+        p.com.push_back(fractions[static_cast<std::size_t>(kind / 2)] *
+                        lengths[static_cast<std::size_t>(i)]);
+        p.inertia.push_back(kind % 2 == 0 ? 0.0 : 0.2);
+      }
+      bool throws = false;
+      try {
+        p.validate();
+      } catch (const std::invalid_argument&) {
+        throws = true;
+      }
+      const double ratio = smallest_det_ratio(p, steps);
+      if (throws) {
+        ++refused;
+        largest_refused = std::max(largest_refused, ratio);
+      } else {
+        ++accepted;
+        smallest_accepted = std::min(smallest_accepted, ratio);
+      }
+      INFO("n = ", n, ", c = ", p.com[0], ",", p.com[1], ",", p.com.back(), ", J = ",
+           p.inertia[0], ",", p.inertia[1], ",", p.inertia.back(), ", min ratio = ", ratio);
+      CHECK((throws ? ratio < 1e-13 : ratio > 1e-4));
+    }
+  }
+  MESSAGE("refused ", refused, " chains (largest ratio ", largest_refused, "), accepted ",
+          accepted, " (smallest ratio ", smallest_accepted, ")");
+  CHECK(refused > 100);
+  CHECK(accepted > 100);
+}
+
+TEST_CASE("physical chain: a singular chain's refusal names its links") {
+  // det A = m_2² c_2² l_1² sin²(φ_1 − φ_2) for c_1 = J_1 = J_2 = 0 (n = 2): zero where the links
+  // line up.
+  chain_parameters p = chain_parameters::uniform(2);
+  p.com = {0.0, 1.0};
+  p.inertia = {0.0, 0.0};
+  CHECK_THROWS_WITH_AS(chain{p}, doctest::Contains("links 1..2 make the mass matrix singular"),
+                       std::invalid_argument);
+  p.com = {0.0, 0.5};  // the same with c_2 != l_2: the motion runs out of the chain
+  CHECK_THROWS_WITH_AS(chain{p}, doctest::Contains("links 1..2 make the mass matrix singular"),
+                       std::invalid_argument);
+  p.inertia = {0.0, 0.01};
+  CHECK_NOTHROW(chain{p});
+  chain_parameters q = chain_parameters::uniform(3);
+  q.com = {1.0, 0.0, 1.0};
+  q.inertia = {0.0, 0.0, 0.0};
+  CHECK_THROWS_WITH_AS(chain{q}, doctest::Contains("links 2..3 make the mass matrix singular"),
+                       std::invalid_argument);
+  q.com = {0.0, 1.0, 0.0};  // links 1..2 close at rest; link 3 alone is singular too
+  CHECK_THROWS_WITH_AS(chain{q}, doctest::Contains("links 1..2"), std::invalid_argument);
+}
+
 TEST_CASE("physical chain: every stepper follows a damped chain on a shaken pivot alike") {
   // The non-autonomous, dissipative system: the Gauss–Legendre steppers evaluate f at their
   // stage times, rosenbrock4 gets df/dt; all must land on the same state.

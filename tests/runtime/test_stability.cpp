@@ -217,3 +217,31 @@ TEST_CASE("toda_brumer_critical_energy: the paper's example E_c = m3 g l3, and m
   CHECK_THROWS_AS(npend::toda_brumer_critical_energy(c, std::vector<int>{1, 2, 3}), std::invalid_argument);
   CHECK_THROWS_AS(npend::toda_brumer_critical_energy(c, std::vector<int>{4}), std::invalid_argument);
 }
+
+TEST_CASE("toda_brumer_links: O(n) for a long chain, g mu_k l_k per link") {
+  // 100000 links: the n x n Hessian would take 80 GB; the diagonal it has comes in O(n).
+  const int n = 100000;
+  chain_parameters p = chain_parameters::uniform(n, 1.0, 0.01);
+  for (int k = 0; k < n; ++k) p.masses[static_cast<std::size_t>(k)] = 1.0 + 0.5 * std::sin(k);
+  const chain c(p);
+  const auto links = npend::toda_brumer_links(c);
+  REQUIRE(links.size() == static_cast<std::size_t>(n));
+  double mu = 0, smallest = 1e300, worst = 0;
+  bool numbered = true;
+  for (int k = n - 1; k >= 0; --k) {
+    mu += p.masses[static_cast<std::size_t>(k)];
+    const double want = p.g * mu * 0.01;
+    const auto& link = links[static_cast<std::size_t>(k)];
+    numbered = numbered && link.link == k + 1;
+    worst = std::max({worst, std::fabs(link.curvature - want) / want,
+                      std::fabs(link.critical_energy - want) / want});
+    smallest = std::min(smallest, want);
+  }
+  CHECK(numbered);
+  CHECK(worst < 1e-10);  // sums of 1e5 masses in another order: rounding, n eps
+  CHECK(npend::toda_brumer_critical_energy(c, std::vector<int>{}) ==
+        doctest::Approx(smallest).epsilon(1e-10));
+  std::vector<double> phi(static_cast<std::size_t>(n), std::numbers::pi);
+  const auto lambda = npend::toda_brumer_eigenvalues(c, phi);  // cos π = −1: Λ_k = g μ_k l_k
+  CHECK(lambda.front() == doctest::Approx(smallest).epsilon(1e-10));
+}

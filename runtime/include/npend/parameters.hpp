@@ -83,9 +83,13 @@ struct chain_parameters {
   /// Throws std::invalid_argument naming the problem: no links, masses and lengths of
   /// different counts, a non-finite or non-positive mass or length, g not finite or < 0 (or
   /// 0 for a point-mass chain), an optional list of
-  /// the wrong length, a negative inertia, stiffness or damping, a last link without mass
-  /// away from its joint and without inertia (a singular mass matrix), a drive whose
-  /// amplitude or frequency is not a finite number ≥ 0 resp. > 0.
+  /// the wrong length, a negative inertia, stiffness or damping, links whose mass matrix is
+  /// singular at some configuration (naming them), a drive whose amplitude or frequency is
+  /// not a finite number ≥ 0 resp. > 0.
+  ///
+  /// The mass matrix A(φ) is positive definite at every φ unless some link a has c_a = 0 and
+  /// J_a = 0 and the links a+1..b below it have J = 0 and c ≠ 0, with b = n or c_b = l_b;
+  /// such a chain is singular where links a..b line up (the derivation is in parameters.cpp).
   void validate() const;
 
   /// [m_1..m_n, l_1..l_n, g] (dim 2n + 1).

@@ -10,6 +10,7 @@
 
 #include "npend/chain_system.hpp"
 #include "npend/gauss_legendre.hpp"
+#include "npend/integration_error.hpp"
 
 namespace npend {
 
@@ -73,9 +74,22 @@ floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
   r.steps = options.steps;
   std::vector<double> x(x0.begin(), x0.end()), x_coarse = x;
   Eigen::MatrixXd tangent, coarse;
-  if (!monodromy(c, x, period, options.steps, 0, total, options.control, tangent) ||
-      !monodromy(c, x_coarse, period, coarse_steps, options.steps, total, options.control,
-                 coarse)) {
+  bool finished = false;
+  try {
+    finished = monodromy(c, x, period, options.steps, 0, total, options.control, tangent) &&
+               monodromy(c, x_coarse, period, coarse_steps, options.steps, total,
+                         options.control, coarse);
+  } catch (const integration_error& e) {
+    // The step is the period over the steps: the stepper's "try a smaller dt" means more
+    // steps here.
+    std::string what = e.what();
+    const std::string hint = "; try a smaller dt";
+    if (what.ends_with(hint)) what.resize(what.size() - hint.size());
+    throw integration_error(
+        fmt::format("{}; try more steps per period (--steps, now {})", what, options.steps),
+        e.time());
+  }
+  if (!finished) {
     r.stopped = true;
     return r;
   }

@@ -55,20 +55,46 @@ namespace {
 
 using row_major = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-// Advances x (dim d) and the tangent vectors W (d × k) by `steps` steps of dt from t.
-using tangent_advance =
-    std::function<void(std::vector<double>& x, Eigen::MatrixXd& W, double t, std::size_t steps)>;
+// Told after each step of a chunk how many of its steps are done; true asks to stop there. A
+// chunk of a long chain can take minutes: its steps report progress and heed Ctrl-C.
+using step_poll = std::function<bool(std::size_t)>;
+
+// Advances x (dim d) and the tangent vectors W (d × k) by `steps` steps of dt from t; returns
+// the steps done, fewer when `poll` asked to stop before the chunk's last step.
+using tangent_advance = std::function<std::size_t(
+    std::vector<double>& x, Eigen::MatrixXd& W, double t, std::size_t steps, const step_poll& poll)>;
 
 // The Gauss–Legendre route: each step's exact derivative applied to W.
 template <class Stepper>
 tangent_advance gauss_legendre_advance(const chain& c, double dt) {
   auto stepper = std::make_shared<Stepper>();
   return [stepper, system = make_implicit_system(c), dt](std::vector<double>& x, Eigen::MatrixXd& W,
-                                                         double t, std::size_t steps) {
-    for (std::size_t k = 0; k < steps; ++k)
+                                                         double t, std::size_t steps,
+                                                         const step_poll& poll) {
+    for (std::size_t k = 0; k < steps; ++k) {
       stepper->do_step_with_tangent(system, x, t + static_cast<double>(k) * dt, dt, W);
+      if (poll(k + 1) && k + 1 < steps) return k + 1;
+    }
+    return steps;
   };
 }
+
+// A chunk's integration as the step poll sees it: its progress in steps, and the poll's
+// answer as the stop request.
+class poll_control final : public run_control {
+ public:
+  poll_control(const step_poll& poll, std::size_t steps) : m_poll(&poll), m_steps(steps) {}
+  void progress(double done, double total) override {
+    if (total > 0)
+      m_stop = (*m_poll)(static_cast<std::size_t>(static_cast<double>(m_steps) * done / total));
+  }
+  bool stop_requested() override { return m_stop; }
+
+ private:
+  const step_poll* m_poll;
+  std::size_t m_steps;
+  bool m_stop = false;
+};
 
 // dy/dt for y = [x (dim d), W (d × k, column-major)]: [f(x), J(x) W].
 class variational_system {
@@ -120,19 +146,21 @@ void with_advance(const chain& c, const integration_options& o, Eigen::Index k, 
   const auto d = static_cast<std::size_t>(c.state_size());
   const std::size_t dim = d + d * static_cast<std::size_t>(k);
   integration_options chunk_options = o;
-  chunk_options.control = nullptr;  // the chunks are not the run: run_benettin reports
   visit_stepper(o.stepper, o, system, dim, [&](auto& stepper) {
     std::vector<double> y(dim);
-    body(tangent_advance(
-        [&](std::vector<double>& x, Eigen::MatrixXd& W, double t, std::size_t steps) {
-          std::copy(x.begin(), x.end(), y.begin());
-          std::copy(W.data(), W.data() + W.size(), y.begin() + static_cast<std::ptrdiff_t>(d));
-          chunk_options.t_start = t;
-          chunk_options.t_end = t + static_cast<double>(steps) * o.dt;
-          const integration_result r = detail::integrate_visited(stepper, system, y, chunk_options);
-          std::copy(r.state.begin(), r.state.begin() + static_cast<std::ptrdiff_t>(d), x.begin());
-          std::copy(r.state.begin() + static_cast<std::ptrdiff_t>(d), r.state.end(), W.data());
-        }));
+    body(tangent_advance([&](std::vector<double>& x, Eigen::MatrixXd& W, double t,
+                             std::size_t steps, const step_poll& poll) {
+      std::copy(x.begin(), x.end(), y.begin());
+      std::copy(W.data(), W.data() + W.size(), y.begin() + static_cast<std::ptrdiff_t>(d));
+      chunk_options.t_start = t;
+      chunk_options.t_end = t + static_cast<double>(steps) * o.dt;
+      poll_control control(poll, steps);  // the chunks are not the run: run_benettin reports
+      chunk_options.control = &control;
+      const integration_result r = detail::integrate_visited(stepper, system, y, chunk_options);
+      std::copy(r.state.begin(), r.state.begin() + static_cast<std::ptrdiff_t>(d), x.begin());
+      std::copy(r.state.begin() + static_cast<std::ptrdiff_t>(d), r.state.end(), W.data());
+      return r.stopped ? static_cast<std::size_t>(std::llround((r.t - t) / o.dt)) : steps;
+    }));
   });
 }
 
@@ -177,13 +205,23 @@ lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const l
   const double t_average = t0 + r.transient;
 
   std::size_t done = 0;
+  double t_chunk = t0;  // the end of the last chunk whose growth is summed
   run_control* const control = o.integration.control;
+  const step_poll poll = [&](std::size_t steps_in_chunk) {
+    return report_progress(control, static_cast<double>(done + steps_in_chunk),
+                           static_cast<double>(total));
+  };
   with_advance(c, o.integration, W.cols(), r.method, [&](const tangent_advance& advance) {
     while (done < total) {
       const std::size_t steps = std::min(chunk, total - done);
-      advance(x, W, t0 + static_cast<double>(done) * dt, steps);
-      done += steps;
+      const std::size_t did = advance(x, W, t0 + static_cast<double>(done) * dt, steps, poll);
+      done += did;
       r.t = t0 + static_cast<double>(done) * dt;
+      if (did < steps) {  // stopped inside the chunk: its growth is not summed
+        r.stopped = true;
+        break;
+      }
+      t_chunk = r.t;
       if (!W.allFinite())
         throw integration_error(
             fmt::format("lyapunov: the tangent vectors became non-finite before t = {} s; try a "
@@ -229,7 +267,7 @@ lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const l
     }
   });
   r.state = x;
-  r.averaging_time = std::max(0.0, r.t - t_average);
+  r.averaging_time = std::max(0.0, t_chunk - t_average);
   if (running.empty()) {  // stopped during the transient: nothing averaged
     r.exponents.assign(k, std::numeric_limits<double>::quiet_NaN());
     r.spread.assign(k, std::numeric_limits<double>::quiet_NaN());
@@ -237,8 +275,8 @@ lyapunov_result run_benettin(const chain& c, std::span<const double> x0, const l
     r.sum = std::numeric_limits<double>::quiet_NaN();
     return r;
   }
-  if (r.history_t.empty() || r.history_t.back() != r.t) {
-    r.history_t.push_back(r.t);
+  if (r.history_t.empty() || r.history_t.back() != t_chunk) {
+    r.history_t.push_back(t_chunk);
     r.history.push_back(running);
   }
 

@@ -279,8 +279,7 @@ partition_result canonical_ensemble(const chain& c, std::span<const double> temp
           "partition function: k T at T = {:g} overflows (k = {:g})", t, options.boltzmann));
   }
   const int n = c.links();
-  const bool grid = options.rule == partition_rule::trapezoid ||
-                    (options.rule == partition_rule::automatic && n <= 3);
+  const bool grid = chosen_partition_rule(options.rule, n) == partition_rule::trapezoid;
   const auto groups = group_by_box(c, temperatures, options.boltzmann);
   partition_result r;
   double per_group = 0;

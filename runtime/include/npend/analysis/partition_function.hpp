@@ -49,6 +49,14 @@ struct partition_options {
   run_control* control = nullptr;
 };
 
+/// The rule `rule` stands for on a chain of `links` links: automatic is the trapezoid rule
+/// for n ≤ 3 and quasi-Monte Carlo beyond. Only the chosen rule's options (grid, resp.
+/// points, replicas and seed) have an effect.
+inline partition_rule chosen_partition_rule(partition_rule rule, int links) {
+  if (rule != partition_rule::automatic) return rule;
+  return links <= 3 ? partition_rule::trapezoid : partition_rule::quasi_monte_carlo;
+}
+
 /// The ensemble at one temperature. Errors are estimates of the absolute error (of ln Z for
 /// the partition function and the free energy).
 struct canonical_state {

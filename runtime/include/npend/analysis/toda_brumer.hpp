@@ -10,7 +10,9 @@ namespace npend {
 
 /// Eigenvalues Λ of −∂²V/∂φ_i∂φ_j at φ (dim n), ascending. For the chain the Hessian is
 /// diagonal: Λ_k = −g μ_k l_k cos φ_k (eq. 6.20). Some Λ_k > 0 marks a locally unstable
-/// region.
+/// region. Throws std::invalid_argument for phi of another size. A chain without joint
+/// springs on a fixed pivot (V a sum over the links) costs O(n) time and memory here and in
+/// toda_brumer_links; any other chain forms the n × n Hessian.
 std::vector<double> toda_brumer_eigenvalues(const chain& c, std::span<const double> phi);
 
 /// Per link k: the curvature scale g μ_k l_k (J) and the critical energy of entering the
