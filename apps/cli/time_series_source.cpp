@@ -1,6 +1,7 @@
 #include "time_series_source.hpp"
 
 #include "input_file.hpp"
+#include "output_file.hpp"
 
 #include <fmt/format.h>
 
