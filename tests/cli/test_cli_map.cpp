@@ -537,7 +537,7 @@ signalled_run signal_after(const std::string& args, const fs::path& ready, doubl
       std::string(NPEND_CLI_PATH) + " " + args +
       " >/dev/null 2>&1 & pid=$!; for i in $(seq 1200); do [ -e " + ready.string() +
       " ] && break; sleep 0.01; done; sleep " + std::to_string(delay) +
-      "; (sleep 60; kill -KILL $pid) 2>/dev/null & dog=$!; t0=$(date +%s.%N); kill -" + signal +
+      "; (sleep 60; kill -KILL $pid) >/dev/null 2>&1 & dog=$!; t0=$(date +%s.%N); kill -" + signal +
       " $pid; wait $pid; status=$?; t1=$(date +%s.%N); kill $dog 2>/dev/null; "
       "echo $status $(awk -v a=$t0 -v b=$t1 'BEGIN { print b - a }')");
   signalled_run out;
