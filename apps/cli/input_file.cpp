@@ -10,10 +10,14 @@
 
 namespace npend::cli {
 
-std::ifstream open_input_file(const std::filesystem::path& path, std::string_view option) {
+void refuse_directory(const std::filesystem::path& path, std::string_view option) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw input_error(fmt::format("{}: '{}' is a directory, not a file", option, path.string()));
+}
+
+std::ifstream open_input_file(const std::filesystem::path& path, std::string_view option) {
+  refuse_directory(path, option);
   errno = 0;
   std::ifstream in(path, std::ios::binary);
   if (!in)

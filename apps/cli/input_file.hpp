@@ -15,4 +15,8 @@ namespace npend::cli {
 /// read). A FIFO or a device is read as it is: `--input <(command)` is a pipe.
 std::ifstream open_input_file(const std::filesystem::path& path, std::string_view option);
 
+/// Throws input_error "<option>: '<path>' is a directory, not a file" for a folder; the check
+/// of open_input_file, for readers that open the file themselves (read_text_file).
+void refuse_directory(const std::filesystem::path& path, std::string_view option);
+
 }  // namespace npend::cli

@@ -163,9 +163,7 @@ time_series select_signal(const sampled_signals& signals, std::string_view selec
 
 std::string read_text_file(const std::string& path, std::string_view option,
                            std::size_t max_bytes) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error))
-    throw input_error(fmt::format("{}: '{}' is a directory, not a file", option, path));
+  refuse_directory(path, option);
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0)
     throw input_error(fmt::format("{}: cannot read '{}': {}", option, path, std::strerror(errno)));
