@@ -8,7 +8,7 @@
 // error. Exits 1 if that error exceeds 1e-9: a symplectic method at this step keeps the
 // energy to round-off plus a bounded O(dt^6) oscillation.
 #include <npend/chain.hpp>
-#include <npend/integrate.hpp>
+#include <npend/integrators/integrate.hpp>
 
 #include <fmt/format.h>
 

@@ -11,7 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
-#include <npend/analysis/lyapunov.hpp>
+#include <npend/analysis/chaos/lyapunov.hpp>
 #include <npend/chain.hpp>
 #include <string>
 #include <vector>

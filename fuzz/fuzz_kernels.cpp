@@ -3,8 +3,8 @@
 // must return finite numbers there; an integration must either finish with a finite state
 // or stop with a clear error — never crash, hang, or return NaN silently.
 #include "npend/chain.hpp"
-#include "npend/integrate.hpp"
-#include "npend/integration_error.hpp"
+#include "npend/integrators/integrate.hpp"
+#include "npend/integrators/integration_error.hpp"
 
 #include <cmath>
 #include <cstdint>

@@ -3,7 +3,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <npend/analysis/lqr.hpp>
+#include <npend/analysis/stability/lqr.hpp>
 #include <optional>
 #include <string>
 

@@ -56,7 +56,7 @@ integration_options integrator_options::make() const {
     if (text.empty()) return;
     if (!is_adaptive(o.stepper))
       throw input_error(fmt::format("{}: only the adaptive steppers ({}) take tolerances, not {}",
-                                    option, stepper_names(true), stepper_name(o.stepper)));
+                                    option, stepper_names(stepper_use::adaptive), stepper_name(o.stepper)));
     value = parse_number(text, option);
     if (value < 0)
       throw input_error(fmt::format("{}: must not be negative, got {}", option, value));

@@ -2,7 +2,7 @@
 // Shared by every command that integrates.
 #pragma once
 
-#include "npend/integrate.hpp"
+#include "npend/integrators/integrate.hpp"
 
 #include <CLI/CLI.hpp>
 

@@ -9,9 +9,9 @@
 #include <string_view>
 #include <utility>
 
-#include "npend/analysis/event_times.hpp"
-#include "npend/analysis/poincare_section.hpp"
-#include "npend/analysis/sampled_signals.hpp"
+#include "npend/analysis/series/event_times.hpp"
+#include "npend/analysis/chaos/poincare_section.hpp"
+#include "npend/analysis/series/sampled_signals.hpp"
 
 namespace npend::cli {
 

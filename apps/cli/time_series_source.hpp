@@ -18,9 +18,9 @@
 #include "chain_options.hpp"
 #include "csv_table.hpp"
 #include "integrator_options.hpp"
-#include "npend/analysis/sampled_signals.hpp"
+#include "npend/analysis/series/sampled_signals.hpp"
 #include "npend/chain.hpp"
-#include "npend/integrate.hpp"
+#include "npend/integrators/integrate.hpp"
 #include "start_options.hpp"
 #include "terminal_run.hpp"
 

@@ -10,7 +10,7 @@
 
 #include "child_process.hpp"
 #include "input_parsing.hpp"
-#include "npend/integrate_system.hpp"
+#include "npend/integrators/integrate_system.hpp"
 #include "output_file.hpp"
 #include "plotting.hpp"
 #include "terminal_run.hpp"

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "npend/analysis/lqr.hpp"
+#include "npend/analysis/stability/lqr.hpp"
 #include "npend/chain.hpp"
-#include "npend/integrate.hpp"
+#include "npend/integrators/integrate.hpp"
 #include "npend/run_control.hpp"
 #include "output_file.hpp"
 

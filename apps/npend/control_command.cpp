@@ -13,7 +13,7 @@
 #include "control_options.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
-#include "npend/integrate_system.hpp"
+#include "npend/integrators/integrate_system.hpp"
 #include "series_output.hpp"
 #include "terminal_run.hpp"
 

@@ -13,8 +13,8 @@
 
 #include "demo_sections.hpp"
 #include "figure_index.hpp"
-#include "npend/analysis/motion_analysis.hpp"
-#include "npend/analysis/normal_modes.hpp"
+#include "npend/analysis/motion/motion_analysis.hpp"
+#include "npend/analysis/stability/normal_modes.hpp"
 #include "npend/excitation.hpp"
 #include "output_file.hpp"
 #include "series_figures.hpp"

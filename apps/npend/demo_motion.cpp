@@ -4,9 +4,9 @@
 #include <cmath>
 
 #include "demo_sections.hpp"
-#include "npend/analysis/energy_drift.hpp"
+#include "npend/analysis/motion/energy_drift.hpp"
 #include "npend/excitation.hpp"
-#include "npend/integrate.hpp"
+#include "npend/integrators/integrate.hpp"
 
 namespace npend::app {
 

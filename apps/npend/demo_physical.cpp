@@ -12,12 +12,12 @@
 
 #include "demo_sections.hpp"
 #include "figure_index.hpp"
-#include "npend/analysis/floquet.hpp"
-#include "npend/analysis/lqr.hpp"
-#include "npend/analysis/normal_modes.hpp"
+#include "npend/analysis/stability/floquet.hpp"
+#include "npend/analysis/stability/lqr.hpp"
+#include "npend/analysis/stability/normal_modes.hpp"
 #include "npend/chain_system.hpp"
-#include "npend/integrate.hpp"
-#include "npend/integrate_system.hpp"
+#include "npend/integrators/integrate.hpp"
+#include "npend/integrators/integrate_system.hpp"
 #include "output_file.hpp"
 
 namespace npend::app {
@@ -212,7 +212,7 @@ void demo_physical(const demo_context& demo) {
           "{:.0f} rad/s. Two links are held from {:g} rad/s and three from {:g} rad/s, as "
           "Acheson's theorem (1993) predicts and Acheson and Mullin showed by experiment. "
           "Grid: 40 rad/s; the thresholds agree with Kapitza's averaged potential to 3e-5 "
-          "(tests/runtime/test_floquet.cpp).",
+          "(tests/runtime/stability/test_floquet.cpp).",
           threshold[0], std::sqrt(2 * 9.81 * link) / amplitude, threshold[1], threshold[2]),
       [&](series_output& out) {
         const std::string data =

@@ -7,10 +7,10 @@
 #include <cmath>
 
 #include "demo_sections.hpp"
-#include "npend/analysis/backbone.hpp"
-#include "npend/analysis/equilibria.hpp"
-#include "npend/analysis/lyapunov.hpp"
-#include "npend/analysis/normal_modes.hpp"
+#include "npend/analysis/stability/backbone.hpp"
+#include "npend/analysis/stability/equilibria.hpp"
+#include "npend/analysis/chaos/lyapunov.hpp"
+#include "npend/analysis/stability/normal_modes.hpp"
 #include "npend/excitation.hpp"
 #include "stability_tables.hpp"
 

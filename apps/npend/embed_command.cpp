@@ -6,8 +6,8 @@
 #include "series_output.hpp"
 #include "time_series_source.hpp"
 
-#include "npend/analysis/delay_embedding.hpp"
-#include "npend/analysis/embedding_dimension.hpp"
+#include "npend/analysis/series/delay_embedding.hpp"
+#include "npend/analysis/series/embedding_dimension.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

@@ -12,7 +12,7 @@
 #include "chain_options.hpp"
 #include "command.hpp"
 #include "input_parsing.hpp"
-#include "npend/analysis/floquet.hpp"
+#include "npend/analysis/stability/floquet.hpp"
 #include "series_output.hpp"
 #include "terminal_run.hpp"
 

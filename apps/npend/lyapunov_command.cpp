@@ -15,9 +15,9 @@
 #include "csv_table.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
-#include "npend/analysis/delay_embedding.hpp"
-#include "npend/analysis/lyapunov.hpp"
-#include "npend/analysis/series_lyapunov.hpp"
+#include "npend/analysis/series/delay_embedding.hpp"
+#include "npend/analysis/chaos/lyapunov.hpp"
+#include "npend/analysis/series/series_lyapunov.hpp"
 #include "series_output.hpp"
 #include "start_options.hpp"
 #include "terminal_run.hpp"
@@ -61,10 +61,11 @@ std::size_t whole_number(const std::string& text, const char* option, double low
 lyapunov_options make_options(const lyapunov_command_options& o) {
   lyapunov_options l;
   l.integration = o.integrator.make();
-  if (l.integration.stepper == stepper_kind::rosenbrock4)
-    throw cli::input_error(
-        "--stepper: rosenbrock4 cannot integrate the variational equations (it would need "
-        "second derivatives of f); use gauss6 (default), gauss4, rk4, dopri5, rkf78 or bs");
+  if (!serves(l.integration.stepper, stepper_use::variational))
+    throw cli::input_error(fmt::format(
+        "--stepper: {} cannot integrate the variational equations (it would need second "
+        "derivatives of f); use one of {} (default gauss6)",
+        stepper_name(l.integration.stepper), stepper_names(stepper_use::variational)));
   if (!o.transient.empty()) {
     l.transient = cli::parse_number(o.transient, "--transient");
     if (l.transient < 0)

@@ -28,10 +28,10 @@
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
 #include "map_tile_queue.hpp"
-#include "npend/analysis/chaos_map.hpp"
-#include "npend/analysis/map_grid.hpp"
+#include "npend/analysis/chaos/chaos_map.hpp"
+#include "npend/analysis/chaos/map_grid.hpp"
 #include "npend/batch_math.hpp"
-#include "npend/integration_error.hpp"
+#include "npend/integrators/integration_error.hpp"
 #include "output_file.hpp"
 #include "plotting.hpp"
 #include "section_spec.hpp"
@@ -280,7 +280,8 @@ map_stepping map_stepping_of(const map_command_options& o, map_quantity quantity
     }
     if (!is_map_stepper(stepping.stepper))
       throw cli::input_error(fmt::format(
-          "--stepper: a map integrates with rk4, dopri5, gauss4 or gauss6, not {}", o.stepper));
+          "--stepper: a map integrates with one of {}, not {}", stepper_names(stepper_use::map),
+          o.stepper));
   }
   if (!map_takes_stepper(quantity, stepping.stepper))
     throw cli::input_error(fmt::format(

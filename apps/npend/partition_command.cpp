@@ -9,7 +9,7 @@
 #include "chain_options.hpp"
 #include "command.hpp"
 #include "input_parsing.hpp"
-#include "npend/analysis/partition_function.hpp"
+#include "npend/analysis/statistical/partition_function.hpp"
 #include "series_output.hpp"
 #include "terminal_run.hpp"
 

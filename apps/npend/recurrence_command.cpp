@@ -7,10 +7,10 @@
 #include "series_output.hpp"
 #include "time_series_source.hpp"
 
-#include "npend/analysis/event_times.hpp"
-#include "npend/analysis/poincare_section.hpp"
-#include "npend/analysis/recurrence_times.hpp"
-#include "npend/analysis/spectral_peaks.hpp"
+#include "npend/analysis/series/event_times.hpp"
+#include "npend/analysis/chaos/poincare_section.hpp"
+#include "npend/analysis/series/recurrence_times.hpp"
+#include "npend/analysis/series/spectral_peaks.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

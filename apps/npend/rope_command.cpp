@@ -9,7 +9,7 @@
 
 #include "command.hpp"
 #include "input_parsing.hpp"
-#include "npend/analysis/hanging_chain.hpp"
+#include "npend/analysis/stability/hanging_chain.hpp"
 #include "output_file.hpp"
 #include "series_output.hpp"
 

@@ -7,13 +7,13 @@
 #include "plotting.hpp"
 #include "series_output.hpp"
 
-#include "npend/analysis/autocorrelation.hpp"
-#include "npend/analysis/delay_embedding.hpp"
-#include "npend/analysis/embedding_dimension.hpp"
-#include "npend/analysis/poincare_section.hpp"
-#include "npend/analysis/power_spectrum.hpp"
-#include "npend/analysis/recurrence_times.hpp"
-#include "npend/analysis/spectral_peaks.hpp"
+#include "npend/analysis/series/autocorrelation.hpp"
+#include "npend/analysis/series/delay_embedding.hpp"
+#include "npend/analysis/series/embedding_dimension.hpp"
+#include "npend/analysis/chaos/poincare_section.hpp"
+#include "npend/analysis/series/power_spectrum.hpp"
+#include "npend/analysis/series/recurrence_times.hpp"
+#include "npend/analysis/series/spectral_peaks.hpp"
 
 #include <cstddef>
 #include <optional>

@@ -6,9 +6,9 @@
 #include "series_output.hpp"
 #include "time_series_source.hpp"
 
-#include "npend/analysis/autocorrelation.hpp"
-#include "npend/analysis/power_spectrum.hpp"
-#include "npend/analysis/spectral_peaks.hpp"
+#include "npend/analysis/series/autocorrelation.hpp"
+#include "npend/analysis/series/power_spectrum.hpp"
+#include "npend/analysis/series/spectral_peaks.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

@@ -2,8 +2,8 @@
 // `npend modes` and `npend demo`.
 #pragma once
 
-#include "npend/analysis/equilibria.hpp"
-#include "npend/analysis/normal_modes.hpp"
+#include "npend/analysis/stability/equilibria.hpp"
+#include "npend/analysis/stability/normal_modes.hpp"
 
 #include <vector>
 

@@ -30,10 +30,10 @@
 #include <string>
 #include <vector>
 
-#include "npend/analysis/chaos_map.hpp"
+#include "npend/analysis/chaos/chaos_map.hpp"
 #include "npend/batch_math.hpp"
 #include "npend/chain.hpp"
-#include "npend/integrate.hpp"
+#include "npend/integrators/integrate.hpp"
 
 namespace {
 

@@ -8,8 +8,8 @@
 //     --quick       10^4 steps and 3 rounds, a smoke run
 //     --throughput  the throughput table alone (bench/run puts it beside the kernel timings)
 #include "npend/chain_system.hpp"
-#include "npend/gauss_legendre.hpp"
-#include "npend/integrate.hpp"
+#include "npend/integrators/gauss_legendre.hpp"
+#include "npend/integrators/integrate.hpp"
 
 #include <fmt/format.h>
 

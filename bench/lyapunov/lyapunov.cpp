@@ -7,8 +7,8 @@
 // section (docs/benchmarks.md, through bench/run).
 //
 //   npend_bench_lyapunov [--quick]     (--quick: T = 100 s and one run, a smoke run)
-#include "npend/analysis/floquet.hpp"
-#include "npend/analysis/lyapunov.hpp"
+#include "npend/analysis/stability/floquet.hpp"
+#include "npend/analysis/chaos/lyapunov.hpp"
 #include "npend/excitation.hpp"
 
 #include <fmt/format.h>

@@ -10,13 +10,13 @@
 #include <limits>
 
 #include "bindings.hpp"
-#include "npend/analysis/autocorrelation.hpp"
-#include "npend/analysis/chaos_map.hpp"
-#include "npend/analysis/map_grid.hpp"
-#include "npend/analysis/delay_embedding.hpp"
-#include "npend/analysis/equilibria.hpp"
-#include "npend/analysis/normal_modes.hpp"
-#include "npend/analysis/power_spectrum.hpp"
+#include "npend/analysis/series/autocorrelation.hpp"
+#include "npend/analysis/chaos/chaos_map.hpp"
+#include "npend/analysis/chaos/map_grid.hpp"
+#include "npend/analysis/series/delay_embedding.hpp"
+#include "npend/analysis/stability/equilibria.hpp"
+#include "npend/analysis/stability/normal_modes.hpp"
+#include "npend/analysis/series/power_spectrum.hpp"
 #include "section_spec.hpp"
 #include "thread_count.hpp"
 

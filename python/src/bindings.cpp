@@ -5,7 +5,7 @@
 
 #include <stdexcept>
 
-#include "npend/stepper_kind.hpp"
+#include "npend/integrators/stepper_kind.hpp"
 
 namespace npend::python {
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "npend/chain.hpp"
-#include "npend/integrate.hpp"
+#include "npend/integrators/integrate.hpp"
 #include "npend/run_control.hpp"
 
 namespace npend::python {

@@ -4,9 +4,9 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
-#include "npend/analysis/chaos_indicators.hpp"
-#include "npend/analysis/lyapunov.hpp"
-#include "npend/analysis/poincare_section.hpp"
+#include "npend/analysis/chaos/chaos_indicators.hpp"
+#include "npend/analysis/chaos/lyapunov.hpp"
+#include "npend/analysis/chaos/poincare_section.hpp"
 #include "section_spec.hpp"
 
 namespace npend::python {
@@ -159,16 +159,19 @@ py::dict indicators(const chain& c, const py::handle& x0_in, double t_end, doubl
 }  // namespace
 
 void bind_integration(py::module_& m) {
-  m.def("simulate", &simulate, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
-        py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("t_start") = 0.0,
-        py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10,
-        R"(Integrates Hamilton's equations from x0 (shape (2n,)) on the grid
+  // The stepper names come from the one list in stepper_kind.cpp; pybind11 copies the text.
+  const std::string simulate_doc = fmt::format(R"(Integrates Hamilton's equations from x0 (shape (2n,)) on the grid
 t_k = t_start + k dt up to t_end, as `npend simulate` does.
 
 Returns (t, X): t of shape (N+1,), X of shape (N+1, 2n), row k the state at t_k.
-stepper: gauss6 (default), gauss4, rk4, dopri5, rkf78, bs, rosenbrock4; the adaptive ones
+stepper: one of {} (default gauss6); the adaptive ones ({})
 use abs_tol and rel_tol. Raises ValueError for bad input, RuntimeError when the integration
-cannot go on, KeyboardInterrupt on Ctrl-C.)");
+cannot go on, KeyboardInterrupt on Ctrl-C.)",
+                                               stepper_names(), stepper_names(stepper_use::adaptive));
+  m.def("simulate", &simulate, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
+        py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("t_start") = 0.0,
+        py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10,
+        simulate_doc.c_str());
   m.def("lyapunov", &lyapunov, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
         py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("maximal") = false,
         py::arg("exponents") = 0, py::arg("renormalise_every") = 0.1,

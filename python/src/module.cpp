@@ -3,7 +3,7 @@
 // command line's messages) becomes ValueError, npend::integration_error becomes
 // npend.IntegrationError (a RuntimeError carrying the time), Ctrl-C KeyboardInterrupt.
 #include "bindings.hpp"
-#include "npend/integration_error.hpp"
+#include "npend/integrators/integration_error.hpp"
 
 PYBIND11_MODULE(_npend, m) {
   namespace py = pybind11;

@@ -11,7 +11,7 @@
 #include <iterator>
 #include <sstream>
 
-#include "npend/integrate.hpp"
+#include "npend/integrators/integrate.hpp"
 #include "support/test_support.hpp"
 
 using npend::test::run_npend;

@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "npend/analysis/hanging_chain.hpp"
-#include "npend/analysis/partition_function.hpp"
+#include "npend/analysis/stability/hanging_chain.hpp"
+#include "npend/analysis/statistical/partition_function.hpp"
 #include "npend/chain.hpp"
 #include "support/test_support.hpp"
 

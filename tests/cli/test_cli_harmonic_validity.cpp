@@ -1,7 +1,7 @@
 // `npend backbone` and `npend corrections` as a user runs them: the JSON against the library
 // and the single pendulum's exact frequency, the files and plots, bad input.
-#include "npend/analysis/backbone.hpp"
-#include "npend/analysis/harmonic_corrections.hpp"
+#include "npend/analysis/stability/backbone.hpp"
+#include "npend/analysis/stability/harmonic_corrections.hpp"
 #include "support/test_support.hpp"
 
 #include <doctest/doctest.h>

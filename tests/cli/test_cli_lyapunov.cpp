@@ -8,7 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "npend/analysis/lyapunov.hpp"
+#include "npend/analysis/chaos/lyapunov.hpp"
 #include "npend/excitation.hpp"
 #include "support/test_signals.hpp"
 #include "support/test_support.hpp"

@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "npend/analysis/chaos_map.hpp"
+#include "npend/analysis/chaos/chaos_map.hpp"
 #include "npend/batch_math.hpp"
 #include "support/test_support.hpp"
 

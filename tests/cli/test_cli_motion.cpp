@@ -1,10 +1,10 @@
 // npend poincare, npend analyze and npend demo as a user runs them: the crossings' JSON
 // against the library, the files and the index they write, and their input errors.
 #include "csv_table.hpp"
-#include "npend/analysis/rod_tensions.hpp"
+#include "npend/analysis/motion/rod_tensions.hpp"
 #include "support/test_support.hpp"
 
-#include "npend/analysis/poincare_section.hpp"
+#include "npend/analysis/chaos/poincare_section.hpp"
 
 #include <doctest/doctest.h>
 #include <fmt/format.h>
@@ -165,7 +165,7 @@ TEST_CASE("npend analyze: writes the data, the plots and an index that shows the
   CHECK(series.columns[0].size() == 8192);
   CHECK(series.columns[3].front() == 0.72);
   // The tensions on the same samples, the first row the library's at the start (their
-  // physics is tested in tests/runtime/test_rod_tensions.cpp).
+  // physics is tested in tests/runtime/motion/test_rod_tensions.cpp).
   const auto tensions = npend::cli::parse_csv(npend::test::read_text(dir / "tensions.csv"), "tensions.csv");
   CHECK(tensions.names == std::vector<std::string>{"t", "tau_1", "tau_2", "tau_3"});
   CHECK(tensions.columns[0].size() == 8192);

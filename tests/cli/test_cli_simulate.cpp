@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "npend/excitation.hpp"
-#include "npend/integrate.hpp"
+#include "npend/integrators/integrate.hpp"
 #include "support/test_support.hpp"
 
 using npend::test::run_npend;

@@ -4,14 +4,14 @@
 #include "csv_table.hpp"
 #include "support/test_support.hpp"
 
-#include "npend/analysis/autocorrelation.hpp"
-#include "npend/analysis/delay_embedding.hpp"
-#include "npend/analysis/embedding_dimension.hpp"
-#include "npend/analysis/poincare_section.hpp"
-#include "npend/analysis/power_spectrum.hpp"
-#include "npend/analysis/spectral_peaks.hpp"
+#include "npend/analysis/series/autocorrelation.hpp"
+#include "npend/analysis/series/delay_embedding.hpp"
+#include "npend/analysis/series/embedding_dimension.hpp"
+#include "npend/analysis/chaos/poincare_section.hpp"
+#include "npend/analysis/series/power_spectrum.hpp"
+#include "npend/analysis/series/spectral_peaks.hpp"
 #include "npend/excitation.hpp"
-#include "npend/integrate.hpp"
+#include "npend/integrators/integrate.hpp"
 
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>

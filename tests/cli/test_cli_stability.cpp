@@ -1,6 +1,6 @@
 // npend equilibria / modes / toda-brumer as a user runs them.
-#include "npend/analysis/equilibria.hpp"
-#include "npend/analysis/normal_modes.hpp"
+#include "npend/analysis/stability/equilibria.hpp"
+#include "npend/analysis/stability/normal_modes.hpp"
 #include "support/test_support.hpp"
 
 #include <doctest/doctest.h>

@@ -6,12 +6,12 @@
 #include "support/test_support.hpp"
 #include "time_series_source.hpp"
 
-#include "npend/analysis/autocorrelation.hpp"
-#include "npend/analysis/delay_embedding.hpp"
-#include "npend/analysis/embedding_dimension.hpp"
-#include "npend/analysis/event_times.hpp"
-#include "npend/analysis/power_spectrum.hpp"
-#include "npend/analysis/spectral_peaks.hpp"
+#include "npend/analysis/series/autocorrelation.hpp"
+#include "npend/analysis/series/delay_embedding.hpp"
+#include "npend/analysis/series/embedding_dimension.hpp"
+#include "npend/analysis/series/event_times.hpp"
+#include "npend/analysis/series/power_spectrum.hpp"
+#include "npend/analysis/series/spectral_peaks.hpp"
 
 #include <doctest/doctest.h>
 #include <fmt/format.h>

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "npend/chain.hpp"
-#include "npend/integrate.hpp"
+#include "npend/integrators/integrate.hpp"
 #include "reference/chain_recursion.hpp"
 #include "reference/dense_chain.hpp"
 #include "support/test_support.hpp"

@@ -1,6 +1,6 @@
 // The chain as an odeint system, and the stepper names.
 #include "npend/chain_system.hpp"
-#include "npend/stepper_kind.hpp"
+#include "npend/integrators/stepper_kind.hpp"
 #include "support/test_support.hpp"
 
 #include <doctest/doctest.h>
@@ -74,7 +74,7 @@ TEST_CASE("parse_stepper_kind: every name round-trips; an unknown one lists the 
   }
   CHECK(npend::all_stepper_kinds().size() == 7);
   CHECK(npend::stepper_names() == "rk4, dopri5, rkf78, bs, rosenbrock4, gauss4, gauss6");
-  CHECK(npend::stepper_names(true) == "dopri5, rkf78, bs, rosenbrock4");
+  CHECK(npend::stepper_names(npend::stepper_use::adaptive) == "dopri5, rkf78, bs, rosenbrock4");
   CHECK_THROWS_WITH_AS(
       npend::parse_stepper_kind("euler"),
       "unknown stepper 'euler': choose one of rk4, dopri5, rkf78, bs, rosenbrock4, "

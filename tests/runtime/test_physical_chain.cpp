@@ -12,8 +12,8 @@
 
 #include "npend/chain.hpp"
 #include "npend/chain_system.hpp"
-#include "npend/integrate.hpp"
-#include "npend/stepper_kind.hpp"
+#include "npend/integrators/integrate.hpp"
+#include "npend/integrators/stepper_kind.hpp"
 #include "reference/dense_chain.hpp"
 #include "support/test_support.hpp"
 

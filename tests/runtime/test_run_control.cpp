@@ -1,12 +1,12 @@
 // integrate_with (any odeint stepper by its category) against the stepper_kind factory, and
 // the run control every long computation accepts: progress that reaches its total, and a
 // stop request that ends the computation early with what it has, flagged.
-#include "npend/analysis/backbone.hpp"
-#include "npend/analysis/lyapunov.hpp"
-#include "npend/analysis/poincare_section.hpp"
+#include "npend/analysis/stability/backbone.hpp"
+#include "npend/analysis/chaos/lyapunov.hpp"
+#include "npend/analysis/chaos/poincare_section.hpp"
 #include "npend/chain_system.hpp"
-#include "npend/integrate.hpp"
-#include "npend/integrate_system.hpp"
+#include "npend/integrators/integrate.hpp"
+#include "npend/integrators/integrate_system.hpp"
 #include "support/test_support.hpp"
 
 #include <boost/numeric/odeint/stepper/generation.hpp>

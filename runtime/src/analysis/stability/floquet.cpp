@@ -1,0 +1,142 @@
+#include "npend/analysis/stability/floquet.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "npend/chain_system.hpp"
+#include "npend/integrators/gauss_legendre.hpp"
+#include "npend/integrators/integration_error.hpp"
+
+namespace npend {
+
+namespace {
+
+using row_major = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// The monodromy over one period in `steps` Gauss–Legendre steps; x ends at x(T). False if
+// the control asked to stop (`done` steps before this run count towards its progress).
+bool monodromy(const chain& c, std::vector<double>& x, double period, int steps, int done,
+               int total, run_control* control, Eigen::MatrixXd& tangent) {
+  const int d = c.state_size();
+  tangent = Eigen::MatrixXd::Identity(d, d);
+  gauss_legendre<3> stepper;
+  const auto system = make_implicit_system(c);
+  const double dt = period / steps;
+  for (int k = 0; k < steps; ++k) {
+    stepper.do_step_with_tangent(system, x, k * dt, dt, tangent);
+    if (report_progress(control, done + k + 1, total)) return false;
+  }
+  return true;
+}
+
+double largest_modulus(const Eigen::VectorXcd& ev) {
+  double m = 0;
+  for (const auto& v : ev) m = std::max(m, std::abs(v));
+  return m;
+}
+
+}  // namespace
+
+const char* verdict_name(floquet_verdict v) {
+  switch (v) {
+    case floquet_verdict::stable:
+      return "stable";
+    case floquet_verdict::marginal:
+      return "marginal";
+    case floquet_verdict::unstable:
+      return "unstable";
+  }
+  return "unstable";
+}
+
+floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
+                                const floquet_options& options, double period) {
+  if (x0.size() != static_cast<std::size_t>(c.state_size()))
+    throw std::invalid_argument(fmt::format("the start has {} entries; the {}-link chain needs {}",
+                                            x0.size(), c.links(), c.state_size()));
+  if (options.steps < 2)
+    throw std::invalid_argument(
+        fmt::format("steps per period must be >= 2, got {}", options.steps));
+  if (period == 0) period = c.parameters().pivot.period();
+  if (!(period > 0) || !std::isfinite(period))
+    throw std::invalid_argument(
+        "Floquet analysis needs a period: a periodic pivot drive (vertical:A:OMEGA or "
+        "horizontal:A:OMEGA) or an explicit period");
+  const int d = c.state_size();
+  const int coarse_steps = options.steps / 2, total = options.steps + coarse_steps;
+  floquet_result r;
+  r.period = period;
+  r.steps = options.steps;
+  std::vector<double> x(x0.begin(), x0.end()), x_coarse = x;
+  Eigen::MatrixXd tangent, coarse;
+  bool finished = false;
+  try {
+    finished = monodromy(c, x, period, options.steps, 0, total, options.control, tangent) &&
+               monodromy(c, x_coarse, period, coarse_steps, options.steps, total,
+                         options.control, coarse);
+  } catch (const integration_error& e) {
+    // The step is the period over the steps: the stepper's "try a smaller dt" means more
+    // steps here.
+    std::string what = e.what();
+    const std::string hint = "; try a smaller dt";
+    if (what.ends_with(hint)) what.resize(what.size() - hint.size());
+    throw integration_error(
+        fmt::format("{}; try more steps per period (--steps, now {})", what, options.steps),
+        e.time());
+  }
+  if (!finished) {
+    r.stopped = true;
+    return r;
+  }
+  r.monodromy.resize(static_cast<std::size_t>(d * d));
+  Eigen::Map<row_major>(r.monodromy.data(), d, d) = tangent;
+  const Eigen::EigenSolver<Eigen::MatrixXd> eigen(tangent, true);
+  const Eigen::VectorXcd ev = eigen.eigenvalues();
+  r.multipliers.assign(ev.data(), ev.data() + d);
+  std::sort(r.multipliers.begin(), r.multipliers.end(), [](auto a, auto b) {
+    return std::abs(a) != std::abs(b) ? std::abs(a) > std::abs(b) : a.imag() > b.imag();
+  });
+  r.max_modulus = std::abs(r.multipliers.front());
+
+  // The error of max |μ|: the integration's, from the run at half the steps, and the
+  // eigenvalues' rounding, κ_i d ε ‖M‖ with κ_i = ‖x_i‖ ‖y_i‖ / |y_iᴴ x_i| (right and left
+  // eigenvectors: the columns of V and the rows of V⁻¹, whose product is 1). A defective
+  // (or nearly) M, as where two multipliers meet on the circle, has a huge κ: its verdict
+  // is then marginal rather than a guess.
+  const Eigen::MatrixXcd v = eigen.eigenvectors();
+  const Eigen::FullPivLU<Eigen::MatrixXcd> lu(v);
+  double kappa = std::numeric_limits<double>::infinity();
+  if (lu.isInvertible()) {
+    const Eigen::MatrixXcd w = lu.inverse();
+    kappa = 1;
+    for (int i = 0; i < d; ++i) kappa = std::max(kappa, v.col(i).norm() * w.row(i).norm());
+  }
+  const double rounding =
+      kappa * d * std::numeric_limits<double>::epsilon() * tangent.operatorNorm();
+  const double integration =
+      std::fabs(r.max_modulus - largest_modulus(coarse.eigenvalues()));
+  r.modulus_error = integration + rounding;
+  if (!std::isfinite(r.modulus_error)) r.modulus_error = std::numeric_limits<double>::infinity();
+
+  // Undamped, μ and 1/μ come in pairs: max |μ| = 1 is the best there is (all on the
+  // circle). Damped, stable means inside the circle by more than the error.
+  const double e = r.modulus_error;
+  if (r.max_modulus > 1 + e)
+    r.verdict = floquet_verdict::unstable;
+  else if (!c.parameters().is_damped() || r.max_modulus < 1 - e)
+    r.verdict = floquet_verdict::stable;
+  else
+    r.verdict = floquet_verdict::marginal;
+  r.stable = r.verdict == floquet_verdict::stable;
+  for (int i = 0; i < d; ++i)
+    r.closure = std::max(
+        r.closure, std::fabs(x[static_cast<std::size_t>(i)] - x0[static_cast<std::size_t>(i)]));
+  return r;
+}
+
+}  // namespace npend

@@ -1,0 +1,76 @@
+#include "npend/integrators/integrate.hpp"
+
+#include "npend/chain_system.hpp"
+#include "npend/integrators/integrate_system.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace npend {
+
+void integration_options::validate() const {
+  const auto finite = [](double v, const char* name) {
+    if (!std::isfinite(v))
+      throw std::invalid_argument(
+          fmt::format("integration option {} is {}: it must be finite", name, v));
+  };
+  finite(t_start, "t_start");
+  finite(t_end, "t_end");
+  finite(dt, "dt");
+  finite(abs_tol, "abs_tol");
+  finite(rel_tol, "rel_tol");
+  if (dt == 0) throw std::invalid_argument("integration option dt must not be 0");
+  if ((t_end - t_start) / dt < 1 - 1e-9)
+    throw std::invalid_argument(fmt::format(
+        "integration interval [{}, {}] holds no step of dt = {}: dt must point from t_start to "
+        "t_end and be no longer than the interval",
+        t_start, t_end, dt));
+  if (abs_tol < 0 || rel_tol < 0 || (abs_tol == 0 && rel_tol == 0))
+    throw std::invalid_argument(fmt::format(
+        "integration tolerances abs_tol = {}, rel_tol = {}: both must be >= 0 and one > 0", abs_tol,
+        rel_tol));
+  if (!(min_step_ratio > 0 && min_step_ratio < 1))
+    throw std::invalid_argument(fmt::format(
+        "integration option min_step_ratio is {}: it must lie in (0, 1)", min_step_ratio));
+}
+
+std::size_t output_steps(const integration_options& options) {
+  options.validate();
+  const double steps = std::floor((options.t_end - options.t_start) / options.dt + 1e-9);
+  // Beyond 2^53 the grid index stops being exact in double.
+  if (steps > 9007199254740992.0)
+    throw std::invalid_argument(fmt::format(
+        "integration interval needs {:.3g} steps of dt = {}: too many", steps, options.dt));
+  return static_cast<std::size_t>(steps);
+}
+
+void integration_step::state_at(double t, std::span<double> x) const {
+  if (x.size() != m_x_begin.size())
+    throw std::invalid_argument(
+        fmt::format("integration_step::state_at: x has {} entries; the system has dimension {}",
+                    x.size(), m_x_begin.size()));
+  // A few units of rounding of the step's ends are tolerated (t_begin + h need not be t_end).
+  const double slack = 4 * std::numeric_limits<double>::epsilon() *
+                       std::max(std::fabs(m_t_begin), std::fabs(m_t_end));
+  if (!(t >= std::min(m_t_begin, m_t_end) - slack && t <= std::max(m_t_begin, m_t_end) + slack))
+    throw std::invalid_argument(
+        fmt::format("integration_step::state_at: t = {} is outside the step [{}, {}]", t,
+                    std::min(m_t_begin, m_t_end), std::max(m_t_begin, m_t_end)));
+  m_interpolant->state_at(t, x);
+}
+
+integration_result integrate(const chain& c, std::span<const double> x0,
+                             const integration_options& options, const observer_function& observer,
+                             const step_observer_function& step_observer) {
+  if (x0.size() != static_cast<std::size_t>(c.state_size()))
+    throw std::invalid_argument(
+        fmt::format("start state x0 has {} entries; the {}-link chain needs {}", x0.size(),
+                    c.links(), c.state_size()));
+  return integrate_system(make_implicit_system(c), x0, options, observer, step_observer);
+}
+
+}  // namespace npend
