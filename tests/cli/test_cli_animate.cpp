@@ -370,8 +370,9 @@ TEST_CASE("npend animate: SIGINT while drawing leaves neither the file nor the f
 
 TEST_CASE("npend animate: a progress bar on a terminal while the frames are drawn") {
   const std::string dir = npend::test::temporary_directory("animate-progress");
-  // Integrating 60 s takes a fraction of a second; the bar must then follow the drawing.
-  const std::string run = "timeout --preserve-status -s INT 3 " + std::string(NPEND_CLI_PATH) +
+  // Integrating 60 s takes a fraction of a second; the bar must then follow the drawing. The
+  // interrupt comes after 6 s so that a loaded machine still reaches the drawing.
+  const std::string run = "timeout --preserve-status -s INT 6 " + std::string(NPEND_CLI_PATH) +
                           " animate --links 3 --phi 1.5,1.5,1.5 --t-end 60 --out " + dir + "/a.mp4";
   // `script` runs the command on a pseudo-terminal and copies what it shows to stdout.
   const auto on_terminal = run_shell("script -qec '" + run + "' /dev/null");
