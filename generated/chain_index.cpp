@@ -13,6 +13,12 @@
 #include "physical_4.hpp"
 #include "physical_5.hpp"
 #include "physical_6.hpp"
+#include "cart_1.hpp"
+#include "cart_2.hpp"
+#include "cart_3.hpp"
+#include "cart_4.hpp"
+#include "cart_5.hpp"
+#include "cart_6.hpp"
 
 namespace npend::generated {
 
@@ -21,6 +27,8 @@ namespace {
 const chain_kernels* const table[] = {&chain_1::kernels, &chain_2::kernels, &chain_3::kernels, &chain_4::kernels, &chain_5::kernels, &chain_6::kernels};
 
 const physical_kernels* const physical_table[] = {&physical_1::kernels, &physical_2::kernels, &physical_3::kernels, &physical_4::kernels, &physical_5::kernels, &physical_6::kernels};
+
+const physical_kernels* const cart_table[] = {&cart_1::kernels, &cart_2::kernels, &cart_3::kernels, &cart_4::kernels, &cart_5::kernels, &cart_6::kernels};
 
 const int links_built[] = {1, 2, 3, 4, 5, 6};
 
@@ -34,6 +42,12 @@ const chain_kernels* find_chain(int links) noexcept {
 
 const physical_kernels* find_physical(int links) noexcept {
   for (const physical_kernels* k : physical_table)
+    if (k->links == links) return k;
+  return nullptr;
+}
+
+const physical_kernels* cart_kernels_for(int links) noexcept {
+  for (const physical_kernels* k : cart_table)
     if (k->links == links) return k;
   return nullptr;
 }

@@ -13,6 +13,9 @@ const chain_kernels* find_chain(int links) noexcept;
 /// The physical chain's kernels for `links` links, or nullptr when not built.
 const physical_kernels* find_physical(int links) noexcept;
 
+/// The kernels of the chain of `links` links on a cart (cart_layout), or nullptr when not built.
+const physical_kernels* cart_kernels_for(int links) noexcept;
+
 /// The built link counts, ascending: a pointer to `*count` entries.
 const int* built_links(int* count) noexcept;
 
