@@ -31,7 +31,8 @@ emitted_statements emit_statements(const expr_graph& g, const std::vector<sx>& o
                                    const std::function<std::string(const node&)>& leaf,
                                    const std::string& indent);
 
-/// The line every generated file starts with.
+/// The lines every generated file starts with: what made it and how to remake it, and that
+/// it is covered by the output exception of LICENSE-EXCEPTION.md.
 std::string generated_banner(const std::string& command);
 
 /// Header and source of chain_<n>.hpp / chain_<n>.cpp.
