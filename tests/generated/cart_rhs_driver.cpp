@@ -35,8 +35,7 @@ int main() {
     }
     std::vector<double> dxdt(static_cast<std::size_t>(k->state_size));
     k->rhs(x.data(), params.data(), w.data(), dxdt.data());
-    for (std::size_t i = 0; i < dxdt.size(); ++i)
-      std::printf("%s%.17g", i ? " " : "", dxdt[i]);
+    for (std::size_t i = 0; i < dxdt.size(); ++i) std::printf("%s%.17g", i ? " " : "", dxdt[i]);
     std::printf("\n");
   }
   return 0;
