@@ -1,21 +1,24 @@
 # ctest script: fails when the committed generated/ differs from fresh generator output
 # (MODE=drift), or when two generator runs differ byte for byte (MODE=determinism).
-# Variables: GEN (npend-gen), SOURCE_DIR, WORK_DIR, LINKS (comma-separated), MODE.
+# Variables: GEN (npend-gen), SOURCE_DIR, WORK_DIR, LINKS and MODELS (comma-separated), MODE.
 
 function(run_generator out_dir links)
   file(REMOVE_RECURSE "${out_dir}")
   execute_process(
-    COMMAND "${GEN}" --links ${links} --index ${LINKS} --loop --out "${out_dir}"
+    COMMAND "${GEN}" --index ${LINKS} --loop --out "${out_dir}"
     RESULT_VARIABLE rc ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "npend-gen failed (${rc}): ${err}")
+    message(FATAL_ERROR "npend-gen --index failed (${rc}): ${err}")
   endif()
-  execute_process(
-    COMMAND "${GEN}" --links ${links} --model physical --out "${out_dir}"
-    RESULT_VARIABLE rc ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "npend-gen --model physical failed (${rc}): ${err}")
-  endif()
+  string(REPLACE "," ";" models "${MODELS}")
+  foreach(model IN LISTS models)
+    execute_process(
+      COMMAND "${GEN}" --links ${links} --model ${model} --out "${out_dir}"
+      RESULT_VARIABLE rc ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "npend-gen --model ${model} failed (${rc}): ${err}")
+    endif()
+  endforeach()
 endfunction()
 
 function(compare_dirs a b hint)

@@ -7,6 +7,32 @@
 set(NPEND_COMMITTED_LINKS 1 2 3 4 5 6)
 set(NPEND_GENERATED_BUILD_DIR "${PROJECT_BINARY_DIR}/generated")
 
+# The models with kernels per link count, one line each: "<npend-gen --model>:<file stems>",
+# the stems of what `npend-gen --links <n> --model <model>` writes (<stem>_<n>.hpp/.cpp; the
+# point-mass chain also writes its batch kernels). Adding a model is a line here (and its row
+# in the generator's emitted_models).
+set(NPEND_MODELS
+  "point:chain,batch"
+  "physical:physical"
+  "cart:cart")
+
+# _npend_model(<entry> <model var> <stems var>): the parts of an NPEND_MODELS entry.
+function(_npend_model entry model_var stems_var)
+  string(REPLACE ":" ";" parts "${entry}")
+  list(GET parts 0 model)
+  list(GET parts 1 stems)
+  string(REPLACE "," ";" stems "${stems}")
+  set(${model_var} "${model}" PARENT_SCOPE)
+  set(${stems_var} "${stems}" PARENT_SCOPE)
+endfunction()
+
+# The model names alone (for the drift test, cmake/check_generated.cmake).
+set(NPEND_MODEL_NAMES)
+foreach(entry IN LISTS NPEND_MODELS)
+  _npend_model("${entry}" model stems)
+  list(APPEND NPEND_MODEL_NAMES ${model})
+endforeach()
+
 function(_npend_join out)
   list(JOIN ARGN "," joined)
   set(${out} "${joined}" PARENT_SCOPE)
@@ -26,9 +52,12 @@ function(npend_generated_library target)
       message(FATAL_ERROR "NPEND_LINKS: '${n}' is not a positive link count")
     endif()
     if(n IN_LIST NPEND_COMMITTED_LINKS)
-      foreach(stem chain_${n} physical_${n} batch_${n})
-        list(APPEND sources "${PROJECT_SOURCE_DIR}/generated/${stem}.cpp")
-        list(APPEND headers "${PROJECT_SOURCE_DIR}/generated/${stem}.hpp")
+      foreach(entry IN LISTS NPEND_MODELS)
+        _npend_model("${entry}" model stems)
+        foreach(stem IN LISTS stems)
+          list(APPEND sources "${PROJECT_SOURCE_DIR}/generated/${stem}_${n}.cpp")
+          list(APPEND headers "${PROJECT_SOURCE_DIR}/generated/${stem}_${n}.hpp")
+        endforeach()
       endforeach()
     else()
       if(NOT TARGET npend-gen)
@@ -36,19 +65,22 @@ function(npend_generated_library target)
                             "generated/; building them needs the generator "
                             "(-DNPEND_BUILD_GENERATOR=ON, with GiNaC installed).")
       endif()
-      set(out "${NPEND_GENERATED_BUILD_DIR}/chain_${n}")
-      set(physical "${NPEND_GENERATED_BUILD_DIR}/physical_${n}")
-      set(batch "${NPEND_GENERATED_BUILD_DIR}/batch_${n}")
-      add_custom_command(
-        OUTPUT "${out}.hpp" "${out}.cpp" "${physical}.hpp" "${physical}.cpp" "${batch}.hpp"
-               "${batch}.cpp"
-        COMMAND npend-gen --links ${n} --out "${NPEND_GENERATED_BUILD_DIR}"
-        COMMAND npend-gen --links ${n} --model physical --out "${NPEND_GENERATED_BUILD_DIR}"
-        DEPENDS npend-gen
-        COMMENT "npend-gen: deriving the ${n}-link chain (point-mass and physical)"
-        VERBATIM)
-      list(APPEND sources "${out}.cpp" "${physical}.cpp" "${batch}.cpp")
-      list(APPEND headers "${out}.hpp" "${physical}.hpp" "${batch}.hpp")
+      foreach(entry IN LISTS NPEND_MODELS)
+        _npend_model("${entry}" model stems)
+        set(outputs)
+        foreach(stem IN LISTS stems)
+          list(APPEND outputs "${NPEND_GENERATED_BUILD_DIR}/${stem}_${n}.hpp"
+               "${NPEND_GENERATED_BUILD_DIR}/${stem}_${n}.cpp")
+          list(APPEND sources "${NPEND_GENERATED_BUILD_DIR}/${stem}_${n}.cpp")
+          list(APPEND headers "${NPEND_GENERATED_BUILD_DIR}/${stem}_${n}.hpp")
+        endforeach()
+        add_custom_command(
+          OUTPUT ${outputs}
+          COMMAND npend-gen --links ${n} --model ${model} --out "${NPEND_GENERATED_BUILD_DIR}"
+          DEPENDS npend-gen
+          COMMENT "npend-gen: deriving the ${n}-link chain (${model} model)"
+          VERBATIM)
+      endforeach()
       set(generated_in_build TRUE)
     endif()
   endforeach()
@@ -126,11 +158,14 @@ endfunction()
 # content is unchanged are left alone, so nothing rebuilds needlessly).
 function(npend_add_regenerate_target)
   _npend_join(list_arg ${NPEND_COMMITTED_LINKS})
+  set(commands)
+  foreach(model IN LISTS NPEND_MODEL_NAMES)
+    list(APPEND commands COMMAND npend-gen --links ${list_arg} --model ${model}
+         --out "${PROJECT_SOURCE_DIR}/generated")
+  endforeach()
   add_custom_target(npend_regenerate
-    COMMAND npend-gen --links ${list_arg} --index ${list_arg} --loop
-            --out "${PROJECT_SOURCE_DIR}/generated"
-    COMMAND npend-gen --links ${list_arg} --model physical
-            --out "${PROJECT_SOURCE_DIR}/generated"
+    ${commands}
+    COMMAND npend-gen --index ${list_arg} --loop --out "${PROJECT_SOURCE_DIR}/generated"
     DEPENDS npend-gen
     COMMENT "npend-gen: regenerating generated/ for link counts ${list_arg}"
     VERBATIM)

@@ -1,5 +1,8 @@
 #include "chain_functions.hpp"
 
+#include <fmt/format.h>
+
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -159,7 +162,7 @@ emitted_function closed_form_function(const chain_symbols& sym, const polynomial
       "hamiltonian_closed_form", argument_layout::state,
       {"Closed-form Hamiltonian p^T adj(A) p / (2 det A) + V, as printed by npend-gen --latex.",
        "For checking against the paper; hamiltonian() is the faster way to the same value."});
-  const auto closed = derive_closed_form_hamiltonian(sym, mech);
+  const auto closed = derive_closed_form_hamiltonian(sym.coords, mech);
   expr_graph& g = *f.graph;
   const std::vector<sx> vars = variable_nodes(space, g);
   const sx num = to_graph(space.canonical(closed.numerator), vars, g);
@@ -169,13 +172,12 @@ emitted_function closed_form_function(const chain_symbols& sym, const polynomial
   return f;
 }
 
-// ∂f/∂w of a physical chain, w = [a_x, a_y, u_1..u_n]: f is affine in w and φ̇ = A⁻¹p does not
-// depend on it, so only ṗ = ∂L/∂φ + Q has entries, functions of φ alone.
+// ∂f/∂w of a chain with inputs (physical_kernels::input_matrix): f is affine in w and
+// q̇ = A⁻¹p does not depend on it, so only ṗ = ∂L/∂q + Q has entries, functions of q alone.
 emitted_function input_matrix_function(const chain_symbols& sym, const polynomial_space& space,
                                        const chain_mechanics& mech) {
-  const int n = sym.n;
-  std::vector<GiNaC::realsymbol> w{sym.drive_x, sym.drive_y};
-  for (const auto& ui : sym.torque) w.push_back(ui);
+  const int n = sym.coords.size();
+  const std::vector<GiNaC::realsymbol> w = input_symbols(sym);
   std::vector<GiNaC::ex> entries_rowmajor;
   for (int i = 0; i < n; ++i)
     for (std::size_t j = 0; j < w.size(); ++j) entries_rowmajor.push_back(0);
@@ -183,12 +185,19 @@ emitted_function input_matrix_function(const chain_symbols& sym, const polynomia
     const GiNaC::ex rate = mech.dL_dphi[u(i)] + mech.force[u(i)];
     for (const auto& wj : w) entries_rowmajor.push_back(rate.diff(wj).expand());
   }
-  return from_expressions(
-      space, "input_matrix", argument_layout::phi,
-      {"Input matrix df/dw, row-major (2n x (n+2)), for the inputs w = [a_x, a_y, u_1..u_n]:",
-       "the pivot's acceleration and the joint torques. Its last n columns are B = df/du; "
-       "df/dt = (df/dw) dw/dt."},
-      entries_rowmajor, "dfdw");
+  std::vector<std::string> doc =
+      on_cart(sym.kind)
+          ? std::vector<std::string>{"Input matrix df/dw, row-major (2(n+1) x (n+1)), for the "
+                                     "inputs w = [F, u_1..u_n]:",
+                                     "the force on the cart and the joint torques. df/dt = "
+                                     "(df/dw) dw/dt."}
+          : std::vector<std::string>{
+                "Input matrix df/dw, row-major (2n x (n+2)), for the inputs w = [a_x, a_y, "
+                "u_1..u_n]:",
+                "the pivot's acceleration and the joint torques. Its last n columns are B = "
+                "df/du; df/dt = (df/dw) dw/dt."};
+  return from_expressions(space, "input_matrix", argument_layout::phi, std::move(doc),
+                          entries_rowmajor, "dfdw");
 }
 
 // The exact Jacobian of a rigid-link chain's rhs, from forward-mode derivatives of the
@@ -359,6 +368,35 @@ std::vector<emitted_function> general_functions(const polynomial_space& space,
   return out;
 }
 
+// The cart's functions say what their arrays hold: the coordinates are q = [x, phi_1..phi_n]
+// (cart_layout), and the energy is the lab frame's.
+void describe_cart(std::vector<emitted_function>& functions) {
+  const std::map<std::string, std::vector<std::string>> docs{
+      {"rhs",
+       {"Hamilton's equations f(x): dxdt = [dq/dt (dim n+1), dp/dt (dim n+1)], q = [x, "
+        "phi_1..phi_n];",
+        "q' = A^-1 p with A = L D L^T factored here, p' = dL/dq at q' + Q (the force on the "
+        "cart, the joint torques and the damping forces)."}},
+      {"jacobian",
+       {"Exact Jacobian J = df/dx of rhs, row-major (2(n+1) x 2(n+1)): J[i*2(n+1) + j] = "
+        "df_i/dx_j.",
+        "With damping the flow is not Hamiltonian: no symmetry of J is assumed."}},
+      {"hamiltonian", {"Hamiltonian H(q, p) = 1/2 p^T A^-1 p + V (total energy, T + V)."}},
+      {"velocities", {"Inverse Legendre transform: dq = A^-1 p (dim n+1)."}},
+      {"momenta", {"Legendre transform: p = dL/d(dq) = A dq (dim n+1)."}},
+      {"kinetic_energy", {"Kinetic energy T = M/2 dx^2 + sum of the links' kinetic energies."}},
+      {"mass_matrix", {"Mass matrix A = d^2T/d(dq)^2, row-major ((n+1) x (n+1))."}},
+      {"potential_gradient", {"Gradient dV/dq (dim n+1)."}},
+      {"potential_hessian", {"Hessian d^2V/dq^2, row-major ((n+1) x (n+1))."}},
+      {"positions",
+       {"The cart's position and the bobs': [x, 0, x_1, y_1, ..., x_n, y_n] (dim 2(n+1)), y "
+        "down."}}};
+  for (auto& f : functions) {
+    const auto it = docs.find(f.name);
+    if (it != docs.end()) f.doc = it->second;
+  }
+}
+
 }  // namespace
 
 const char* solver_name(kinetic_solver solver) {
@@ -372,17 +410,33 @@ bool reads_inputs(const std::string& function_name) {
   return false;
 }
 
-kinetic_solver default_solver(const chain_symbols&) { return kinetic_solver::articulated; }
+kinetic_solver default_solver(const chain_symbols& sym) {
+  return fits_articulated(sym) ? kinetic_solver::articulated : kinetic_solver::ldlt;
+}
+
+bool fits_articulated(const chain_symbols& sym) { return !on_cart(sym.kind); }
+
+std::vector<GiNaC::realsymbol> input_symbols(const chain_symbols& sym) {
+  std::vector<GiNaC::realsymbol> w;
+  if (has_pivot_drive(sym.kind)) w = {sym.drive_x, sym.drive_y};
+  if (on_cart(sym.kind)) w = {sym.cart_force};
+  if (has_joint_forces(sym.kind)) w.insert(w.end(), sym.torque.begin(), sym.torque.end());
+  return w;
+}
 
 std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
                                                     const chain_mechanics& mech,
                                                     kinetic_solver solver) {
   const int n = sym.n;
+  if (solver == kinetic_solver::articulated && !fits_articulated(sym))
+    throw std::invalid_argument(
+        fmt::format("the articulated-body solver does not fit the {} model: use --solver ldlt",
+                    link_kind_name(sym.kind)));
   const polynomial_space space(sym);
   std::vector<emitted_function> out;
   std::vector<emitted_function> precomputed;  // the kinetic functions of the rigid or general path
   if (solver == kinetic_solver::ldlt)
-    precomputed = general_functions(space, mech, derive_lagrangian_hessians(sym, mech));
+    precomputed = general_functions(space, mech, derive_lagrangian_hessians(sym.coords, mech));
   else if (has_rigid_links(sym.kind))
     precomputed = rigid_articulated_functions(sym, space, mech);
   // The kinetic functions in their place of the file's order, from either path.
@@ -418,6 +472,7 @@ std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
                                  {"Hessian d^2V/dphi^2, row-major (n x n)."},
                                  entries(mech.hess_potential), "hess"));
   std::vector<GiNaC::ex> xy;
+  if (on_cart(sym.kind)) xy = {sym.cart_x, 0};
   for (int k = 0; k < n; ++k) {
     xy.push_back(mech.x[u(k)]);
     xy.push_back(mech.y[u(k)]);
@@ -425,12 +480,13 @@ std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
   out.push_back(from_expressions(space, "positions", argument_layout::phi,
                                  {"Bob positions [x_1, y_1, ..., x_n, y_n] (dim 2n), y down."}, xy,
                                  "xy"));
-  if (sym.kind != link_kind::physical) {
+  if (!has_joint_forces(sym.kind)) {
     if (n <= closed_form_max_links) out.push_back(closed_form_function(sym, space, mech));
     return out;
   }
   out.push_back(input_matrix_function(sym, space, mech));
   for (auto& f : out) f.takes_inputs = reads_inputs(f.name);
+  if (on_cart(sym.kind)) describe_cart(out);
   return out;
 }
 

@@ -27,8 +27,8 @@ struct emitted_function {
   argument_layout layout = argument_layout::state;
   bool returns_scalar = false;  ///< `double f(...)`; otherwise `void f(..., double* out)`
   std::string output_name;      ///< name of the output array of a void function
-  /// Takes the time-dependent inputs w = [a_x, a_y, u_1..u_n] of a physical chain as
-  /// `const double* inputs` after params.
+  /// Takes the time-dependent inputs w of a physical chain or a chain on a cart
+  /// (input_symbols) as `const double* inputs` after params.
   bool takes_inputs = false;
   std::unique_ptr<expr_graph> graph;
   std::vector<sx> outputs;
@@ -44,9 +44,18 @@ enum class kinetic_solver {
 /// "articulated" or "ldlt".
 const char* solver_name(kinetic_solver solver);
 
-/// The solver for a chain: the articulated-body form, which fits every chain emitted; the
-/// general path stays for cross-checks (`npend-gen --verify N --solver ldlt`).
+/// The solver for a chain: the articulated-body form where it fits (every chain from a fixed
+/// or driven pivot), the general path otherwise (the chain on a cart); the general path also
+/// serves as a cross-check (`npend-gen --verify N --solver ldlt`).
 kinetic_solver default_solver(const chain_symbols& sym);
+
+/// Whether the articulated-body elimination fits the chain (not on a cart: its recursion
+/// starts from a pivot whose motion is given).
+bool fits_articulated(const chain_symbols& sym);
+
+/// The time-dependent inputs w of a chain, in the order of its layout: [a_x, a_y, u_1..u_n]
+/// for the physical chain, [F, u_1..u_n] on a cart, none otherwise.
+std::vector<GiNaC::realsymbol> input_symbols(const chain_symbols& sym);
 
 /// The functions of a physical chain that read its time-dependent inputs (the drive enters V,
 /// the torques Q): rhs, jacobian, hamiltonian, lagrangian, potential_energy,
@@ -54,8 +63,9 @@ kinetic_solver default_solver(const chain_symbols& sym);
 bool reads_inputs(const std::string& function_name);
 
 /// Every emitted function of the n-link chain, in the order they are written; the kinetic
-/// functions (rhs, jacobian, hamiltonian, velocities, det_mass_matrix) by `solver`. A physical
-/// chain also gets input_matrix, ∂f/∂w for its inputs w.
+/// functions (rhs, jacobian, hamiltonian, velocities, det_mass_matrix) by `solver`. A chain
+/// with inputs (physical, cart) also gets input_matrix, ∂f/∂w for its inputs w. Throws
+/// std::invalid_argument if `solver` does not fit the chain.
 std::vector<emitted_function> build_chain_functions(const chain_symbols& sym,
                                                     const chain_mechanics& mech,
                                                     kinetic_solver solver);

@@ -13,25 +13,40 @@
 #include <string>
 #include <vector>
 
+#include "lagrangian.hpp"
+
 namespace npend::gen {
 
-/// What the links are. Point masses on massless rods is the paper's model. Rigid links put
-/// link k's mass m_k at its centre of mass, a distance c_k from its upper joint along the
-/// link, with a moment of inertia J_k about it (a uniform rod: c = l/2, J = m l²/12; c = l,
-/// J = 0 is the point mass again) — the physical pendulum of the paper's §6.2 remark.
+/// What the links are, and what they hang from. Point masses on massless rods is the paper's
+/// model. Rigid links put link k's mass m_k at its centre of mass, a distance c_k from its
+/// upper joint along the link, with a moment of inertia J_k about it (a uniform rod: c = l/2,
+/// J = m l²/12; c = l, J = 0 is the point mass again) — the physical pendulum of the paper's
+/// §6.2 remark.
 ///
 /// The physical chain is the general planar chain: rigid links, a torsion spring k_i with
 /// rest angle θ_i⁰ and viscous damping b_i at every joint, a motor torque u_i at every joint
 /// and a moving pivot. Joint i joins link i−1 to link i, θ_i = φ_i − φ_{i−1} (φ_0 ≡ 0). The
 /// pivot's motion enters in the pivot's frame, through its acceleration (a_x, a_y) (x right,
 /// y down) and the inertial force −m_k a on every mass point (docs/model.md).
-enum class link_kind { point_mass, rigid, physical };
+///
+/// The cart is the physical chain's links hung from a cart of mass M on a horizontal rail:
+/// one more coordinate, the cart's position x, with viscous damping b_x and a horizontal force
+/// F on the cart (cart_model.cpp); the pivot is the cart, so there is no prescribed drive.
+enum class link_kind { point_mass, rigid, physical, cart };
 
-/// "point", "rigid" or "physical".
+/// "point", "rigid", "physical" or "cart".
 const char* link_kind_name(link_kind kind);
 
-/// Whether links carry a centre of mass and an inertia (rigid and physical chains).
+/// Whether links carry a centre of mass and an inertia (rigid, physical and cart chains).
 inline bool has_rigid_links(link_kind kind) { return kind != link_kind::point_mass; }
+/// Whether the joints carry springs, damping and torques (physical and cart chains).
+inline bool has_joint_forces(link_kind kind) {
+  return kind == link_kind::physical || kind == link_kind::cart;
+}
+/// Whether the pivot moves with a prescribed acceleration (the physical chain's drive).
+inline bool has_pivot_drive(link_kind kind) { return kind == link_kind::physical; }
+/// Whether the chain hangs from a cart (the coordinates start with the cart's position).
+inline bool on_cart(link_kind kind) { return kind == link_kind::cart; }
 
 /// The GiNaC symbols of an n-link chain. Vectors are indexed 0..n-1; printed names are
 /// 1-based as in the paper (phi1, m1, ...).
@@ -50,56 +65,38 @@ struct chain_symbols {
   std::vector<GiNaC::realsymbol> mu;  ///< μ_j = m_j + … + m_n, the mass at and below joint j
   GiNaC::realsymbol g;
   std::vector<GiNaC::realsymbol> s, c;  ///< stand-ins for sin φ_i, cos φ_i in polynomials
+  /// The cart's position x, its rate, acceleration and momentum p_x, its mass M, damping b_x
+  /// and the force F on it: chains on a cart only.
+  GiNaC::realsymbol cart_x, cart_dx, cart_ddx, cart_p, cart_mass, cart_damping, cart_force;
+  /// The generalised coordinates: q = φ, or q = [x, φ] on a cart.
+  coordinates coords;
 };
 
-/// The Lagrangian mechanics of the chain.
-struct chain_mechanics {
-  std::vector<GiNaC::ex> x, y;            ///< link-end (bob) positions, y pointing down (eq. 6.1)
-  GiNaC::ex kinetic;                      ///< T(φ, φ̇)
-  GiNaC::ex potential;                    ///< V(φ), zero at the hanging rest position (eq. 6.12)
-  GiNaC::ex lagrangian;                   ///< L = T − V
-  std::vector<GiNaC::ex> momenta;         ///< p_i = ∂L/∂φ̇_i
-  GiNaC::matrix mass_matrix;              ///< A_ij = ∂p_i/∂φ̇_j (n × n)
-  std::vector<GiNaC::ex> dL_dphi;         ///< ∂L/∂φ_i at fixed φ̇; equals ṗ_i on the flow
-  std::vector<GiNaC::ex> grad_potential;  ///< ∂V/∂φ_i
-  GiNaC::matrix hess_potential;           ///< ∂²V/∂φ_i∂φ_j (n × n)
-  /// The non-conservative generalised forces Q_i = −∂R/∂φ̇_i + Σ_j u_j ∂θ_j/∂φ_i, R the
-  /// Rayleigh function ½ Σ b_j θ̇_j² (zero but for physical chains): ṗ_i = ∂L/∂φ_i + Q_i.
-  std::vector<GiNaC::ex> force;
-  GiNaC::ex rayleigh;  ///< R
+/// The Lagrangian mechanics of the chain: the generic derivation plus the chain's geometry.
+struct chain_mechanics : lagrangian_mechanics {
+  std::vector<GiNaC::ex> x, y;  ///< link-end (bob) positions, y pointing down (eq. 6.1)
   /// The joint angles θ_j = φ_j − φ_{j−1}.
   std::vector<GiNaC::ex> joint_angle;
 };
 
-/// Derives the mechanics of the n-link chain of sym.kind: point masses m_i on massless rods
-/// l_i, or rigid links (masses at their centres c_i, moments of inertia J_i). x, y are the
-/// positions of the link ends (the bobs of point masses).
+/// The planar chain's kinematics hung from a pivot at (pivot_x, 0): fills mech.x, mech.y and
+/// mech.joint_angle, and returns T, V, R and the inputs' work of the links (point masses m_i
+/// on massless rods l_i, or rigid links with masses at their centres c_i and inertias J_i,
+/// and the joint forces of sym.kind).
+lagrangian_model chain_kinematics(const chain_symbols& sym, const GiNaC::ex& pivot_x,
+                                  chain_mechanics& mech);
+
+/// Derives the mechanics of the n-link chain of sym.kind (the chain's kinematics, or the
+/// cart's for link_kind::cart, then derive_lagrangian_mechanics).
 chain_mechanics derive_mechanics(const chain_symbols& sym);
 
-/// ∂/∂φ_k of every entry of the mass matrix, k = 0..n-1 (used to check the Jacobian).
-std::vector<GiNaC::matrix> mass_matrix_derivatives(const chain_symbols& sym,
-                                                   const chain_mechanics& mech);
+/// The chain on a cart (cart_model.cpp): the chain's links from a pivot at (x, 0), plus the
+/// cart's kinetic energy ½ M ẋ², its damping ½ b_x ẋ² in R and the force's work F x.
+chain_mechanics derive_cart_mechanics(const chain_symbols& sym);
 
-/// Hessian blocks of L: ∂²L/∂φ_i∂φ_j and ∂²L/∂φ_i∂φ̇_j (both n × n), and ∂Q_i/∂φ̇_j of the
-/// generalised forces (zero without damping; Q does not depend on φ).
-struct lagrangian_hessians {
-  GiNaC::matrix phi_phi, phi_dphi, force_dphi;
-  bool has_damping = false;  ///< force_dphi is not identically zero
-};
-lagrangian_hessians derive_lagrangian_hessians(const chain_symbols& sym,
-                                               const chain_mechanics& mech);
-
-/// The closed-form Hamiltonian H = numerator / (2 det A) + V with numerator = pᵀ adj(A) p.
-/// Only sensible for small n: the adjugate grows factorially.
-struct closed_form_hamiltonian {
-  GiNaC::ex numerator;  ///< pᵀ adj(A) p
-  GiNaC::ex det;        ///< det A
-  GiNaC::ex potential;  ///< V
-};
-closed_form_hamiltonian derive_closed_form_hamiltonian(const chain_symbols& sym,
-                                                       const chain_mechanics& mech);
-
-/// The total time derivative d/dt of an expression in φ, φ̇ (φ̈ appears as ddphi).
-GiNaC::ex time_derivative(const chain_symbols& sym, const GiNaC::ex& e);
+/// The chain's coordinates in the generic functions of lagrangian.hpp.
+inline GiNaC::ex time_derivative(const chain_symbols& sym, const GiNaC::ex& e) {
+  return time_derivative(sym.coords, e);
+}
 
 }  // namespace npend::gen

@@ -422,43 +422,16 @@ chain_sources emit_batch(int n, const emitted_function& rhs) {
 }
 
 chain_sources emit_batch_index(const std::vector<int>& links) {
-  std::string list;
-  for (const int n : links) list += (list.empty() ? "" : ",") + std::to_string(n);
-  const std::string banner = generated_banner("npend-gen --index " + list);
-  chain_sources out;
-  out.header = banner + R"(#pragma once
-
-// The table of generated batch kernels (point-mass chains), so that the runtime can look a
-// link count up.
-
-#include <npend/batch_kernels.hpp>
-
-namespace npend::generated {
-
-/// The batch kernels for `links` links, or nullptr when that link count was not built.
-const batch_kernels* find_batch(int links) noexcept;
-
-}  // namespace npend::generated
-)";
-  out.source = banner + fmt::format("#include \"{}.hpp\"\n\n", batch_index_stem);
-  for (const int n : links) out.source += fmt::format("#include \"{}.hpp\"\n", batch_stem(n));
-  out.source +=
-      "\nnamespace npend::generated {\n\nnamespace {\n\nconst batch_kernels* const table[] = {";
-  for (std::size_t i = 0; i < links.size(); ++i)
-    out.source += fmt::format("{}&{}::kernels", i ? ", " : "", batch_stem(links[i]));
-  out.source += R"(};
-
-}  // namespace
-
-const batch_kernels* find_batch(int links) noexcept {
-  for (const batch_kernels* k : table)
-    if (k->links == links) return k;
-  return nullptr;
-}
-
-}  // namespace npend::generated
-)";
-  return out;
+  return emit_lookup_index(
+      {batch_index_stem,
+       "// The table of generated batch kernels (point-mass chains), so that the runtime can "
+       "look a\n// link count up.\n",
+       "npend/batch_kernels.hpp",
+       {{"batch_kernels", "find_batch",
+         "The batch kernels for `links` links, or nullptr when that link count was not built.",
+         "table", "batch"}},
+       false},
+      links);
 }
 
 }  // namespace npend::gen

@@ -63,7 +63,45 @@ std::vector<int> postorder(const expr_graph& g, const std::vector<sx>& outputs) 
   return order;
 }
 
-std::string input_text(argument_layout layout, int n, const node& in) {
+// A cart's arguments (cart_layout): the coordinates q = [x, φ_1..φ_n] and their rates and
+// momenta, so a link's entry sits one place on from the chain's in phi/dphi/p.
+std::string cart_input_text(argument_layout layout, int n, const node& in) {
+  const bool state = layout == argument_layout::state;
+  switch (in.input) {
+    case input_kind::cart_position:
+      return state ? fmt::format("x[{}]", cart_layout::cart_position_index) : "phi[0]";
+    case input_kind::phi:
+      return state ? fmt::format("x[{}]", cart_layout::angle_index(n, in.index))
+                   : fmt::format("phi[{}]", 1 + in.index);
+    case input_kind::cart_momentum:
+      return state ? fmt::format("x[{}]", cart_layout::cart_momentum_index(n)) : "p[0]";
+    case input_kind::p:
+      return state ? fmt::format("x[{}]", cart_layout::momentum_index(n, in.index))
+                   : fmt::format("p[{}]", 1 + in.index);
+    case input_kind::cart_velocity:
+      return "dphi[0]";
+    case input_kind::dphi:
+      return fmt::format("dphi[{}]", 1 + in.index);
+    case input_kind::cart_mass:
+      return fmt::format("params[{}]", cart_layout::cart_mass_index(n));
+    case input_kind::cart_damping:
+      return fmt::format("params[{}]", cart_layout::cart_damping_index(n));
+    case input_kind::cart_force:
+      return fmt::format("inputs[{}]", cart_layout::force_index);
+    case input_kind::torque:
+      return fmt::format("inputs[{}]", cart_layout::torque_index(n, in.index));
+    case input_kind::drive:
+      throw std::logic_error("emit: a chain on a cart has no pivot drive");
+    default:
+      return {};  // the parameters of the physical chain, at their places
+  }
+}
+
+std::string input_text(argument_layout layout, int n, const node& in, link_kind kind) {
+  if (on_cart(kind)) {
+    std::string text = cart_input_text(layout, n, in);
+    if (!text.empty()) return text;
+  }
   switch (in.input) {
     case input_kind::phi:
       if (layout == argument_layout::state)
@@ -99,6 +137,8 @@ std::string input_text(argument_layout layout, int n, const node& in) {
       break;  // a loop kernel's step names its own inputs
     case input_kind::tangent:
       break;  // only the batch kernels take a tangent vector (emit_batch.cpp)
+    default:
+      break;  // a cart's own inputs (cart_input_text)
   }
   throw std::logic_error("emit: unknown input");
 }
@@ -109,11 +149,14 @@ bool layout_has(const emitted_function& f, input_kind kind) {
     case input_kind::phi:
       return true;
     case input_kind::p:
+    case input_kind::cart_momentum:
       return layout == argument_layout::state || layout == argument_layout::phi_p;
     case input_kind::dphi:
+    case input_kind::cart_velocity:
       return layout == argument_layout::phi_dphi;
     case input_kind::drive:
     case input_kind::torque:
+    case input_kind::cart_force:
       return f.takes_inputs;
     default:
       return true;
@@ -124,7 +167,17 @@ std::string wrap(const printed& p, int min_prec) {
   return p.prec < min_prec ? "(" + p.text + ")" : p.text;
 }
 
-std::string signature(const emitted_function& f) {
+bool reads_time_inputs(const emitted_function& f) {
+  for (const int id : postorder(*f.graph, f.outputs)) {
+    const node& nd = f.graph->at(id);
+    if (nd.kind == op::input && (nd.input == input_kind::drive || nd.input == input_kind::torque ||
+                                 nd.input == input_kind::cart_force))
+      return true;
+  }
+  return false;
+}
+
+std::string signature(const emitted_function& f, bool definition = false) {
   std::string args;
   switch (f.layout) {
     case argument_layout::state:
@@ -141,16 +194,21 @@ std::string signature(const emitted_function& f) {
       break;
   }
   args += ", const double* params";
-  if (f.takes_inputs) args += ", const double* inputs";
+  // The table's signature takes the inputs; the definition of a function that reads none of
+  // them (the cart's energies: its force and torques act through Q alone) leaves the
+  // parameter unnamed.
+  if (f.takes_inputs)
+    args += definition && !reads_time_inputs(f) ? ", const double* /*inputs*/"
+                                                : ", const double* inputs";
   if (!f.returns_scalar) args += ", double* " + f.output_name;
   return fmt::format("{} {}({}) noexcept", f.returns_scalar ? "double" : "void", f.name, args);
 }
 
-std::string body(int n, const emitted_function& f) {
+std::string body(int n, const emitted_function& f, link_kind kind) {
   const auto leaf = [&](const node& in) {
     if (!layout_has(f, in.input))
       throw std::logic_error("emit: " + f.name + " uses an input it does not take");
-    return input_text(f.layout, n, in);
+    return input_text(f.layout, n, in, kind);
   };
   const emitted_statements st = emit_statements(*f.graph, f.outputs, leaf, "  ");
   std::string text = st.text;
@@ -266,18 +324,64 @@ operation_count count_operations(const emitted_function& f) {
 std::string generated_banner(const std::string& command) {
   return fmt::format(
       "// Generated by `{}`: do not edit. Regenerate with `cmake --build <build> --target "
-      "npend_regenerate`.\n",
+      "npend_regenerate`.\n"
+      "// This file is generated code, free to use under the terms of LICENSE-EXCEPTION.md (the "
+      "output exception to npend's GPL).\n",
       command);
 }
 
+const std::vector<emitted_model>& emitted_models() {
+  static const std::vector<emitted_model> models{
+      {link_kind::point_mass, "chain", "chain_kernels", "find_chain", "table",
+       "The kernels for `links` links, or nullptr when that link count was not built."},
+      {link_kind::physical, "physical", "physical_kernels", "find_physical", "physical_table",
+       "The physical chain's kernels for `links` links, or nullptr when not built."},
+      {link_kind::cart, "cart", "physical_kernels", "cart_kernels_for", "cart_table",
+       "The kernels of the chain of `links` links on a cart (cart_layout), or nullptr when not "
+       "built."},
+  };
+  return models;
+}
+
+const emitted_model& emitted_model_of(link_kind kind) {
+  for (const auto& m : emitted_models())
+    if (m.kind == kind) return m;
+  throw std::invalid_argument(
+      fmt::format("npend-gen writes no kernels for the {} model", link_kind_name(kind)));
+}
+
 std::string chain_stem(int links, link_kind kind) {
-  return fmt::format("{}_{}", kind == link_kind::physical ? "physical" : "chain", links);
+  return fmt::format("{}_{}", emitted_model_of(kind).stem, links);
 }
 
 namespace {
 
 // The header's opening: what the chain is and how its arrays are laid out.
 std::string header_preamble(int n, link_kind kind) {
+  if (kind == link_kind::cart)
+    return fmt::format(
+        "#pragma once\n\n"
+        "// The physical planar {0}-link pendulum on a cart: a cart of mass M on a horizontal "
+        "rail\n"
+        "// (viscous damping b_x, pushed by a force F) carries the pivot of rigid links (mass "
+        "m_i at\n"
+        "// its centre of mass c_i down the link, inertia J_i about it) with joint springs k_i "
+        "at\n"
+        "// rest angles theta0_i, joint damping b_i and joint torques u_i.\n"
+        "// Coordinates q = [x, phi_1..phi_n] (dim n+1 = {4}); state x = [x, phi_1..phi_n, "
+        "p_x, p_1..p_n]\n"
+        "// (dim 2(n+1) = {1}); angles from the downward vertical, x to the right.\n"
+        "// Parameters params = [m, l, g, c, J, k, theta0, b, M, b_x] (dim 7n+3 = {2}); inputs\n"
+        "// w = [F, u_1..u_n] (dim n+1 = {3}).\n"
+        "// (The layout is npend::cart_layout's, in <npend/chain_kernels.hpp>.)\n\n"
+        "#include <npend/chain_kernels.hpp>\n\n"
+        "namespace npend::generated::cart_{0} {{\n\n"
+        "inline constexpr int links = {0};\n"
+        "inline constexpr int state_size = {1};\n"
+        "inline constexpr int param_size = {2};\n"
+        "inline constexpr int input_size = {3};\n\n",
+        n, cart_layout::state_size(n), cart_layout::param_size(n), cart_layout::input_size(n),
+        cart_layout::coordinate_count(n));
   if (kind != link_kind::physical)
     return fmt::format(
         "#pragma once\n\n"
@@ -317,18 +421,20 @@ std::string header_preamble(int n, link_kind kind) {
 
 chain_sources emit_chain(int n, const std::vector<emitted_function>& functions,
                          const std::string& latex, const std::string& options, link_kind kind) {
-  const bool physical = kind == link_kind::physical;
+  const emitted_model& model = emitted_model_of(kind);
+  const bool inputs = has_joint_forces(kind);
   const std::string stem = chain_stem(n, kind);
-  const std::string banner = generated_banner(fmt::format("npend-gen --links {}{}{}{}", n,
-                                                          physical ? " --model physical" : "",
-                                                          options.empty() ? "" : " ", options));
+  const std::string banner = generated_banner(fmt::format(
+      "npend-gen --links {}{}{}{}", n,
+      kind == link_kind::point_mass ? "" : fmt::format(" --model {}", link_kind_name(kind)),
+      options.empty() ? "" : " ", options));
   chain_sources out;
   out.header = banner + header_preamble(n, kind);
   out.source = banner + fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n\n", stem) +
                fmt::format("namespace npend::generated::{} {{\n", stem);
   for (const auto& f : functions) {
     out.header += doc_comment(f) + signature(f) + ";\n\n";
-    out.source += "\n" + signature(f) + " {\n" + body(n, f) + "}\n";
+    out.source += "\n" + signature(f, true) + " {\n" + body(n, f, kind) + "}\n";
   }
   const std::string latex_signature = "const char* equations_latex() noexcept";
   out.header += "/// The derived equations as LaTeX (the output of npend-gen --latex).\n" +
@@ -337,15 +443,14 @@ chain_sources emit_chain(int n, const std::vector<emitted_function>& functions,
     throw std::logic_error("emit: the LaTeX text contains the raw-string delimiter");
   out.source += "\n" + latex_signature + " {\n  return R\"npend(" + latex + ")npend\";\n}\n";
   // The table entry, filled by field name from the functions just emitted: the runtime's
-  // chain_kernels must have a field of the same name and type for each.
-  const char* table = physical ? "physical_kernels" : "chain_kernels";
+  // kernel table must have a field of the same name and type for each.
   out.header += fmt::format(
       "/// This link count's entry of the runtime's kernel table.\nextern const {} kernels;\n\n",
-      table);
+      model.table);
   out.source += fmt::format(
       "\nconst {} kernels = {{\n    .links = links,\n    .state_size = state_size,\n"
       "    .param_size = param_size,\n{}",
-      table, physical ? "    .input_size = input_size,\n" : "");
+      model.table, inputs ? "    .input_size = input_size,\n" : "");
   for (const auto& f : functions) out.source += fmt::format("    .{0} = &{0},\n", f.name);
   out.source += "    .equations_latex = &equations_latex,\n};\n";
   out.header += fmt::format("}}  // namespace npend::generated::{}\n", stem);
@@ -353,68 +458,63 @@ chain_sources emit_chain(int n, const std::vector<emitted_function>& functions,
   return out;
 }
 
-chain_sources emit_index(const std::vector<int>& links) {
+chain_sources emit_lookup_index(const lookup_index& index, const std::vector<int>& links) {
   std::string list;
   for (const int n : links) list += (list.empty() ? "" : ",") + std::to_string(n);
   const std::string banner = generated_banner("npend-gen --index " + list);
   chain_sources out;
-  out.header = banner + R"(#pragma once
+  out.header = banner + "#pragma once\n\n" + index.intro + "\n#include <" + index.include +
+               ">\n\nnamespace npend::generated {\n\n";
+  for (const auto& t : index.tables)
+    out.header +=
+        fmt::format("/// {}\nconst {}* {}(int links) noexcept;\n\n", t.doc, t.type, t.lookup);
+  if (index.built_links)
+    out.header +=
+        "/// The built link counts, ascending: a pointer to `*count` entries.\n"
+        "const int* built_links(int* count) noexcept;\n\n";
+  out.header += "}  // namespace npend::generated\n";
 
-// The table of generated chains, so that the runtime can look a link count up.
-
-#include <npend/chain_kernels.hpp>
-
-namespace npend::generated {
-
-/// The kernels for `links` links, or nullptr when that link count was not built.
-const chain_kernels* find_chain(int links) noexcept;
-
-/// The physical chain's kernels for `links` links, or nullptr when not built.
-const physical_kernels* find_physical(int links) noexcept;
-
-/// The built link counts, ascending: a pointer to `*count` entries.
-const int* built_links(int* count) noexcept;
-
-}  // namespace npend::generated
-)";
-  out.source = banner + fmt::format("#include \"{}.hpp\"\n\n", index_stem);
-  for (const int n : links) out.source += fmt::format("#include \"{}.hpp\"\n", chain_stem(n));
-  for (const int n : links)
-    out.source += fmt::format("#include \"{}.hpp\"\n", chain_stem(n, link_kind::physical));
-  out.source +=
-      "\nnamespace npend::generated {\n\nnamespace {\n\nconst chain_kernels* const table[] = {";
-  for (std::size_t i = 0; i < links.size(); ++i)
-    out.source += fmt::format("{}&chain_{}::kernels", i ? ", " : "", links[i]);
-  out.source += "};\n\nconst physical_kernels* const physical_table[] = {";
-  for (std::size_t i = 0; i < links.size(); ++i)
-    out.source += fmt::format("{}&physical_{}::kernels", i ? ", " : "", links[i]);
-  out.source += "};\n\nconst int links_built[] = {";
-  for (std::size_t i = 0; i < links.size(); ++i)
-    out.source += (i ? ", " : "") + std::to_string(links[i]);
-  out.source += R"(};
-
-}  // namespace
-
-const chain_kernels* find_chain(int links) noexcept {
-  for (const chain_kernels* k : table)
-    if (k->links == links) return k;
-  return nullptr;
-}
-
-const physical_kernels* find_physical(int links) noexcept {
-  for (const physical_kernels* k : physical_table)
-    if (k->links == links) return k;
-  return nullptr;
-}
-
-const int* built_links(int* count) noexcept {
-  *count = static_cast<int>(sizeof(links_built) / sizeof(links_built[0]));
-  return links_built;
-}
-
-}  // namespace npend::generated
-)";
+  out.source = banner + fmt::format("#include \"{}.hpp\"\n\n", index.stem);
+  for (const auto& t : index.tables)
+    for (const int n : links) out.source += fmt::format("#include \"{}_{}.hpp\"\n", t.stem, n);
+  out.source += "\nnamespace npend::generated {\n\nnamespace {\n";
+  for (const auto& t : index.tables) {
+    out.source += fmt::format("\nconst {}* const {}[] = {{", t.type, t.array);
+    for (std::size_t i = 0; i < links.size(); ++i)
+      out.source += fmt::format("{}&{}_{}::kernels", i ? ", " : "", t.stem, links[i]);
+    out.source += "};\n";
+  }
+  if (index.built_links) {
+    out.source += "\nconst int links_built[] = {";
+    for (std::size_t i = 0; i < links.size(); ++i)
+      out.source += (i ? ", " : "") + std::to_string(links[i]);
+    out.source += "};\n";
+  }
+  out.source += "\n}  // namespace\n";
+  for (const auto& t : index.tables)
+    out.source += fmt::format(
+        "\nconst {0}* {1}(int links) noexcept {{\n  for (const {0}* k : {2})\n"
+        "    if (k->links == links) return k;\n  return nullptr;\n}}\n",
+        t.type, t.lookup, t.array);
+  if (index.built_links)
+    out.source +=
+        "\nconst int* built_links(int* count) noexcept {\n"
+        "  *count = static_cast<int>(sizeof(links_built) / sizeof(links_built[0]));\n"
+        "  return links_built;\n}\n";
+  out.source += "\n}  // namespace npend::generated\n";
   return out;
+}
+
+chain_sources emit_index(const std::vector<int>& links) {
+  lookup_index index{index_stem,
+                     "// The table of generated chains, so that the runtime can look a link "
+                     "count up.\n",
+                     "npend/chain_kernels.hpp",
+                     {},
+                     true};
+  for (const auto& m : emitted_models())
+    index.tables.push_back({m.table, m.lookup, m.doc, m.array, m.stem});
+  return emit_lookup_index(index, links);
 }
 
 }  // namespace npend::gen

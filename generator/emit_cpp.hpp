@@ -31,7 +31,8 @@ emitted_statements emit_statements(const expr_graph& g, const std::vector<sx>& o
                                    const std::function<std::string(const node&)>& leaf,
                                    const std::string& indent);
 
-/// The line every generated file starts with.
+/// The lines every generated file starts with: what made it and how to remake it, and that
+/// it is covered by the output exception of LICENSE-EXCEPTION.md.
 std::string generated_banner(const std::string& command);
 
 /// Header and source of chain_<n>.hpp / chain_<n>.cpp.
@@ -47,12 +48,41 @@ chain_sources emit_chain(int links, const std::vector<emitted_function>& functio
                          const std::string& latex, const std::string& options = {},
                          link_kind kind = link_kind::point_mass);
 
-/// chain_index.hpp / chain_index.cpp: the tables of built link counts for the runtime, of the
-/// point-mass chains and of the physical chains (the same counts).
+/// A model whose kernels npend-gen writes, one per link count: a new model is one row of
+/// emitted_models, its kinematics (chain_model.hpp) and one line in cmake/npend_codegen.cmake.
+struct emitted_model {
+  link_kind kind;
+  const char* stem;   ///< its files are <stem>_<n>.hpp/.cpp, namespace npend::generated::<stem>_<n>
+  const char* table;  ///< the kernel table type of <npend/chain_kernels.hpp> it fills
+  const char* lookup;  ///< the index's function that finds a link count's table
+  const char* array;   ///< the index's array of the tables
+  const char* doc;     ///< the lookup's doc comment
+};
+
+/// The models with emitted kernels, in the order the index lists them.
+const std::vector<emitted_model>& emitted_models();
+/// The row of `kind`; throws std::invalid_argument for a model without emitted kernels.
+const emitted_model& emitted_model_of(link_kind kind);
+
+/// A generated index: for each table its lookup `const type* lookup(int links)` over the
+/// kernels <stem>_<n>::kernels of the given link counts, and optionally built_links().
+struct lookup_index {
+  struct table {
+    std::string type, lookup, doc, array, stem;
+  };
+  std::string stem;     ///< the index's file stem
+  std::string intro;    ///< the header's comment lines, each ending in a newline
+  std::string include;  ///< the header that declares the table types
+  std::vector<table> tables;
+  bool built_links = false;
+};
+chain_sources emit_lookup_index(const lookup_index& index, const std::vector<int>& links);
+
+/// chain_index.hpp / chain_index.cpp: the tables of built link counts for the runtime, one
+/// lookup per emitted model (the same counts), and built_links().
 chain_sources emit_index(const std::vector<int>& links);
 
-/// File names of the sources for n links (chain_<n>, or physical_<n> for physical chains)
-/// and of the index.
+/// File names of the sources for n links (<stem>_<n> of the model's emitted_models row).
 std::string chain_stem(int links, link_kind kind = link_kind::point_mass);
 inline constexpr const char* index_stem = "chain_index";
 

@@ -206,6 +206,24 @@ std::vector<GiNaC::numeric> expr_graph::evaluate(const std::vector<sx>& outputs,
           case input_kind::tangent:
             value[i] = in.tangent.at(k);
             break;
+          case input_kind::cart_position:
+            value[i] = in.cart_position;
+            break;
+          case input_kind::cart_velocity:
+            value[i] = in.cart_velocity;
+            break;
+          case input_kind::cart_momentum:
+            value[i] = in.cart_momentum;
+            break;
+          case input_kind::cart_mass:
+            value[i] = in.cart_mass;
+            break;
+          case input_kind::cart_damping:
+            value[i] = in.cart_damping;
+            break;
+          case input_kind::cart_force:
+            value[i] = in.cart_force;
+            break;
         }
         break;
       }

@@ -23,7 +23,8 @@ enum class op : std::uint8_t { constant, input, neg, add, sub, mul, div, sin, co
 /// a_x, 1 a_y) and torque are the time-dependent inputs of physical chains. local is an input
 /// of one link's step of a loop kernel (loop_kernels.hpp): a value its caller names. tangent
 /// (index 0..2n-1) is a tangent vector w of the state, the direction of a batch kernel's
-/// Jacobian–vector product (emit_batch.hpp).
+/// Jacobian–vector product (emit_batch.hpp). The cart_ inputs are those of a chain on a cart:
+/// its position x, rate ẋ, momentum p_x, mass M, damping b_x and the force F on it.
 enum class input_kind : std::uint8_t {
   phi,
   dphi,
@@ -39,7 +40,13 @@ enum class input_kind : std::uint8_t {
   drive,
   torque,
   local,
-  tangent
+  tangent,
+  cart_position,
+  cart_velocity,
+  cart_momentum,
+  cart_mass,
+  cart_damping,
+  cart_force
 };
 
 struct node {
@@ -90,6 +97,8 @@ class expr_graph {
     std::vector<GiNaC::numeric> local;  ///< the inputs of a loop kernel's step
     std::vector<GiNaC::numeric> tangent;  ///< w of a Jacobian–vector product
     GiNaC::numeric gravity;
+    /// x, ẋ, p_x, M, b_x and F of a chain on a cart.
+    GiNaC::numeric cart_position, cart_velocity, cart_momentum, cart_mass, cart_damping, cart_force;
   };
   std::vector<GiNaC::numeric> evaluate(const std::vector<sx>& outputs,
                                        const exact_inputs& in) const;

@@ -10,7 +10,11 @@ std::size_t u(int i) { return static_cast<std::size_t>(i); }
 
 general_form::general_form(const polynomial_space& space, const chain_mechanics& mech,
                            const lagrangian_hessians& hessians, expr_graph& graph)
-    : m_space(&space), m_mech(&mech), m_hessians(&hessians), m_graph(&graph), m_n(space.links()) {
+    : m_space(&space),
+      m_mech(&mech),
+      m_hessians(&hessians),
+      m_graph(&graph),
+      m_n(space.coordinates()) {
   m_vars = variable_nodes(space, graph);
   const int n = m_n;
   // A's entries (symmetric: the lower triangle), then A = L D Lᵀ column by column.
@@ -31,10 +35,10 @@ general_form::general_form(const polynomial_space& space, const chain_mechanics&
       m_lower[u(i)][u(j)] = s / d;
     }
   }
-  for (int i = 0; i < n; ++i) m_p.push_back(graph.input(input_kind::p, i));
+  for (int i = 0; i < n; ++i) m_p.push_back(coordinate_input(space, input_kind::p, i, graph));
   m_dphi = solve(m_p);
   // From here on the polynomials in φ̇ read the computed velocities.
-  for (int i = 0; i < n; ++i) m_vars[u(space.id(var_kind::dphi, i))] = m_dphi[u(i)];
+  for (int i = 0; i < n; ++i) m_vars[u(space.coordinate_id(var_kind::dphi, i))] = m_dphi[u(i)];
 }
 
 std::vector<sx> general_form::solve(const std::vector<sx>& b) const {

@@ -1,5 +1,6 @@
 // Hamilton's equations and their Jacobian for any Lagrangian L = ½ φ̇ᵀA(φ)φ̇ − V(φ) that GiNaC
-// derives — no assumption about the chain's structure: the mass matrix A comes from the
+// derives (φ standing for any generalised coordinates q, lagrangian.hpp) — no assumption
+// about the model's structure: the mass matrix A comes from the
 // derivation's polynomials and is factored in the emitted code, A = L D Lᵀ (L unit lower
 // triangular, D diagonal; A is symmetric positive definite for any physical chain), and
 //   φ̇ = A⁻¹ p                        (forward substitution, scaling, back substitution)
@@ -27,7 +28,7 @@ class general_form {
   general_form(const polynomial_space& space, const chain_mechanics& mech,
                const lagrangian_hessians& hessians, expr_graph& graph);
 
-  /// A⁻¹ b (b dim n).
+  /// A⁻¹ b (b dim n, the number of coordinates).
   std::vector<sx> solve(const std::vector<sx>& b) const;
 
   /// φ̇ = A⁻¹ p at the momentum inputs.

@@ -19,7 +19,9 @@ namespace {
 std::size_t u(int i) { return static_cast<std::size_t>(i); }
 
 bool is_dynamic(var_kind k) {
-  return k == var_kind::dphi || k == var_kind::p || k == var_kind::ddphi;
+  return k == var_kind::dphi || k == var_kind::p || k == var_kind::ddphi ||
+         k == var_kind::cart_velocity || k == var_kind::cart_momentum ||
+         k == var_kind::cart_acceleration;
 }
 
 std::string variable_latex(const variable& v) {
@@ -57,6 +59,20 @@ std::string variable_latex(const variable& v) {
       return i == 1 ? "a_x" : "a_y";
     case var_kind::torque:
       return fmt::format("u_{{{}}}", i);
+    case var_kind::cart_position:
+      return "x";
+    case var_kind::cart_velocity:
+      return "\\dot x";
+    case var_kind::cart_momentum:
+      return "p_{x}";
+    case var_kind::cart_acceleration:
+      return "\\ddot x";
+    case var_kind::cart_mass:
+      return "M";
+    case var_kind::cart_damping:
+      return "b_x";
+    case var_kind::cart_force:
+      return "F";
   }
   return "?";
 }
@@ -226,12 +242,37 @@ std::string grouped_latex(const polynomial& poly, const polynomial_space& space,
 }  // namespace
 
 void print_latex(const chain_symbols& sym, const chain_mechanics& mech, std::ostream& out) {
-  const int n = sym.n;
+  const int n = sym.n, dim = sym.coords.size();
   const polynomial_space space(sym);
   const auto tex = [&](const GiNaC::ex& e) { return grouped_latex(space.canonical(e), space); };
 
-  const bool physical = sym.kind == link_kind::physical;
-  if (physical)
+  // Coordinate i's subscript and symbols: φ_{i+1}, or on a cart x for i = 0 and φ_i after.
+  const bool cart = on_cart(sym.kind);
+  const auto label = [&](int i) {
+    return cart ? (i == 0 ? "x" : std::to_string(i)) : std::to_string(i + 1);
+  };
+  const auto q = [&](int i) {
+    return label(i) == "x" ? std::string("x") : fmt::format("\\varphi_{{{}}}", label(i));
+  };
+  const auto dq = [&](int i) { return "\\dot" + std::string(label(i) == "x" ? " " : "") + q(i); };
+  const auto mom = [&](int i) { return fmt::format("p_{{{}}}", label(i)); };
+
+  const bool joints = has_joint_forces(sym.kind);
+  if (cart)
+    fmt::print(out,
+               "% The planar {0}-link pendulum on a cart, derived by `npend-gen --latex {0} "
+               "--model cart` (GiNaC).\n"
+               "% A cart of mass M at x on a horizontal rail (damping b_x, force F) carries the "
+               "pivot of\n"
+               "% rigid links (centre of mass c_i down link i, inertia J_i about it) with joint "
+               "springs k_i\n"
+               "% at rest angles bar theta_i, joint damping b_i (Rayleigh function R) and joint "
+               "torques u_i;\n"
+               "% angles from the downward vertical, y pointing down, V = 0 at the hanging rest "
+               "position;\n"
+               "% mu_j = m_j + ... + m_{0}.\n",
+               n);
+  else if (joints)
     fmt::print(out,
                "% The planar {0}-link pendulum, derived by `npend-gen --latex {0} --model "
                "physical` (GiNaC).\n"
@@ -258,48 +299,50 @@ void print_latex(const chain_symbols& sym, const chain_mechanics& mech, std::ost
   fmt::print(out, "T &= {} \\\\\n", tex(mech.kinetic));
   fmt::print(out, "V &= {} \\\\\n", tex(mech.potential));
   out << "L &= T - V \\\\\n";
-  for (int i = 0; i < n; ++i)
-    for (int j = i; j < n; ++j)
-      fmt::print(out, "A_{{{}{}}} &= {} \\\\\n", i + 1, j + 1, tex(mech.mass_matrix(u(i), u(j))));
-  for (int i = 0; i < n; ++i)
-    fmt::print(out,
-               "p_{{{}}} &= \\frac{{\\partial L}}{{\\partial\\dot\\varphi_{{{}}}}} = {} \\\\\n",
-               i + 1, i + 1, tex(mech.momenta[u(i)]));
+  for (int i = 0; i < dim; ++i)
+    for (int j = i; j < dim; ++j)
+      fmt::print(out, "A_{{{}{}}} &= {} \\\\\n", label(i), label(j),
+                 tex(mech.mass_matrix(u(i), u(j))));
+  for (int i = 0; i < dim; ++i)
+    fmt::print(out, "{} &= \\frac{{\\partial L}}{{\\partial{}}} = {} \\\\\n", mom(i), dq(i),
+               tex(mech.momenta[u(i)]));
 
-  if (n <= closed_form_max_links) {
-    const auto closed = derive_closed_form_hamiltonian(sym, mech);
+  if (dim <= closed_form_max_links) {
+    const auto closed = derive_closed_form_hamiltonian(sym.coords, mech);
     fmt::print(out, "\\det A &= {} \\\\\n", tex(closed.det));
     fmt::print(out, "H &= \\frac{{1}}{{2\\det A}} \\Big[ {} \\Big] + V \\\\\n",
                tex(closed.numerator));
-    for (int i = 0; i < n; ++i)
+    for (int i = 0; i < dim; ++i)
       fmt::print(out,
-                 "\\dot\\varphi_{{{}}} &= \\frac{{\\partial H}}{{\\partial p_{{{}}}}} = "
+                 "{} &= \\frac{{\\partial H}}{{\\partial {}}} = "
                  "\\frac{{1}}{{\\det A}} \\Big[ {} \\Big] \\\\\n",
-                 i + 1, i + 1, tex(closed.numerator.diff(sym.p[u(i)]) / 2));
+                 dq(i), mom(i), tex(closed.numerator.diff(sym.coords.p[u(i)]) / 2));
   } else {
-    out << "H &= \\tfrac{1}{2} p^\\top A^{-1} p + V, \\qquad \\dot\\varphi = A^{-1} p \\\\\n";
+    fmt::print(out,
+               "H &= \\tfrac{{1}}{{2}} p^\\top A^{{-1}} p + V, \\qquad \\dot{} = A^{{-1}} p \\\\\n",
+               cart ? " q" : "\\varphi");
   }
-  for (int i = 0; i < n; ++i)
-    fmt::print(
-        out,
-        "\\dot p_{{{}}} &= -\\frac{{\\partial H}}{{\\partial\\varphi_{{{}}}}} = "
-        "\\frac{{\\partial L}}{{\\partial\\varphi_{{{}}}}}\\Big|_{{\\dot\\varphi = A^{{-1}}p}}"
-        " = {} \\\\\n",
-        i + 1, i + 1, i + 1, tex(mech.dL_dphi[u(i)]));
-  if (physical) {
+  for (int i = 0; i < dim; ++i)
+    fmt::print(out,
+               "\\dot {} &= -\\frac{{\\partial H}}{{\\partial{}}} = "
+               "\\frac{{\\partial L}}{{\\partial{}}}\\Big|_{{\\dot{} = A^{{-1}}p}}"
+               " = {} \\\\\n",
+               mom(i), q(i) == "x" ? " x" : q(i), q(i) == "x" ? " x" : q(i),
+               cart ? " q" : "\\varphi", tex(mech.dL_dphi[u(i)]));
+  if (joints) {
     fmt::print(out, "R &= {} \\\\\n", tex(mech.rayleigh));
-    for (int i = 0; i < n; ++i)
-      fmt::print(out, "Q_{{{}}} &= {} \\qquad (\\dot p_{{{}}} \\mathrel{{+}}= Q_{{{}}}) \\\\\n",
-                 i + 1, tex(mech.force[u(i)]), i + 1, i + 1);
+    for (int i = 0; i < dim; ++i)
+      fmt::print(out, "Q_{{{}}} &= {} \\qquad (\\dot {} \\mathrel{{+}}= Q_{{{}}}) \\\\\n", label(i),
+                 tex(mech.force[u(i)]), mom(i), label(i));
   }
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < dim; ++i) {
     const GiNaC::ex el =
         time_derivative(sym, mech.momenta[u(i)]) - mech.dL_dphi[u(i)] - mech.force[u(i)];
     fmt::print(out,
-               "0 &= \\frac{{d}}{{dt}}\\frac{{\\partial L}}{{\\partial\\dot\\varphi_{{{}}}}} - "
-               "\\frac{{\\partial L}}{{\\partial\\varphi_{{{}}}}}{} = {}{}\n",
-               i + 1, i + 1, physical ? fmt::format(" - Q_{{{}}}", i + 1) : "", tex(el),
-               i + 1 < n ? " \\\\" : "");
+               "0 &= \\frac{{d}}{{dt}}\\frac{{\\partial L}}{{\\partial{}}} - "
+               "\\frac{{\\partial L}}{{\\partial{}}}{} = {}{}\n",
+               dq(i), q(i) == "x" ? " x" : q(i), joints ? fmt::format(" - Q_{{{}}}", label(i)) : "",
+               tex(el), i + 1 < dim ? " \\\\" : "");
   }
   out << "\\end{align*}\n";
 }

@@ -164,8 +164,10 @@ int main(int argc, char** argv) {
                  "of inertia J_i; parameters [m, l, g, c, J]; --verify and --stats only) or "
                  "physical (rigid links with joint springs, damping and torques and a moving "
                  "pivot; parameters [m, l, g, c, J, k, theta0, b], inputs [a_x, a_y, u]; "
-                 "--links writes physical_<n>)")
-      ->check(CLI::IsMember({"point", "rigid", "physical"}))
+                 "--links writes physical_<n>) or cart (the physical chain's links hung from a "
+                 "cart on a horizontal rail: coordinates [x, phi], parameters [m, l, g, c, J, k, "
+                 "theta0, b, M, b_x], inputs [F, u]; --links writes cart_<n>)")
+      ->check(CLI::IsMember({"point", "rigid", "physical", "cart"}))
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
@@ -175,10 +177,16 @@ int main(int argc, char** argv) {
   }
   const link_kind kind = model == "rigid"      ? link_kind::rigid
                          : model == "physical" ? link_kind::physical
+                         : model == "cart"     ? link_kind::cart
                                                : link_kind::point_mass;
   if (kind == link_kind::rigid && (!links.empty() || latex > 0)) {
     std::cerr << "npend-gen: --model rigid goes with --verify and --stats only: the runtime "
                  "takes rigid links as the physical chain (--model physical)\n";
+    return 2;
+  }
+  if (solver == "articulated" && !fits_articulated(chain_symbols(1, kind))) {
+    std::cerr << "npend-gen: --solver articulated does not fit --model " << model
+              << ": use --solver ldlt or auto\n";
     return 2;
   }
   if ((!links.empty() || !index.empty() || loop) && out_dir.empty()) {

@@ -37,14 +37,25 @@ polynomial_space::polynomial_space(const chain_symbols& sym) : m_sym(sym) {
     for (int i = 0; i < n; ++i) add(var_kind::com, i, sym.com[u(i)]);
     for (int i = 0; i < n; ++i) add(var_kind::inertia, i, sym.inertia[u(i)]);
   }
-  if (sym.kind == link_kind::physical) {
+  if (has_joint_forces(sym.kind)) {
     for (int i = 0; i < n; ++i) add(var_kind::angle, i, sym.phi[u(i)]);
     for (int i = 0; i < n; ++i) add(var_kind::stiffness, i, sym.stiffness[u(i)]);
     for (int i = 0; i < n; ++i) add(var_kind::rest_angle, i, sym.rest_angle[u(i)]);
     for (int i = 0; i < n; ++i) add(var_kind::damping, i, sym.damping[u(i)]);
-    add(var_kind::drive, 0, sym.drive_x);
-    add(var_kind::drive, 1, sym.drive_y);
+    if (has_pivot_drive(sym.kind)) {
+      add(var_kind::drive, 0, sym.drive_x);
+      add(var_kind::drive, 1, sym.drive_y);
+    }
     for (int i = 0; i < n; ++i) add(var_kind::torque, i, sym.torque[u(i)]);
+  }
+  if (on_cart(sym.kind)) {
+    add(var_kind::cart_position, 0, sym.cart_x);
+    add(var_kind::cart_velocity, 0, sym.cart_dx);
+    add(var_kind::cart_momentum, 0, sym.cart_p);
+    add(var_kind::cart_acceleration, 0, sym.cart_ddx);
+    add(var_kind::cart_mass, 0, sym.cart_mass);
+    add(var_kind::cart_damping, 0, sym.cart_damping);
+    add(var_kind::cart_force, 0, sym.cart_force);
   }
 
   for (int i = 0; i < n; ++i) {
@@ -60,6 +71,29 @@ int polynomial_space::id(var_kind kind, int index) const {
   for (std::size_t i = 0; i < m_vars.size(); ++i)
     if (m_vars[i].kind == kind && m_vars[i].index == index) return static_cast<int>(i);
   throw std::out_of_range("polynomial_space: no such variable");
+}
+
+int polynomial_space::coordinate_id(var_kind kind, int k) const {
+  if (!on_cart(m_sym.kind)) return id(kind, k);
+  if (k > 0) return id(kind, k - 1);
+  switch (kind) {
+    case var_kind::dphi:
+      return id(var_kind::cart_velocity);
+    case var_kind::p:
+      return id(var_kind::cart_momentum);
+    case var_kind::ddphi:
+      return id(var_kind::cart_acceleration);
+    default:
+      throw std::out_of_range("polynomial_space: no such coordinate variable");
+  }
+}
+
+sx coordinate_input(const polynomial_space& space, input_kind kind, int k, expr_graph& graph) {
+  if (space.coordinates() == space.links()) return graph.input(kind, k);
+  if (k > 0) return graph.input(kind, k - 1);
+  if (kind == input_kind::p) return graph.input(input_kind::cart_momentum);
+  if (kind == input_kind::dphi) return graph.input(input_kind::cart_velocity);
+  throw std::logic_error("coordinate_input: not a rate or momentum");
 }
 
 polynomial polynomial_space::canonical(const GiNaC::ex& e) const {
@@ -169,6 +203,26 @@ std::vector<sx> variable_nodes(const polynomial_space& space, expr_graph& graph)
         break;
       case var_kind::torque:
         nodes[u(id)] = graph.input(input_kind::torque, v.index);
+        break;
+      case var_kind::cart_position:
+        nodes[u(id)] = graph.input(input_kind::cart_position);
+        break;
+      case var_kind::cart_velocity:
+        nodes[u(id)] = graph.input(input_kind::cart_velocity);
+        break;
+      case var_kind::cart_momentum:
+        nodes[u(id)] = graph.input(input_kind::cart_momentum);
+        break;
+      case var_kind::cart_acceleration:
+        break;  // only printed, never emitted
+      case var_kind::cart_mass:
+        nodes[u(id)] = graph.input(input_kind::cart_mass);
+        break;
+      case var_kind::cart_damping:
+        nodes[u(id)] = graph.input(input_kind::cart_damping);
+        break;
+      case var_kind::cart_force:
+        nodes[u(id)] = graph.input(input_kind::cart_force);
         break;
     }
   }

@@ -24,7 +24,8 @@ namespace npend::gen {
 /// Variable kinds in their canonical order (ties in Horner's scheme go to the earlier one).
 /// (com and inertia, of rigid links only, and the joint and drive variables of physical chains
 /// come last so that a point-mass chain's variables and so its emitted code are those of the
-/// point-mass derivation. `angle` is φ itself, which the springs bring in.)
+/// point-mass derivation. `angle` is φ itself, which the springs bring in. The cart's
+/// variables, of chains on a cart only, come after all of them.)
 enum class var_kind : std::uint8_t {
   mu,
   length,
@@ -41,7 +42,14 @@ enum class var_kind : std::uint8_t {
   rest_angle,
   damping,
   drive,
-  torque
+  torque,
+  cart_position,
+  cart_velocity,
+  cart_momentum,
+  cart_acceleration,
+  cart_mass,
+  cart_damping,
+  cart_force
 };
 
 struct variable {
@@ -64,6 +72,12 @@ class polynomial_space {
   const variable& var(int id) const { return m_vars.at(static_cast<std::size_t>(id)); }
   int id(var_kind kind, int index = 0) const;
 
+  /// The number of generalised coordinates (links, plus one on a cart).
+  int coordinates() const { return m_sym.coords.size(); }
+  /// The variable of coordinate k's rate (dphi), momentum (p) or acceleration (ddphi): the
+  /// cart's for k = 0 on a cart, else link k's (k − 1 on a cart).
+  int coordinate_id(var_kind kind, int k) const;
+
   /// The canonical polynomial of e (see the file comment). Throws std::invalid_argument if
   /// e is not a polynomial in those variables (an angle outside sin/cos, a division, ...).
   polynomial canonical(const GiNaC::ex& e) const;
@@ -79,6 +93,10 @@ class polynomial_space {
 /// Graph nodes standing for each variable of a polynomial_space (μ as suffix sums of the
 /// mass inputs, s/c as sin/cos of the angle inputs). φ̈ has no node.
 std::vector<sx> variable_nodes(const polynomial_space& space, expr_graph& graph);
+
+/// The input node of coordinate k's momentum (kind p) or rate (kind dphi), numbered as
+/// polynomial_space::coordinate_id numbers them.
+sx coordinate_input(const polynomial_space& space, input_kind kind, int k, expr_graph& graph);
 
 /// The polynomial as a straight-line program: Horner's scheme, factoring out the variable
 /// that occurs in most terms first, so shared factors are computed once.

@@ -54,6 +54,39 @@ constexpr int torque_index(int /*n*/, int i) { return 2 + i; }
 
 }  // namespace chain_layout
 
+/// The pendulum chain on a cart: the physical chain hung from a cart of mass M that slides on
+/// a horizontal line (a prismatic joint under the pivot), pushed by a horizontal force F and
+/// slowed by viscous damping b_x (force −b_x ẋ). The generalised coordinates are
+/// q = [x, φ_1..φ_n] (x the cart's position, m, to the right; angles as for the chain), so
+/// the functions of physical_kernels that take "phi" take these n + 1 coordinates. Link k's
+/// end sits at (x + Σ_{i≤k} l_i sin φ_i, Σ_{i≤k} l_i cos φ_i), y down as for the chain.
+namespace cart_layout {
+
+/// Generalised coordinates q = [x, φ_1..φ_n] (dim n + 1).
+constexpr int coordinate_count(int n) { return n + 1; }
+
+/// x = [x_cart, φ_1..φ_n, p_x, p_1..p_n]: the cart's position and the angles, then their
+/// momenta (p_x = ∂L/∂ẋ, the total horizontal momentum).
+constexpr int state_size(int n) { return 2 * (n + 1); }
+constexpr int cart_position_index = 0;
+constexpr int angle_index(int /*n*/, int i) { return 1 + i; }
+constexpr int cart_momentum_index(int n) { return n + 1; }
+constexpr int momentum_index(int n, int i) { return n + 2 + i; }
+
+/// params = the physical chain's (chain_layout::physical_param_size(n), at the same
+/// positions) followed by [M, b_x]: the cart's mass (kg) and its viscous damping (N s/m).
+constexpr int param_size(int n) { return 7 * n + 3; }
+constexpr int cart_mass_index(int n) { return 7 * n + 1; }
+constexpr int cart_damping_index(int n) { return 7 * n + 2; }
+
+/// Inputs w = [F, u_1..u_n]: the horizontal force on the cart (N, to the right) and the
+/// joint torques (N m). There is no pivot acceleration: the pivot is the cart.
+constexpr int input_size(int n) { return n + 1; }
+constexpr int force_index = 0;
+constexpr int torque_index(int /*n*/, int i) { return 1 + i; }
+
+}  // namespace cart_layout
+
 /// The emitted functions of one link count (see generated chain_<n>.hpp for each one's
 /// formula). All take the layout of chain_layout; none allocates or throws.
 struct chain_kernels {
@@ -85,6 +118,12 @@ struct chain_kernels {
 /// damping and torques, a moving pivot; see generated physical_<n>.hpp). Parameters as
 /// chain_layout::physical_param_size, inputs w as chain_layout::input_size. The functions
 /// that depend on w take it; the others are those of chain_kernels.
+///
+/// The chain on a cart (generated cart_<n>.hpp) fills the same table with cart_layout's
+/// sizes: its "phi" are the n + 1 coordinates q = [x, φ_1..φ_n], the mass matrix and
+/// potential Hessian are (n+1) × (n+1), the Jacobian (2n+2)², input_matrix 2(n+1) × (n+1),
+/// positions the cart's (x, 0) then the n bobs' (x, y), 2(n+1) numbers, and
+/// hamiltonian = T + V.
 struct physical_kernels {
   int links;
   int state_size;
@@ -109,7 +148,7 @@ struct physical_kernels {
   void (*potential_hessian)(const double* phi, const double* params, const double* inputs,
                             double* hess) noexcept;
   void (*positions)(const double* phi, const double* params, double* xy) noexcept;
-  /// ∂f/∂w, row-major 2n × (n + 2).
+  /// ∂f/∂w, row-major state_size × input_size (2n × (n + 2) for the physical chain).
   void (*input_matrix)(const double* phi, const double* params, double* dfdw) noexcept;
   const char* (*equations_latex)() noexcept = nullptr;
 };
