@@ -11,8 +11,10 @@ install(TARGETS npend_runtime npend_generated EXPORT npendTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS npend RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# npend-gen and the Python module are outside `all` unless NPEND_BUILD_ALL is on: installed
+# when they were built.
 if(TARGET npend-gen)
-  install(TARGETS npend-gen RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  install(TARGETS npend-gen RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} OPTIONAL)
 endif()
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/runtime/include/npend"
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})

@@ -21,5 +21,7 @@ if(NPEND_BUILD_PYTHON STREQUAL "AUTO")
   endif()
 endif()
 if(npend_with_python)
+  # Not EXCLUDE_FROM_ALL on the folder, which would drop its install rules too: the module
+  # itself is kept out of `all` (python/CMakeLists.txt).
   add_subdirectory(python)
 endif()

@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
-# Installs everything npend needs to build, test and run on Debian bookworm (also on a bare
-# `debian:bookworm` container: compilers, CMake and Python included). Idempotent: when all
-# packages are present it does nothing, so it needs neither root nor the network then.
-#   bash tools/setup.sh           what building, testing and running need
-#   bash tools/setup.sh --fuzz    also clang and its libFuzzer runtime (tools/fuzz.sh)
+# Installs what npend needs on Debian bookworm (also on a bare `debian:bookworm` container:
+# compilers and CMake included). Idempotent: when all packages are present it does nothing, so
+# it needs neither root nor the network then.
+#   bash tools/setup.sh           what building the library and `npend` and running them need
+#                                 (the README's first command)
+#   bash tools/setup.sh --test    also what the tests need: the generator's GiNaC, the Python
+#                                 module and its tests, the benchmarks' peers, MPI, ffmpeg
+#                                 (tools/test.sh, CI)
+#   bash tools/setup.sh --fuzz    all of --test, and clang with its libFuzzer runtime
+#                                 (tools/fuzz.sh)
 set -euo pipefail
 
 packages=(
   # toolchain
   g++ make cmake pkg-config ca-certificates
-  # the generator: GiNaC on CLN
-  libginac-dev libcln-dev
   # runtime and command line; OpenMP (GCC's libgomp) runs npend map's tiles on every core
   libeigen3-dev libboost-dev libfmt-dev libcli11-dev nlohmann-json3-dev libgomp1
   # SLEEF: the vectorised 1-ulp sincos of the batch kernels (npend/batch_math.hpp)
@@ -19,8 +22,14 @@ packages=(
   libfftw3-dev libnanoflann-dev gnuplot-nox
   # control: SLICOT's Riccati solver for the LQR design, and the LAPACK it is built on
   libslicot-dev liblapack-dev
-  # tests
+  # tests: the configure step looks for doctest (header-only), so it is here too
   doctest-dev
+)
+# What the tests need on top. The build finds each of these when present, so installing them
+# later and re-running `cmake -S . -B build` (as tools/test.sh does) picks them up.
+test_packages=(
+  # the generator: GiNaC on CLN
+  libginac-dev libcln-dev
   # benchmarks (bench/run) and their checks in the tests: Google Benchmark, the SymPy peer,
   # SciPy's solve_ivp as the flip map's peer
   libbenchmark-dev python3-sympy python3-scipy
@@ -32,9 +41,16 @@ packages=(
   # npend map across processes and machines: OpenMPI, and mpirun for its tests
   libopenmpi-dev openmpi-bin
 )
-if [ "${1:-}" = "--fuzz" ]; then
-  packages+=(clang libclang-rt-14-dev)
-fi
+for arg in "$@"; do
+  case "$arg" in
+    --test) packages+=("${test_packages[@]}") ;;
+    --fuzz) packages+=("${test_packages[@]}" clang libclang-rt-14-dev) ;;
+    *) echo "setup: unknown option '$arg' (--test, --fuzz)" >&2; exit 2 ;;
+  esac
+done
+
+# Each package once (--test and --fuzz overlap).
+mapfile -t packages < <(printf '%s\n' "${packages[@]}" | awk '!seen[$0]++')
 
 missing=()
 for p in "${packages[@]}"; do

@@ -6,6 +6,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake -S . -B build
+# `tests` is everything ctest runs: the test programs, npend-gen, the Python module and the
+# examples, which `all` (the README's first command) leaves out.
 cmake --build build -j2 --target all tests
 ctest --test-dir build -j2 --output-on-failure
 # -Og -g1 compiles in a third of the time of -O2 -g under the sanitizers (the build is most
