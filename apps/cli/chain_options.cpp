@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -47,6 +48,11 @@ void chain_options::add_to(CLI::App& command, bool links_required) {
   command.add_option("--pivot", pivot,
                      "Physical chain: the pivot moves, vertical:A:OMEGA (its height A cos(OMEGA "
                      "t)) or horizontal:A:OMEGA; A in m, OMEGA in rad/s");
+  command.add_option("--cart", cart,
+                     "Pendulum on a cart: the chain hangs from a cart of mass M in kg that rolls "
+                     "along x; the state is x_c,phi_1..phi_n,p_x,p_1..p_n");
+  command.add_option("--cart-damping", cart_damping,
+                     "Pendulum on a cart: the cart's viscous damping b_x in N s/m (default: 0)");
 }
 
 std::vector<double> per_link_values(std::vector<double> values, std::string_view option, int links,
@@ -85,7 +91,9 @@ namespace {
 std::vector<std::string> features_outside(const chain_parameters& p, model_support support) {
   std::vector<std::string> out;
   if (support == model_support::any) return out;
-  if (p.is_damped()) out.push_back("--damping");
+  if (std::any_of(p.damping.begin(), p.damping.end(), [](double b) { return b != 0; }))
+    out.push_back("--damping");
+  if (p.cart_damping != 0) out.push_back("--cart-damping");
   if (p.pivot.moves()) out.push_back("--pivot");
   if (support == model_support::rigid_links || support == model_support::canonical) {
     if (std::any_of(p.stiffness.begin(), p.stiffness.end(), [](double k) { return k != 0; }))
@@ -263,9 +271,10 @@ chain_options chain_options::with_file() const {
   return merged;
 }
 
-chain chain_options::make_chain(model_support support, std::string_view name) const {
+chain chain_options::make_chain(model_support support, std::string_view name,
+                                bool takes_cart) const {
   if (links < 1) throw input_error(fmt::format("--links: must be at least 1, got {}", links));
-  if (!chain_file.empty()) return with_file().make_chain(support, name);
+  if (!chain_file.empty()) return with_file().make_chain(support, name, takes_cart);
   if (rods && no_rods) throw input_error("--rods and --no-rods exclude each other");
   chain_parameters params = chain_parameters::uniform(links);
   if (!masses.empty()) params.masses = per_link(masses, "--masses", links, "m");
@@ -288,6 +297,29 @@ chain chain_options::make_chain(model_support support, std::string_view name) co
         "--rest-angles: the rest angles of the joint springs need springs: give --stiffness "
         "(without it they change nothing)");
   if (!pivot.empty()) params.pivot = parse_pivot(pivot);
+  if (!cart_damping.empty() && cart.empty())
+    throw input_error("--cart-damping: the cart's damping needs a cart: give --cart MASS");
+  if (!cart.empty()) {
+    if (!takes_cart)
+      throw input_error(fmt::format(
+          "{} does not take --cart: it works on the angles of a chain on a fixed pivot (npend "
+          "simulate, eval and control take a cart)",
+          name));
+    if (!pivot.empty())
+      throw input_error("--cart and --pivot exclude each other: the chain hangs from the cart");
+    params.cart_mass = parse_number(cart, "--cart");
+    if (!(*params.cart_mass > 0) || !std::isfinite(*params.cart_mass))
+      throw input_error(fmt::format("--cart: the cart's mass must be a positive finite number "
+                                    "(kg), got {}",
+                                    cart));
+  }
+  if (!cart_damping.empty()) {
+    params.cart_damping = parse_number(cart_damping, "--cart-damping");
+    if (!(params.cart_damping >= 0) || !std::isfinite(params.cart_damping))
+      throw input_error(fmt::format(
+          "--cart-damping: the cart's damping must be a finite number >= 0 (N s/m), got {}",
+          cart_damping));
+  }
   const std::vector<std::string> refused = features_outside(params, support);
   if (!refused.empty())
     throw input_error(fmt::format("{} does not take {}: {}", name, fmt::join(refused, ", "),
@@ -299,9 +331,11 @@ chain chain_options::make_chain(model_support support, std::string_view name) co
   }
 }
 
-std::vector<double> parse_state(const std::string& text, int links) {
-  return parse_number_list(text, "--state", static_cast<std::size_t>(2 * links),
-                           fmt::format("phi_1..phi_{0}, p_1..p_{0}", links));
+std::vector<double> parse_state(const std::string& text, const chain& c) {
+  const int n = c.links();
+  return parse_number_list(text, "--state", static_cast<std::size_t>(c.state_size()),
+                           c.has_cart() ? fmt::format("x_c, phi_1..phi_{0}, p_x, p_1..p_{0}", n)
+                                        : fmt::format("phi_1..phi_{0}, p_1..p_{0}", n));
 }
 
 }  // namespace npend::cli

@@ -1,6 +1,6 @@
-// The options every command shares: which chain (--links, --masses, --lengths, --g) and the
+// The options every command shares: which chain (--links, --masses, --lengths, --g), the
 // physical chain's options (--com, --inertia, --rods, --stiffness, --rest-angles, --damping,
-// --pivot).
+// --pivot) and the cart's (--cart, --cart-damping).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -23,6 +23,7 @@ struct chain_options {
   int links = 0;
   std::string masses, lengths, g;
   std::string com, inertia, stiffness, rest_angles, damping, pivot;
+  std::string cart, cart_damping;  ///< --cart MASS, --cart-damping B
   bool rods = false;
   bool no_rods = false;  ///< --no-rods: overrides "rods": true of a --chain file
   std::string chain_file;  ///< --chain FILE.json: the same parameters, under the JSON keys
@@ -34,9 +35,11 @@ struct chain_options {
 
   /// The chain they describe: defaults are masses 1 kg, lengths 1 m, g = 9.81 m/s², point
   /// masses on a fixed pivot. Throws input_error naming the bad value, including a link
-  /// count that is not built, or a physical feature the command (`name`) cannot take.
+  /// count that is not built, or a physical feature the command (`name`) cannot take —
+  /// among them a cart, unless `takes_cart` (the command works on the state
+  /// [x_c, phi, p_x, p] of a pendulum on a cart).
   chain make_chain(model_support support = model_support::rigid_links,
-                   std::string_view name = "this command") const;
+                   std::string_view name = "this command", bool takes_cart = false) const;
 
   /// These options with those of --chain FILE.json filled in where the command line left
   /// them empty (itself without a file); --rods or --no-rods override the file's "rods",
@@ -56,7 +59,8 @@ std::vector<double> per_link_values(std::vector<double> values, std::string_view
 /// "vertical:A:OMEGA" or "horizontal:A:OMEGA" (amplitude in m, angular frequency in rad/s).
 pivot_motion parse_pivot(const std::string& text);
 
-/// The state given as "--state phi_1..phi_n,p_1..p_n" (dim 2n).
-std::vector<double> parse_state(const std::string& text, int links);
+/// The state of chain `c` given as "--state phi_1..phi_n,p_1..p_n" (dim 2n), on a cart
+/// "--state x_c,phi_1..phi_n,p_x,p_1..p_n" (dim 2(n + 1)).
+std::vector<double> parse_state(const std::string& text, const chain& c);
 
 }  // namespace npend::cli

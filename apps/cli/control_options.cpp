@@ -15,8 +15,9 @@ void control_options::add_to(CLI::App& command, bool at_required) {
                   "links), e.g. pi,pi,pi for the standing chain")
       ->required(at_required);
   command.add_option("--actuated", actuated,
-                     "The joints with a motor, 1-based (default: all), e.g. 1 for a single motor "
-                     "at the pivot");
+                     "The joints with a motor, 1-based (default: all, and the cart's force), e.g. "
+                     "1 for a single motor at the pivot; with --cart, cart is the force on the "
+                     "cart (cart alone: only the cart is pushed)");
   command.add_option("--weights", weights,
                      "LQR weights QPHI:QP:R: Q = diag(QPHI on the angles, QP on the momenta), "
                      "R = R on the torques (default 10:1:1)");
@@ -43,14 +44,26 @@ std::optional<lqr_design> control_options::controller_design(const chain& c) con
 
 lqr_design control_options::design(const chain& c) const {
   const int n = c.links();
-  const std::vector<double> angles = parse_angle_list(at, "--at", n);
+  // On a cart the equilibrium holds the cart at x_c = 0 and its actuator 0 is the cart's force.
+  std::vector<double> angles = parse_angle_list(at, "--at", n);
+  if (c.has_cart()) angles.insert(angles.begin(), 0.0);
   std::vector<int> joints;
-  if (!actuated.empty())
-    for (const double v : parse_number_list(actuated, "--actuated")) {
-      if (v != std::floor(v) || v < 1 || v > n)
-        throw input_error(fmt::format("--actuated: {} is not a joint 1..{}", v, n));
-      joints.push_back(static_cast<int>(v) - 1);
-    }
+  const auto add_joint = [&](double v) {
+    if (v != std::floor(v) || v < 1 || v > n)
+      throw input_error(fmt::format("--actuated: {} is not a joint 1..{}{}", v, n,
+                                    c.has_cart() ? " or cart" : ""));
+    // Joint j's torque is actuator j − 1, after the cart's force where there is one.
+    joints.push_back(c.actuators() - n + static_cast<int>(v) - 1);
+  };
+  if (!actuated.empty() && c.has_cart()) {
+    for (const std::string_view item : split_list(actuated, ','))
+      if (item == "cart")
+        joints.push_back(0);
+      else
+        add_joint(parse_number(item, "--actuated"));
+  } else if (!actuated.empty()) {
+    for (const double v : parse_number_list(actuated, "--actuated")) add_joint(v);
+  }
   lqr_weights w;
   if (!weights.empty()) {
     const auto parts = split_list(weights, ':');

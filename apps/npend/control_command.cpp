@@ -37,7 +37,7 @@ constexpr double catch_dt = 1e-3;
 bool catches(const chain& c, const lqr_design& d, double delta, double t_end,
              run_control* control) {
   std::vector<double> x0 = d.equilibrium;
-  for (int i = 0; i < c.links(); ++i) x0[static_cast<std::size_t>(i)] += delta;
+  for (int i = 0; i < c.links(); ++i) x0[static_cast<std::size_t>(c.angle_index(i))] += delta;
   integration_options o;
   o.stepper = stepper_kind::gauss6;
   o.t_end = t_end;
@@ -97,7 +97,7 @@ catch_result largest_catch(const chain& c, const lqr_design& d, double t_end,
 }
 
 int run_control_design(const control_command_options& o) {
-  const chain c = o.chain.make_chain(cli::model_support::any, "npend control");
+  const chain c = o.chain.make_chain(cli::model_support::any, "npend control", true);
   if (!(o.catch_time > 0) || !std::isfinite(o.catch_time))
     throw cli::input_error(
         fmt::format("--catch-time: must be a positive time in s, got {}", o.catch_time));
@@ -105,8 +105,14 @@ int run_control_design(const control_command_options& o) {
                         "each run steps 0.001 s; use a shorter --catch-time");
   const lqr_design d = o.control.design(c);
   const int n = c.links(), dim = c.state_size(), m = static_cast<int>(d.actuated.size());
-  std::vector<int> joints;
-  for (const int j : d.actuated) joints.push_back(j + 1);
+  // The actuators by name: joint numbers 1..n, and "cart" for the cart's force.
+  std::vector<std::string> joints;
+  nlohmann::json joints_json = nlohmann::json::array();
+  for (const int k : d.actuated) {
+    const int joint = k - (c.actuators() - n) + 1;
+    joints.push_back(joint == 0 ? "cart" : std::to_string(joint));
+    joints_json.push_back(joint == 0 ? nlohmann::json("cart") : nlohmann::json(joint));
+  }
 
   std::optional<catch_result> caught;
   if (o.largest_catch) {
@@ -122,7 +128,7 @@ int run_control_design(const control_command_options& o) {
   if (o.json) {
     nlohmann::json j = describe_chain(c);
     j["equilibrium"] = d.equilibrium;
-    j["actuated"] = joints;
+    j["actuated"] = joints_json;
     j["controllable"] = d.controllable;
     j["uncontrollable_eigenvalues"] = json_complex_list(d.uncontrollable);
     j["A"] = json_rows(d.A, static_cast<std::size_t>(dim));
@@ -140,15 +146,17 @@ int run_control_design(const control_command_options& o) {
     std::cout << j.dump(2) << "\n";
     return 0;
   }
-  fmt::print("{}-link chain held at phi* = {} with motors at joint{} {}\n", n,
-             std::vector<double>(d.equilibrium.begin(), d.equilibrium.begin() + n),
-             m == 1 ? "" : "s", joints);
+  fmt::print("{}-link chain{} held at phi* = {} with motors at joint{} {}\n", n,
+             c.has_cart() ? " on a cart" : "",
+             std::vector<double>(d.equilibrium.begin() + c.angle_index(0),
+                                 d.equilibrium.begin() + c.angle_index(0) + n),
+             m == 1 ? "" : "s", fmt::format("[{}]", fmt::join(joints, ", ")));
   fmt::print("open loop: largest real part {:.6g} 1/s ({})\n", d.open_loop.front().real(),
              d.open_loop.front().real() > 0 ? "unstable" : "not unstable");
   fmt::print("controllable: {}\n", d.controllable ? "yes" : "no");
   for (const auto& l : d.uncontrollable)
     fmt::print("  uncontrollable mode: {:.6g}{:+.6g}i\n", l.real(), l.imag());
-  fmt::print("LQR gain K (u = -K (x - x*), rows: joints {}):\n", joints);
+  fmt::print("LQR gain K (u = -K (x - x*), rows: joints [{}]):\n", fmt::join(joints, ", "));
   for (int k = 0; k < m; ++k) {
     fmt::print("  ");
     for (int i = 0; i < dim; ++i)

@@ -73,17 +73,17 @@ void print_matrix(const char* name, const std::vector<double>& m, int n) {
 }
 
 int run_eval(const eval_options& o) {
-  const chain c = o.chain.make_chain(cli::model_support::any);
-  const int n = c.links();
+  const chain c = o.chain.make_chain(cli::model_support::any, "npend eval", true);
+  const int n = c.coordinates();  // q = phi, or [x_c, phi] on a cart
   const auto nn = static_cast<std::size_t>(n);
-  const std::vector<double> x = cli::parse_state(o.state, n);
+  const std::vector<double> x = cli::parse_state(o.state, c);
   const double time = o.time.empty() ? 0.0 : cli::parse_number(o.time, "--time");
   const std::span<const double> phi(x.data(), nn), p(x.data() + n, nn);
 
   std::vector<double> dphi(nn), A(nn * nn);
   c.velocities(phi, p, dphi);
   c.mass_matrix(phi, A);
-  const int dim = c.state_size(), inputs = chain_layout::input_size(n);
+  const int dim = c.state_size(), inputs = c.input_size();
   std::vector<double> f(static_cast<std::size_t>(dim)), J(static_cast<std::size_t>(dim * dim)),
       dfdt(f.size()), dfdw(static_cast<std::size_t>(dim * inputs));
   c.rhs(x, f, time);
@@ -130,9 +130,12 @@ int run_eval(const eval_options& o) {
     std::cout << j.dump(2) << "\n";
     return 0;
   }
-  fmt::print("{}-link chain: masses {} kg, lengths {} m, g = {} m/s^2\n", n, c.parameters().masses,
+  fmt::print("{}-link chain: masses {} kg, lengths {} m, g = {} m/s^2\n", c.links(),
+             c.parameters().masses,
              c.parameters().lengths, c.parameters().g);
-  fmt::print("phi = {} rad\np   = {} kg m^2/s\n", std::vector<double>(phi.begin(), phi.end()),
+  fmt::print(fmt::runtime(c.has_cart() ? "q = [x_c, phi] = {} (m, rad)\np   = {} (kg m/s, kg m^2/s)\n"
+                                       : "phi = {} rad\np   = {} kg m^2/s\n"),
+             std::vector<double>(phi.begin(), phi.end()),
              std::vector<double>(p.begin(), p.end()));
   fmt::print("H = {:.17g} J   (T = {:.17g}, V = {:.17g})\n", H, T, V);
   if (c.is_physical())
@@ -143,7 +146,7 @@ int run_eval(const eval_options& o) {
   fmt::print("det A = {:.17g}\n", detA);
   print_matrix("A (mass matrix)", A, n);
   print_matrix("J (Jacobian df/dx, x = [phi, p])", J, 2 * n);
-  fmt::print("df/dw (w = [a_x, a_y, u_1..u_{}]) =\n", n);
+  fmt::print("df/dw (w = [{}, u_1..u_{}]) =\n", c.has_cart() ? "F" : "a_x, a_y", c.links());
   for (int i = 0; i < dim; ++i) {
     fmt::print("  ");
     for (int k = 0; k < inputs; ++k)
@@ -160,7 +163,9 @@ void add_eval_command(CLI::App& app, command_list& commands) {
   CLI::App* cmd = app.add_subcommand(
       "eval", "Evaluate the generated functions (H, f, Jacobian, mass matrix) at one state");
   opts->chain.add_to(*cmd);
-  cmd->add_option("--state", opts->state, "The state phi_1,...,phi_n,p_1,...,p_n (rad, kg m^2/s)")
+  cmd->add_option("--state", opts->state,
+                  "The state phi_1,...,phi_n,p_1,...,p_n (rad, kg m^2/s); with --cart "
+                  "x_c,phi_1,...,phi_n,p_x,p_1,...,p_n")
       ->required();
   cmd->add_option("--time", opts->time,
                   "The time t in s (a moving pivot's phase; default 0): rhs, jacobian, H and "

@@ -28,6 +28,10 @@ nlohmann::json describe_chain(const chain& c) {
   j["rest_angles"] = column(chain_layout::rest_angle_index);
   j["damping"] = column(chain_layout::damping_index);
   j["pivot"] = p.pivot.describe();
+  if (p.has_cart()) {
+    j["cart_mass"] = *p.cart_mass;
+    j["cart_damping"] = p.cart_damping;
+  }
   return j;
 }
 

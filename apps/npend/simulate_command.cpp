@@ -53,15 +53,18 @@ class csv_writer {
       : m_chain(c),
         m_stream(stream),
         m_name(std::move(name)),
-        m_xy(static_cast<std::size_t>(2 * c.links())),
+        m_xy(static_cast<std::size_t>(2 * c.points())),
         m_tau(tensions ? static_cast<std::size_t>(c.links()) : 0) {}
 
   void header() {
     const int n = m_chain.links();
     m_buffer += "t";
+    if (m_chain.has_cart()) m_buffer += ",x_c";
     for (int i = 1; i <= n; ++i) fmt::format_to(std::back_inserter(m_buffer), ",phi_{}", i);
+    if (m_chain.has_cart()) m_buffer += ",p_x";
     for (int i = 1; i <= n; ++i) fmt::format_to(std::back_inserter(m_buffer), ",p_{}", i);
     m_buffer += ",H";
+    if (m_chain.has_cart()) m_buffer += ",cart_x,cart_y";
     for (int i = 1; i <= n; ++i) fmt::format_to(std::back_inserter(m_buffer), ",x_{0},y_{0}", i);
     if (!m_tau.empty())
       for (int i = 1; i <= n; ++i) fmt::format_to(std::back_inserter(m_buffer), ",tau_{}", i);
@@ -70,7 +73,7 @@ class csv_writer {
 
   // Numbers in the shortest form that reads back to the same double.
   void row(double t, std::span<const double> x, double energy) {
-    m_chain.positions(x.first(static_cast<std::size_t>(m_chain.links())), m_xy);
+    m_chain.positions(x.first(static_cast<std::size_t>(m_chain.coordinates())), m_xy);
     auto out = std::back_inserter(m_buffer);
     fmt::format_to(out, "{}", t);
     for (double v : x) fmt::format_to(out, ",{}", v);
@@ -103,7 +106,10 @@ class csv_writer {
 };
 
 int run_simulate(const simulate_options& o) {
-  const chain c = o.chain.make_chain(cli::model_support::any);
+  const chain c = o.chain.make_chain(cli::model_support::any, "npend simulate", true);
+  if (o.tensions && c.has_cart())
+    throw cli::input_error("--tensions: rod tensions are those of a chain on a fixed pivot; drop "
+                           "--cart");
   if (o.tensions && c.is_physical())
     throw cli::input_error(
         "--tensions: rod tensions are those of point masses on massless rods; drop --com, "

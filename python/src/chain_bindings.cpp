@@ -1,6 +1,8 @@
 // npend.Chain: a chain's parameters and its generated functions, each taking one state or a
 // batch of states as the rows of a 2-D array.
 #include <fmt/format.h>
+
+#include <optional>
 #include <pybind11/stl.h>
 
 #include <functional>
@@ -29,7 +31,8 @@ std::vector<double> per_link(const py::handle& value, int links, const char* wha
 chain make_chain(int links, const py::object& masses, const py::object& lengths, double g,
                  const py::object& com, const py::object& inertia, bool rods,
                  const py::object& stiffness, const py::object& rest_angles,
-                 const py::object& damping, const std::string& pivot) {
+                 const py::object& damping, const std::string& pivot,
+                 const std::optional<double>& cart, double cart_damping) {
   if (links < 1) throw std::invalid_argument(fmt::format("links must be >= 1; got {}", links));
   chain_parameters p = chain_parameters::uniform(links, 1.0, 1.0, g);
   if (!masses.is_none()) p.masses = per_link(masses, links, "masses", "m");
@@ -45,6 +48,8 @@ chain make_chain(int links, const py::object& masses, const py::object& lengths,
   p.rest_angles = per_link(rest_angles, links, "rest_angles", "theta");
   p.damping = per_link(damping, links, "damping", "b");
   if (!pivot.empty() && pivot != "fixed") p.pivot = cli::parse_pivot(pivot);
+  p.cart_mass = cart;
+  p.cart_damping = cart_damping;
   return chain(std::move(p));
 }
 
@@ -62,8 +67,9 @@ py::array_t<double> over_states(const chain& c, const py::handle& x, std::size_t
   return to_numpy(std::move(out), std::move(out_shape));
 }
 
+// The coordinates q of a state: the angles, after the cart's position on a cart.
 std::span<const double> angles_of(const chain& c, const double* x) {
-  return {x, static_cast<std::size_t>(c.links())};
+  return {x, static_cast<std::size_t>(c.coordinates())};
 }
 
 py::dict parameters_dict(const chain_parameters& p) {
@@ -78,6 +84,8 @@ py::dict parameters_dict(const chain_parameters& p) {
   d["rest_angles"] = p.rest_angles;
   d["damping"] = p.damping;
   d["pivot"] = p.pivot.describe();
+  d["cart"] = p.cart_mass ? py::object(py::float_(*p.cart_mass)) : py::object(py::none());
+  d["cart_damping"] = p.cart_damping;
   return d;
 }
 
@@ -120,6 +128,9 @@ void bind_chain(py::module_& m) {
 State layout everywhere: x = [phi_1..phi_n, p_1..p_n] (angles in rad from the downward
 vertical, canonical momenta in kg m^2/s). Every method takes one state of shape (2n,) or a
 batch of k states as the rows of a (k, 2n) array, and then returns one result per row.
+With cart=M (kg) the chain hangs from a cart rolling along x (viscous damping cart_damping,
+N s/m): x = [x_c, phi_1..phi_n, p_x, p_1..p_n], shape (2n + 2,), and the coordinates
+q = [x_c, phi] take the place of phi below.
 
 Per-link parameters take one number for every link or a list of n values. Point masses on
 massless rods (the paper's model) unless com/inertia/rods, springs, damping or a moving
@@ -128,14 +139,16 @@ pivot ("vertical:A:OMEGA" or "horizontal:A:OMEGA") make it a physical chain.)")
            py::arg("lengths") = py::none(), py::arg("g") = standard_gravity,
            py::arg("com") = py::none(), py::arg("inertia") = py::none(), py::arg("rods") = false,
            py::arg("stiffness") = py::none(), py::arg("rest_angles") = py::none(),
-           py::arg("damping") = py::none(), py::arg("pivot") = "")
+           py::arg("damping") = py::none(), py::arg("pivot") = "",
+           py::arg("cart") = py::none(), py::arg("cart_damping") = 0.0)
       .def_property_readonly("links", &chain::links)
       .def_property_readonly("state_size", &chain::state_size)
       .def_property_readonly("is_physical", &chain::is_physical)
+      .def_property_readonly("has_cart", &chain::has_cart)
       .def_property_readonly(
           "parameters", [](const chain& c) { return parameters_dict(c.parameters()); },
           "The parameters as a dict (masses, lengths, g, com, inertia, stiffness, "
-          "rest_angles, damping, pivot)")
+          "rest_angles, damping, pivot, cart, cart_damping)")
       .def(
           "rhs",
           [](const chain& c, const py::handle& x, double t) {
@@ -168,7 +181,7 @@ pivot ("vertical:A:OMEGA" or "horizontal:A:OMEGA") make it a physical chain.)")
       .def(
           "positions",
           [](const chain& c, const py::handle& x) {
-            const auto n = static_cast<std::size_t>(c.links());
+            const auto n = static_cast<std::size_t>(c.points());
             return over_states(c, x, 2 * n, {static_cast<py::ssize_t>(n), 2},
                                [&](const double* s, double* out) {
                                  c.positions(angles_of(c, s), {out, 2 * n});
@@ -176,11 +189,11 @@ pivot ("vertical:A:OMEGA" or "horizontal:A:OMEGA") make it a physical chain.)")
           },
           py::arg("x"),
           "The link ends (bobs) relative to the pivot, shape (n, 2): rows (x_i, y_i) in m, "
-          "y pointing down.")
+          "y pointing down; on a cart the cart (x_c, 0) first, shape (n + 1, 2).")
       .def(
           "velocities",
           [](const chain& c, const py::handle& x) {
-            const auto n = static_cast<std::size_t>(c.links());
+            const auto n = static_cast<std::size_t>(c.coordinates());
             return over_states(c, x, n, {static_cast<py::ssize_t>(n)},
                                [&](const double* s, double* out) {
                                  c.velocities(angles_of(c, s), {s + n, n}, {out, n});
@@ -190,7 +203,7 @@ pivot ("vertical:A:OMEGA" or "horizontal:A:OMEGA") make it a physical chain.)")
       .def(
           "mass_matrix",
           [](const chain& c, const py::handle& x) {
-            const auto n = static_cast<std::size_t>(c.links());
+            const auto n = static_cast<std::size_t>(c.coordinates());
             const auto s = static_cast<py::ssize_t>(n);
             return over_states(c, x, n * n, {s, s}, [&](const double* xs, double* out) {
               c.mass_matrix(angles_of(c, xs), {out, n * n});
@@ -200,7 +213,7 @@ pivot ("vertical:A:OMEGA" or "horizontal:A:OMEGA") make it a physical chain.)")
       .def(
           "state_from_velocities",
           [](const chain& c, const py::handle& phi, const py::handle& dphi) {
-            const auto n = static_cast<std::size_t>(c.links());
+            const auto n = static_cast<std::size_t>(c.coordinates());
             const auto a = to_vector(phi, n, "phi");
             const auto v = to_vector(dphi, n, "dphi");
             return to_numpy(c.state_from_velocities(a, v), {static_cast<py::ssize_t>(2 * n)});
@@ -209,7 +222,9 @@ pivot ("vertical:A:OMEGA" or "horizontal:A:OMEGA") make it a physical chain.)")
           "The state [phi, A(phi) dphi] for angles phi and angular velocities dphi.")
       .def("__repr__", [](const chain& c) {
         return fmt::format("npend.Chain({} links, {})", c.links(),
-                           c.is_physical() ? "physical" : "point masses");
+                           c.has_cart()       ? "on a cart"
+                           : c.is_physical() ? "physical"
+                                             : "point masses");
       });
 }
 

@@ -218,10 +218,10 @@ void chain_parameters::make_uniform_rods() {
 
 bool chain_parameters::is_physical() const {
   return !com.empty() || !inertia.empty() || any_nonzero(stiffness) || any_nonzero(rest_angles) ||
-         any_nonzero(damping) || pivot.moves();
+         any_nonzero(damping) || pivot.moves() || has_cart();
 }
 
-bool chain_parameters::is_damped() const { return any_nonzero(damping); }
+bool chain_parameters::is_damped() const { return any_nonzero(damping) || cart_damping != 0; }
 
 bool chain_parameters::is_conservative() const { return !is_damped() && !pivot.moves(); }
 
@@ -262,6 +262,17 @@ void chain_parameters::validate() const {
       (!pivot.position || !pivot.velocity || !pivot.acceleration))
     throw std::invalid_argument(
         "a custom pivot path needs its position, velocity and acceleration functions");
+  if (cart_mass && (!std::isfinite(*cart_mass) || *cart_mass <= 0))
+    throw std::invalid_argument(
+        fmt::format("cart mass is {}: it must be a positive finite number (kg)", *cart_mass));
+  if (!std::isfinite(cart_damping) || cart_damping < 0)
+    throw std::invalid_argument(fmt::format(
+        "cart damping is {}: it must be a finite number >= 0 (N s/m)", cart_damping));
+  if (cart_damping != 0 && !cart_mass)
+    throw std::invalid_argument("cart damping needs a cart: give the cart mass too");
+  if (cart_mass && pivot.moves())
+    throw std::invalid_argument(
+        "a cart and a moving pivot do not combine: the chain hangs from the cart");
 }
 
 std::vector<double> chain_parameters::packed() const {
@@ -286,6 +297,15 @@ std::vector<double> chain_parameters::physical_packed() const {
     out[u(chain_layout::rest_angle_index(n, i))] = entry_or(rest_angles, i, 0.0);
     out[u(chain_layout::damping_index(n, i))] = entry_or(damping, i, 0.0);
   }
+  return out;
+}
+
+std::vector<double> chain_parameters::cart_packed() const {
+  const int n = links();
+  std::vector<double> out = physical_packed();
+  out.resize(u(cart_layout::param_size(n)));
+  out[u(cart_layout::cart_mass_index(n))] = cart_mass.value_or(0.0);
+  out[u(cart_layout::cart_damping_index(n))] = cart_damping;
   return out;
 }
 

@@ -175,3 +175,75 @@ TEST_CASE("npend floquet: a slowly unstable damped orbit is unstable, with its e
   REQUIRE(text.exit_code == 0);
   CHECK(text.out.find("unstable: max |mu| = ") != std::string::npos);
 }
+
+TEST_CASE("npend eval: a single pendulum on a cart against its closed form") {
+  // m = M = l = 1 at rest at φ = 0.3: T = ½(M + m)ẋ² + m l cos φ ẋφ̇ + ½ m l² φ̇², so
+  // A = [[M + m, m l cos φ], [m l cos φ, m l²]]; ṗ_x = 0 (no force), ṗ_φ = −m g l sin φ.
+  const double phi = 0.3, g = 9.81;
+  const auto r = run_npend("eval --links 1 --cart 1 --state 0,0.3,0,0 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  REQUIRE(j["rhs"].size() == 4);
+  CHECK(j["rhs"][0].get<double>() == 0.0);
+  CHECK(j["rhs"][1].get<double>() == 0.0);
+  CHECK(std::fabs(j["rhs"][2].get<double>()) < 1e-15);
+  CHECK(j["rhs"][3].get<double>() == doctest::Approx(-g * std::sin(phi)).epsilon(1e-14));
+  CHECK(j["mass_matrix"][0][0].get<double>() == doctest::Approx(2.0).epsilon(1e-15));
+  CHECK(j["mass_matrix"][0][1].get<double>() == doctest::Approx(std::cos(phi)).epsilon(1e-15));
+  CHECK(j["mass_matrix"][1][1].get<double>() == doctest::Approx(1.0).epsilon(1e-15));
+  CHECK(j["hamiltonian"].get<double>() == doctest::Approx(g * (1 - std::cos(phi))).epsilon(1e-14));
+  CHECK(j["cart_mass"].get<double>() == 1.0);
+  // w = [F, u_1]: F drives ṗ_x, u_1 drives ṗ_φ.
+  CHECK(j["input_matrix"][2] == nlohmann::json::array({1.0, 0.0}));
+  CHECK(j["input_matrix"][3] == nlohmann::json::array({0.0, 1.0}));
+}
+
+TEST_CASE("npend control: the double inverted pendulum on a cart, pushed at the cart") {
+  const auto r = run_npend("control --links 2 --cart 1 --at pi --actuated cart --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["controllable"] == true);
+  CHECK(j["actuated"] == nlohmann::json::array({"cart"}));
+  REQUIRE(j["gain"].size() == 1);
+  CHECK(j["gain"][0].size() == 6);
+  // The force enters the cart's momentum alone.
+  for (int i = 0; i < 6; ++i) CHECK(j["B"][i][0].get<double>() == (i == 3 ? 1.0 : 0.0));
+  REQUIRE(j["closed_loop_eigenvalues"].size() == 6);
+  for (const auto& l : j["closed_loop_eigenvalues"]) CHECK(l[0].get<double>() < 0);
+  CHECK(j["open_loop_eigenvalues"][0][0].get<double>() > 0);
+
+  CHECK(npend::test::is_input_error(
+      run_npend("control --links 2 --cart 1 --at pi --actuated 3"),
+      "--actuated: 3 is not a joint 1..2 or cart"));
+}
+
+TEST_CASE("npend simulate: the triple pendulum on a cart held upright by LQR") {
+  // Started 0.05 rad off every angle with the cart at rest at 0, it returns to upright and
+  // the cart to x_c = 0.
+  const auto r = run_npend(
+      "simulate --links 3 --cart 2 --controller lqr --at pi --phi 3.1916 --t-end 30 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  REQUIRE(j["final_state"].size() == 8);
+  CHECK(j["final_deviation"].get<double>() < 1e-6);
+  CHECK(j["cart_mass"].get<double>() == 2.0);
+}
+
+TEST_CASE("npend: the cart's options and the commands that refuse a cart") {
+  CHECK(npend::test::is_input_error(run_npend("eval --links 1 --cart 0 --state 0,0,0,0"),
+                                    "--cart: the cart's mass must be a positive finite number"));
+  CHECK(npend::test::is_input_error(
+      run_npend("eval --links 1 --cart 1 --cart-damping -1 --state 0,0,0,0"),
+      "--cart-damping: the cart's damping must be a finite number >= 0"));
+  CHECK(npend::test::is_input_error(run_npend("eval --links 1 --cart-damping 1 --state 0,0"),
+                                    "--cart-damping: the cart's damping needs a cart"));
+  CHECK(npend::test::is_input_error(
+      run_npend("eval --links 1 --cart 1 --pivot vertical:0.1:10 --state 0,0,0,0"),
+      "--cart and --pivot exclude each other"));
+  CHECK(npend::test::is_input_error(run_npend("eval --links 1 --cart 1 --state 0,0"),
+                                    "x_c, phi_1..phi_1, p_x, p_1..p_1"));
+  CHECK(npend::test::is_input_error(run_npend("equilibria --links 2 --cart 1"),
+                                    "npend equilibria does not take --cart"));
+  CHECK(npend::test::is_input_error(run_npend("lyapunov --links 2 --cart 1 --phi 1,1 --t-end 1"),
+                                    "npend lyapunov does not take --cart"));
+}

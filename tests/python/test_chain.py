@@ -134,3 +134,32 @@ def test_bad_input_raises_value_error_with_the_cli_message():
         npend.Chain(max(npend.built_link_counts()) + 1, damping=0.1)
     with pytest.raises(ValueError, match="mass"):
         npend.Chain(2, masses=[1, -1])
+
+
+def test_chain_on_a_cart_against_closed_forms():
+    """The cart-pole (point mass m on a massless rod l over a cart M), written out here."""
+    m, l, M, g, b = 0.8, 1.3, 2.5, 9.81, 0.4
+    c = npend.Chain(1, masses=m, lengths=l, g=g, cart=M, cart_damping=b)
+    assert c.has_cart and c.is_physical and c.state_size == 4
+    assert c.parameters["cart"] == M and c.parameters["cart_damping"] == b
+    xc, phi, px, pphi = 0.2, 0.5, 0.3, -0.1
+    x = np.array([xc, phi, px, pphi])
+    # A = [[M + m, m l cos phi], [m l cos phi, m l^2]]; T = p^T A^-1 p / 2, V = m g l (1 - cos phi).
+    A = np.array([[M + m, m * l * math.cos(phi)], [m * l * math.cos(phi), m * l * l]])
+    assert c.mass_matrix(x) == pytest.approx(A, rel=1e-14)
+    rates = np.linalg.solve(A, [px, pphi])
+    assert c.velocities(x) == pytest.approx(rates, rel=1e-13)
+    energy = 0.5 * np.dot([px, pphi], rates) + m * g * l * (1 - math.cos(phi))
+    assert c.hamiltonian(x) == pytest.approx(energy, rel=1e-13)
+    # Nothing depends on x_c; the cart's damping force -b xdot is its generalised force.
+    f = c.rhs(x)
+    assert f[:2] == pytest.approx(rates, rel=1e-13)
+    assert f[2] == pytest.approx(-b * rates[0], rel=1e-13)
+    bobs = c.positions(x)
+    assert bobs.shape == (2, 2)
+    assert bobs[0] == pytest.approx([xc, 0.0], abs=1e-15)
+    assert bobs[1] == pytest.approx([xc + l * math.sin(phi), l * math.cos(phi)], rel=1e-14)
+    with pytest.raises(ValueError, match="cart mass is -1"):
+        npend.Chain(1, cart=-1.0)
+    with pytest.raises(ValueError, match="cart damping needs a cart"):
+        npend.Chain(1, cart_damping=0.5)

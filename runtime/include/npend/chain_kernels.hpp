@@ -33,7 +33,6 @@ constexpr int gravity_index(int n) { return 2 * n; }
 /// Rigid links extend the parameters: params = [m_1..m_n, l_1..l_n, g, c_1..c_n, J_1..J_n]
 /// (centre-of-mass distances from the upper joint, moments of inertia about the centre of
 /// mass), so that the point-mass layout is their first 2n + 1 entries.
-constexpr int rigid_param_size(int n) { return 4 * n + 1; }
 constexpr int com_index(int n, int i) { return 2 * n + 1 + i; }
 constexpr int inertia_index(int n, int i) { return 3 * n + 1 + i; }
 

@@ -25,39 +25,29 @@ inline void check_system_size(std::size_t got, int expected, const char* what) {
 }  // namespace detail
 
 /// Hamilton's equations of a chain as odeint's System concept: `sys(x, dxdt, t)` sets
-/// dxdt = f(x, t) (both dim 2n; x = [φ_1..φ_n, p_1..p_n]); t matters only where the pivot
+/// dxdt = f(x, t) (both dim 2n; x = [φ_1..φ_n, p_1..p_n], or on a cart dim 2(n + 1)); t matters only where the pivot
 /// moves. It works with any contiguous state type that has `size()` and `operator[]`
 /// (std::vector<double>, std::span<double>, Eigen vectors).
 ///
-/// A chain_system refers to the chain it was made from (its kernels and packed
-/// parameters), so the chain must outlive it; copying it is cheap, as odeint expects.
+/// A chain_system refers to the chain it was made from (its kernel set), so the chain must
+/// outlive it; copying it is cheap, as odeint expects.
 class chain_system {
  public:
-  explicit chain_system(const chain& c)
-      : m_chain(&c),
-        m_point(c.unrolled_kernels()),
-        m_params(c.packed_parameters().data()),
-        m_size(c.state_size()) {}
+  explicit chain_system(const chain& c) : m_kernels(&c.kernels_in_use()), m_size(c.state_size()) {}
 
   /// Throws std::invalid_argument if x or dxdt does not have dimension 2n.
   template <class State, class Deriv>
   void operator()(const State& x, Deriv& dxdt, double t) const {
     detail::check_system_size(x.size(), m_size, "state x");
     detail::check_system_size(dxdt.size(), m_size, "dxdt");
-    // The paper's chains call their kernel directly, as before the physical chain existed.
-    if (m_point != nullptr)
-      m_point->rhs(&x[0], m_params, &dxdt[0]);
-    else
-      m_chain->evaluate_rhs(&x[0], t, &dxdt[0]);
+    m_kernels->rhs(&x[0], t, &dxdt[0]);
   }
 
   /// The state dimension 2n.
   int size() const { return m_size; }
 
  private:
-  const chain* m_chain;
-  const chain_kernels* m_point;  ///< the unrolled point-mass kernels, or nullptr
-  const double* m_params;
+  const kernel_set* m_kernels;
   int m_size;
 };
 

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,12 @@ struct chain_parameters {
   /// (N m s/rad). Defaults 0.
   std::vector<double> stiffness, rest_angles, damping;
   pivot_motion pivot;
+  /// A cart of mass M (kg) in place of the pivot, rolling along x with viscous damping b_x
+  /// (N s/m; default 0): the pendulum on a cart. The state gains the cart's position x_c
+  /// and its momentum p_x (x = [x_c, φ_1..φ_n, p_x, p_1..p_n]); the cart takes the place of
+  /// a moving pivot (the two do not combine).
+  std::optional<double> cart_mass;
+  double cart_damping = 0;
 
   /// n equal links: the paper's setting.
   static chain_parameters uniform(int links, double mass = 1.0, double length = 1.0,
@@ -74,8 +81,10 @@ struct chain_parameters {
   int links() const { return static_cast<int>(masses.size()); }
 
   /// Whether the chain needs the physical kernels: any centre of mass or inertia given,
-  /// any spring, rest angle or damping that is not zero, or a moving pivot.
+  /// any spring, rest angle or damping that is not zero, a moving pivot or a cart.
   bool is_physical() const;
+  /// Whether the chain hangs from a cart.
+  bool has_cart() const { return cart_mass.has_value(); }
   /// Whether H is conserved along the flow: no damping and a fixed pivot.
   bool is_conservative() const;
   bool is_damped() const;
@@ -85,7 +94,9 @@ struct chain_parameters {
   /// 0 for a point-mass chain), an optional list of
   /// the wrong length, a negative inertia, stiffness or damping, links whose mass matrix is
   /// singular at some configuration (naming them), a drive whose amplitude or frequency is
-  /// not a finite number ≥ 0 resp. > 0.
+  /// not a finite number ≥ 0 resp. > 0, a cart mass that is not a finite number > 0, a cart
+  /// damping that is not a finite number ≥ 0 or is given without a cart, a cart with a
+  /// moving pivot.
   ///
   /// The mass matrix A(φ) is positive definite at every φ unless some link a has c_a = 0 and
   /// J_a = 0 and the links a+1..b below it have J = 0 and c ≠ 0, with b = n or c_b = l_b;
@@ -96,6 +107,8 @@ struct chain_parameters {
   std::vector<double> packed() const;
   /// [m, l, g, c, J, k, θ⁰, b] (dim 7n + 1) with the defaults filled in.
   std::vector<double> physical_packed() const;
+  /// physical_packed() followed by [M, b_x] (dim 7n + 3): the cart's kernels' parameters.
+  std::vector<double> cart_packed() const;
 };
 
 }  // namespace npend

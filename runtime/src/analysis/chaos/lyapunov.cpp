@@ -333,8 +333,9 @@ lyapunov_result lyapunov_spectrum(const chain& c, std::span<const double> x0,
   // tangent map M keeps that, since (M V)^⊥ = M^{−T} V^⊥ = J M J⁻¹ V^⊥, and so the volume
   // growth of the first 2n − k columns equals that of the first k: R_kk R_{2n+1−k,2n+1−k} = 1
   // at every re-orthonormalisation. With the Gauss–Legendre tangent map the exponents come
-  // out in exact ± pairs at every finite time, not only in the limit.
-  const int n = c.links();
+  // out in exact ± pairs at every finite time, not only in the limit. (n: the coordinates,
+  // the angles after the cart's position on a cart.)
+  const int n = c.coordinates();
   Eigen::MatrixXd frame = Eigen::MatrixXd::Zero(2 * n, 2 * n);
   for (int i = 0; i < n; ++i) {
     frame(i, i) = 1;
@@ -346,7 +347,7 @@ lyapunov_result lyapunov_spectrum(const chain& c, std::span<const double> x0,
 lyapunov_result largest_lyapunov_exponents(const chain& c, std::span<const double> x0,
                                            const lyapunov_options& options, int count,
                                            const lyapunov_observer& observer) {
-  const int n = c.links();
+  const int n = c.coordinates();
   if (count < 1 || count > 2 * n)
     throw std::invalid_argument(
         fmt::format("lyapunov: the number of exponents must be 1..{} (2n), got {}", 2 * n, count));
@@ -375,7 +376,7 @@ namespace {
 // ∇H = (−ṗ, φ̇) from Hamilton's equations f = (∂H/∂p, −∂H/∂φ).
 std::vector<double> energy_gradient(const chain& c, std::span<const double> x) {
   const std::vector<double> f = c.rhs(x);
-  const std::size_t n = static_cast<std::size_t>(c.links());
+  const std::size_t n = static_cast<std::size_t>(c.coordinates());
   std::vector<double> g(2 * n);
   for (std::size_t i = 0; i < n; ++i) {
     g[i] = -f[n + i];
@@ -435,7 +436,7 @@ std::vector<std::vector<double>> energy_surface_neighbours(const chain& c,
         "energy_surface_neighbours: x0 is an equilibrium (grad H = 0): no nearby state has its "
         "energy");
   const double energy = c.hamiltonian(x0);
-  const std::size_t n = static_cast<std::size_t>(c.links());
+  const std::size_t n = static_cast<std::size_t>(c.coordinates());
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal;
   while (starts.size() < count) {

@@ -86,10 +86,16 @@ std::string joint_list(const std::vector<int>& joints) {
 
 lqr_design lqr(const chain& c, std::span<const double> angles, std::span<const int> actuated,
                const lqr_weights& weights) {
-  const int n = c.links(), d = c.state_size();
+  // n: the coordinates q (the angles, after the cart's position on a cart); motors: the
+  // actuators (the joints, after the cart's force on a cart).
+  const int n = c.coordinates(), d = c.state_size(), motors = c.actuators();
   if (angles.size() != static_cast<std::size_t>(n))
-    throw std::invalid_argument(fmt::format(
-        "the equilibrium has {} angles; the {}-link chain needs {}", angles.size(), n, n));
+    throw std::invalid_argument(
+        c.has_cart() ? fmt::format("the equilibrium has {} coordinates; the {}-link chain on a "
+                                   "cart needs {} (the cart's position, then the angles)",
+                                   angles.size(), c.links(), n)
+                     : fmt::format("the equilibrium has {} angles; the {}-link chain needs {}",
+                                   angles.size(), n, n));
   if (c.parameters().pivot.moves())
     throw std::invalid_argument(
         "LQR needs a fixed pivot: on a moving one the linearisation depends on time");
@@ -99,15 +105,19 @@ lqr_design lqr(const chain& c, std::span<const double> angles, std::span<const i
           fmt::format("the LQR weights must be positive and finite, got {}", w));
   lqr_design design;
   if (actuated.empty())
-    for (int j = 0; j < n; ++j) design.actuated.push_back(j);
+    for (int j = 0; j < motors; ++j) design.actuated.push_back(j);
   else
     design.actuated.assign(actuated.begin(), actuated.end());
   std::sort(design.actuated.begin(), design.actuated.end());
   for (std::size_t k = 0; k < design.actuated.size(); ++k) {
     const int j = design.actuated[k];
-    if (j < 0 || j >= n)
+    if (j < 0 || j >= motors)
       throw std::invalid_argument(
-          fmt::format("joint {} does not exist: the chain has joints 1..{}", j + 1, n));
+          c.has_cart()
+              ? fmt::format("actuator {} does not exist: the chain on a cart has actuators "
+                            "1..{} (the cart's force, then the joints)",
+                            j + 1, motors)
+              : fmt::format("joint {} does not exist: the chain has joints 1..{}", j + 1, n));
     if (k > 0 && design.actuated[k - 1] == j)
       throw std::invalid_argument(fmt::format("joint {} is listed twice", j + 1));
   }
@@ -116,7 +126,7 @@ lqr_design lqr(const chain& c, std::span<const double> angles, std::span<const i
   std::vector<double> grad(static_cast<std::size_t>(n));
   c.potential_gradient(angles, grad);
   double scale = c.parameters().g;
-  for (int i = 0; i < n; ++i)
+  for (int i = 0; i < c.links(); ++i)
     scale = std::max(scale, c.parameters().g * c.parameters().masses[static_cast<std::size_t>(i)] *
                                 c.parameters().lengths[static_cast<std::size_t>(i)]);
   for (int i = 0; i < n; ++i)
@@ -127,7 +137,7 @@ lqr_design lqr(const chain& c, std::span<const double> angles, std::span<const i
 
   design.equilibrium.assign(angles.begin(), angles.end());
   design.equilibrium.resize(static_cast<std::size_t>(d), 0.0);
-  const int m = static_cast<int>(design.actuated.size()), inputs = chain_layout::input_size(n);
+  const int m = static_cast<int>(design.actuated.size()), inputs = c.input_size();
   design.A = c.jacobian(design.equilibrium);
   std::vector<double> dfdw(static_cast<std::size_t>(d * inputs));
   c.input_matrix(angles, dfdw);
@@ -135,8 +145,7 @@ lqr_design lqr(const chain& c, std::span<const double> angles, std::span<const i
   for (int i = 0; i < d; ++i)
     for (int k = 0; k < m; ++k)
       design.B[static_cast<std::size_t>(i * m + k)] = dfdw[static_cast<std::size_t>(
-          i * inputs +
-          chain_layout::torque_index(n, design.actuated[static_cast<std::size_t>(k)]))];
+          i * inputs + c.actuator_input(design.actuated[static_cast<std::size_t>(k)]))];
 
   const Eigen::MatrixXd A = Eigen::Map<const row_major>(design.A.data(), d, d);
   const Eigen::MatrixXd B = Eigen::Map<const row_major>(design.B.data(), d, m);
@@ -146,9 +155,9 @@ lqr_design lqr(const chain& c, std::span<const double> angles, std::span<const i
   for (const auto& lambda : design.uncontrollable)
     if (lambda.real() >= 0)
       throw std::invalid_argument(fmt::format(
-          "the equilibrium cannot be stabilised from joints {}: its mode with eigenvalue "
+          "the equilibrium cannot be stabilised from {} {}: its mode with eigenvalue "
           "{:.6g}{:+.6g}i is unstable and not controllable",
-          joint_list(design.actuated), lambda.real(), lambda.imag()));
+          c.has_cart() ? "actuators" : "joints", joint_list(design.actuated), lambda.real(), lambda.imag()));
 
   Eigen::VectorXd q(d);
   q.head(n).setConstant(weights.angle);
@@ -171,9 +180,9 @@ lqr_design lqr(const chain& c, std::span<const double> angles, std::span<const i
 }
 
 std::vector<double> feedback_rhs::torques(std::span<const double> x) const {
-  const int n = m_chain->links(), d = m_chain->state_size();
+  const int d = m_chain->state_size();
   const int m = static_cast<int>(m_design->actuated.size());
-  std::vector<double> u(static_cast<std::size_t>(n), 0.0);
+  std::vector<double> u(static_cast<std::size_t>(m_chain->actuators()), 0.0);
   for (int k = 0; k < m; ++k) {
     double s = 0;
     for (int j = 0; j < d; ++j)
@@ -191,7 +200,8 @@ void feedback_rhs::operator()(const std::vector<double>& x, std::vector<double>&
 
 void feedback_jacobian::operator()(const std::vector<double>& x, row_major& J, double t,
                                    std::vector<double>& dfdt) const {
-  const int n = m_chain->links(), d = m_chain->state_size(), inputs = chain_layout::input_size(n);
+  const int n = m_chain->coordinates(), d = m_chain->state_size(),
+            inputs = m_chain->input_size();
   const int m = static_cast<int>(m_design->actuated.size());
   const std::vector<double> u = feedback_rhs(*m_chain, *m_design).torques(x);
   m_chain->jacobian(x, std::span<double>(J.data(), static_cast<std::size_t>(d * d)), t, u);
@@ -201,8 +211,7 @@ void feedback_jacobian::operator()(const std::vector<double>& x, row_major& J, d
   for (int i = 0; i < d; ++i)
     for (int k = 0; k < m; ++k) {
       const double b = dfdw[static_cast<std::size_t>(
-          i * inputs +
-          chain_layout::torque_index(n, m_design->actuated[static_cast<std::size_t>(k)]))];
+          i * inputs + m_chain->actuator_input(m_design->actuated[static_cast<std::size_t>(k)]))];
       if (b == 0.0) continue;
       for (int j = 0; j < d; ++j)
         J(i, j) -= b * m_design->gain[static_cast<std::size_t>(k * d + j)];

@@ -14,7 +14,8 @@
 namespace npend {
 
 /// Q = diag(angle · I_n, momentum · I_n) on the state deviation, R = torque · I_m on the m
-/// actuated joints' torques.
+/// actuated joints' torques (on a cart, `angle` weighs the cart's position too and
+/// `torque` its force).
 struct lqr_weights {
   double angle = 10;
   double momentum = 1;
@@ -23,7 +24,7 @@ struct lqr_weights {
 
 struct lqr_design {
   std::vector<double> equilibrium;  ///< x* = [φ*, 0] (dim 2n)
-  std::vector<int> actuated;        ///< the joints with a motor, 0-based, ascending
+  std::vector<int> actuated;  ///< the actuators driven (chain::actuators), 0-based, ascending
   std::vector<double> A;            ///< ∂f/∂x at x*, row-major 2n × 2n
   std::vector<double> B;            ///< ∂f/∂u of the actuated joints, row-major 2n × m
   std::vector<std::complex<double>> open_loop;  ///< eigenvalues of A, by descending real part
@@ -40,8 +41,9 @@ struct lqr_design {
   double riccati_rcond = 0;  ///< SLICOT's estimate of the reciprocal condition number
 };
 
-/// The LQR design at the equilibrium φ* (dim n, rad; p = 0) with motors at the `actuated`
-/// joints (0-based; empty: every joint). Throws std::invalid_argument if φ* has the wrong
+/// The LQR design at the equilibrium φ* (dim n, rad; p = 0; on a cart q* = [x_c, φ*], dim
+/// n + 1) with motors at the `actuated` joints (0-based actuator indices, chain::actuators:
+/// on a cart 0 is the cart's force and j the joint j; empty: every actuator). Throws std::invalid_argument if φ* has the wrong
 /// size, is not an equilibrium (|∂V/∂φ| > 1e-9 per unit of the largest term), a joint index
 /// is out of range or repeated, a weight is not positive and finite, the pivot moves (the
 /// linearisation would depend on t), or (A, B) cannot be stabilised (an unstable
@@ -57,7 +59,8 @@ class feedback_rhs {
  public:
   feedback_rhs(const chain& c, const lqr_design& design) : m_chain(&c), m_design(&design) {}
   void operator()(const std::vector<double>& x, std::vector<double>& dxdt, double t) const;
-  /// The torques u = −K(x − x*) at every joint (zero at unactuated ones; dim n).
+  /// The actuation u = −K(x − x*) of every actuator (zero at unactuated ones; dim
+  /// chain::actuators(): the joint torques, after the cart's force on a cart).
   std::vector<double> torques(std::span<const double> x) const;
 
  private:
