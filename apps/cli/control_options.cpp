@@ -47,7 +47,7 @@ lqr_design control_options::design(const chain& c) const {
   std::vector<int> joints;
   if (!actuated.empty())
     for (const double v : parse_number_list(actuated, "--actuated")) {
-      if (v != std::floor(v) || v < 1 || v > n)
+      if (!is_whole_number(v, 1, n))
         throw input_error(fmt::format("--actuated: {} is not a joint 1..{}", v, n));
       joints.push_back(static_cast<int>(v) - 1);
     }
