@@ -16,8 +16,10 @@ install(TARGETS npend RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 if(TARGET npend-gen)
   install(TARGETS npend-gen RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} OPTIONAL)
 endif()
+# The headers of npend_spec (npend/spec/), the front ends' parsing, are not installed: the
+# package is the numerical library.
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/runtime/include/npend"
-        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} PATTERN spec EXCLUDE)
 get_property(npend_generated_headers GLOBAL PROPERTY NPEND_GENERATED_HEADERS)
 install(FILES ${npend_generated_headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/npend/generated)
 

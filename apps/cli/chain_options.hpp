@@ -1,12 +1,15 @@
-// The options every command shares: which chain (--links, --masses, --lengths, --g), the
+// The options every command shares: which chain (--links, --masses, --lengths, --g) and the
 // physical chain's options (--com, --inertia, --rods, --stiffness, --rest-angles, --damping,
-// --pivot) and the cart's (--cart, --cart-damping).
+// --pivot), the cart's (--cart, --cart-damping), and which chains a command takes. The parsing and checks are the specification
+// library's (npend/spec/chain_spec.hpp), which Python's npend.Chain shares.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <string>
 
 #include "npend/chain.hpp"
+#include "npend/spec/chain_spec.hpp"
+#include "npend/spec/state_spec.hpp"
 
 namespace npend::cli {
 
@@ -33,6 +36,11 @@ struct chain_options {
   /// `command`.
   void add_to(CLI::App& command, bool links_required = true);
 
+  /// The chain_spec of these options (without --chain FILE: see with_file). Throws
+  /// input_error naming the option for text that is no list of numbers, and for --rods with
+  /// --no-rods.
+  spec::chain_spec to_spec() const;
+
   /// The chain they describe: defaults are masses 1 kg, lengths 1 m, g = 9.81 m/s², point
   /// masses on a fixed pivot. Throws input_error naming the bad value, including a link
   /// count that is not built, or a physical feature the command (`name`) cannot take —
@@ -50,17 +58,8 @@ struct chain_options {
   chain_options with_file() const;
 };
 
-/// A per-link parameter (symbol m, l, c, J, k, theta, b) given as n values, or as one value
-/// for every link (a long chain cannot be typed out link by link). Throws input_error
-/// naming `option` for any other count.
-std::vector<double> per_link_values(std::vector<double> values, std::string_view option, int links,
-                                    std::string_view symbol);
-
-/// "vertical:A:OMEGA" or "horizontal:A:OMEGA" (amplitude in m, angular frequency in rad/s).
-pivot_motion parse_pivot(const std::string& text);
-
-/// The state of chain `c` given as "--state phi_1..phi_n,p_1..p_n" (dim 2n), on a cart
-/// "--state x_c,phi_1..phi_n,p_x,p_1..p_n" (dim 2(n + 1)).
-std::vector<double> parse_state(const std::string& text, const chain& c);
+using spec::parse_pivot;
+using spec::parse_state;
+using spec::per_link_values;
 
 }  // namespace npend::cli

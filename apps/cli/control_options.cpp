@@ -49,7 +49,7 @@ lqr_design control_options::design(const chain& c) const {
   if (c.has_cart()) angles.insert(angles.begin(), 0.0);
   std::vector<int> joints;
   const auto add_joint = [&](double v) {
-    if (v != std::floor(v) || v < 1 || v > n)
+    if (!is_whole_number(v, 1, n))
       throw input_error(fmt::format("--actuated: {} is not a joint 1..{}{}", v, n,
                                     c.has_cart() ? " or cart" : ""));
     // Joint j's torque is actuator j − 1, after the cart's force where there is one.

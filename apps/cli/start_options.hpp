@@ -3,29 +3,17 @@
 // integrates (simulate, and the analyses built on it).
 #pragma once
 
-#include "npend/chain.hpp"
-
 #include <CLI/CLI.hpp>
 
-#include <string>
-#include <vector>
+#include "npend/spec/state_spec.hpp"
 
 namespace npend::cli {
 
-/// Raw text of --phi, --p, --dphi, --energy and --excitation (style).
-struct start_options {
-  std::string phi, p, dphi, energy, style;
-
+/// Raw text of --phi, --p, --dphi, --energy and --excitation (style); make_state (the
+/// specification library's) turns it into the start state.
+struct start_options : spec::start_spec {
   /// Adds the five options to `command`.
   void add_to(CLI::App& command);
-
-  /// The start state [φ, p] (dim 2n) for chain c: from --phi (rad) and --p (kg m²/s,
-  /// default 0), from --phi and --dphi (rad/s, converted by p = A(φ) φ̇), or from
-  /// --energy E (J) with --excitation deflection (default: all arms deflected equally from
-  /// rest) or kick (a horizontal impulse on the lowest bob of the hanging chain). Throws
-  /// input_error for a missing or contradictory choice, a wrong number of values, non-finite
-  /// values, or an energy below the minimum or out of reach.
-  std::vector<double> make_state(const chain& c) const;
 };
 
 }  // namespace npend::cli

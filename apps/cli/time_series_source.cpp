@@ -283,8 +283,8 @@ std::optional<simulated_start> series_options::simulation(std::size_t min_sample
     count = default_samples;
     if (!samples.empty()) {
       const double k = parse_number(samples, "--samples");
-      if (k != std::floor(k) || k < static_cast<double>(min_samples) ||
-          k > static_cast<double>(max_samples))
+      if (!is_whole_number(k, static_cast<double>(min_samples),
+                           static_cast<double>(max_samples)))
         throw input_error(fmt::format("--samples: must be a whole number {}..{}, got {}",
                                       min_samples, max_samples, samples));
       count = static_cast<std::size_t>(k);

@@ -95,7 +95,7 @@ std::optional<std::size_t> checked_fixed_dimension(const embed_options& o) {
             name, o.tau));
   if (o.dim == "auto") return std::nullopt;
   const double k = cli::parse_number(o.dim, "--dim");
-  if (k != std::floor(k) || k < 1 || k > 20)
+  if (!cli::is_whole_number(k, 1, 20))
     throw cli::input_error(fmt::format("--dim: '{}' is not auto or a dimension 1..20", o.dim));
   for (const char* name :
        {"--max-dim", "--dim-method", "--rtol", "--atol", "--references", "--theiler"})

@@ -40,7 +40,7 @@ frequency_scan parse_scan(const std::string& text) {
   frequency_scan s{cli::parse_number(parts[0], "--scan (from)"),
                    cli::parse_number(parts[1], "--scan (to)"), 0};
   const double count = cli::parse_number(parts[2], "--scan (count)");
-  if (count != std::floor(count) || count < 2 || count > 100000)
+  if (!cli::is_whole_number(count, 2, 100000))
     throw cli::input_error(
         fmt::format("--scan: the count must be a whole number 2..100000, got {}", parts[2]));
   if (!(s.from > 0) || !(s.to > s.from))

@@ -23,15 +23,6 @@ namespace npend::app {
 
 namespace {
 
-// A whole number in [low, high] typed for `option`.
-double whole_number(const std::string& text, const char* option, double low, double high) {
-  const double k = cli::parse_number(text, option);
-  if (k != std::floor(k) || k < low || k > high)
-    throw cli::input_error(
-        fmt::format("{}: must be a whole number in {:g}..{:g}, got {}", option, low, high, text));
-  return k;
-}
-
 // ---- npend backbone ----------------------------------------------------------------------
 
 struct backbone_command_options {
@@ -68,7 +59,8 @@ backbone_options make_backbone_options(const backbone_command_options& o) {
   backbone_options b;
   if (!o.periods.empty()) b.periods = cli::parse_number(o.periods, "--periods");
   if (!o.steps.empty())
-    b.steps_per_period = static_cast<int>(whole_number(o.steps, "--steps-per-period", 20, 1e6));
+    b.steps_per_period =
+        static_cast<int>(cli::parse_whole_number(o.steps, "--steps-per-period", 20, 1e6));
   if (!(b.periods >= 3 && b.periods <= 1e5))
     throw cli::input_error(fmt::format("--periods: must be in 3..1e5, got {}", b.periods));
   if (!o.thresholds.empty()) {
@@ -185,7 +177,7 @@ int run_backbone(const backbone_command_options& o) {
   if (o.mode.empty()) {
     for (int k = 1; k <= n; ++k) modes.push_back(k);
   } else {
-    modes.push_back(static_cast<int>(whole_number(o.mode, "--mode", 1, n)));
+    modes.push_back(static_cast<int>(cli::parse_whole_number(o.mode, "--mode", 1, n)));
   }
   const std::vector<double> amplitudes = parse_amplitudes(o.amplitudes);
   for (double a : amplitudes)
@@ -399,7 +391,8 @@ int run_corrections(const corrections_command_options& o) {
       throw cli::input_error(fmt::format("--horizon: must be positive, got {}", o.horizon));
   }
   if (!o.samples.empty())
-    options.samples = static_cast<std::size_t>(whole_number(o.samples, "--samples", 2, 1e6));
+    options.samples =
+        static_cast<std::size_t>(cli::parse_whole_number(o.samples, "--samples", 2, 1e6));
   series_output files(o.out);
   correction_study s;
   try {

@@ -49,15 +49,6 @@ bool given(const lyapunov_command_options& o, const char* name) {
   return option != nullptr && option->count() > 0;
 }
 
-// A whole number in [low, high] from an option's text.
-std::size_t whole_number(const std::string& text, const char* option, double low, double high) {
-  const double k = cli::parse_number(text, option);
-  if (k != std::floor(k) || k < low || k > high)
-    throw cli::input_error(
-        fmt::format("{}: must be a whole number {:g}..{:g}, got {}", option, low, high, text));
-  return static_cast<std::size_t>(k);
-}
-
 lyapunov_options make_options(const lyapunov_command_options& o) {
   lyapunov_options l;
   l.integration = o.integrator.make();
@@ -87,7 +78,8 @@ lyapunov_options make_options(const lyapunov_command_options& o) {
       throw cli::input_error(
           fmt::format("--convergence-fraction: must be in (0, 1], got {}", l.convergence_fraction));
   }
-  if (!o.blocks.empty()) l.blocks = whole_number(o.blocks, "--blocks", 2, 1000);
+  if (!o.blocks.empty())
+    l.blocks = static_cast<std::size_t>(cli::parse_whole_number(o.blocks, "--blocks", 2, 1000));
   return l;
 }
 
@@ -195,13 +187,15 @@ int run_equations(const lyapunov_command_options& o) {
       throw cli::input_error(
           "--exponents: not with --ensemble (an ensemble takes the full "
           "spectrum or --maximal)");
-    count = static_cast<int>(whole_number(o.exponents, "--exponents", 1, 2.0 * c.links()));
+    count = static_cast<int>(
+        cli::parse_whole_number(o.exponents, "--exponents", 1, 2.0 * c.links()));
   }
   const bool full = !o.maximal && !count;
   std::optional<lyapunov_ensemble_options> ensemble;
   if (!o.ensemble.empty()) {
     ensemble.emplace();
-    ensemble->members = whole_number(o.ensemble, "--ensemble", 2, 10000);
+    ensemble->members =
+        static_cast<std::size_t>(cli::parse_whole_number(o.ensemble, "--ensemble", 2, 10000));
     ensemble->maximal = o.maximal;
     if (!o.ensemble_radius.empty()) {
       ensemble->radius = cli::parse_number(o.ensemble_radius, "--ensemble-radius");
@@ -209,7 +203,9 @@ int run_equations(const lyapunov_command_options& o) {
         throw cli::input_error(
             fmt::format("--ensemble-radius: must be in (0, 0.1] rad, got {}", o.ensemble_radius));
     }
-    if (!o.seed.empty()) ensemble->seed = whole_number(o.seed, "--seed", 0, 9.0e15);
+    if (!o.seed.empty())
+      ensemble->seed =
+          static_cast<std::uint64_t>(cli::parse_whole_number(o.seed, "--seed", 0, 9.0e15));
   } else {
     for (const char* name : {"--ensemble-radius", "--seed"})
       if (given(o, name)) throw cli::input_error(fmt::format("{}: only with --ensemble K", name));
@@ -393,7 +389,8 @@ int run_series(const lyapunov_command_options& o) {
   // Several columns: a multivariate embedding of the observables themselves by default.
   const std::vector<std::string> selectors = column_list(o.column);
   std::size_t dimension = selectors.size() > 1 ? 1 : 6;
-  if (!o.dim.empty()) dimension = whole_number(o.dim, "--dim", 1, 20);
+  if (!o.dim.empty())
+    dimension = static_cast<std::size_t>(cli::parse_whole_number(o.dim, "--dim", 1, 20));
   std::optional<std::pair<double, double>> fit;
   if (!o.fit.empty()) fit = fit_range(o.fit);
   std::vector<double> radii;

@@ -70,7 +70,7 @@ axis parse_axis(const std::string& text, const char* option, int links) {
   const double from = cli::parse_number(parts[1], option);
   const double to = cli::parse_number(parts[2], option);
   const double count = cli::parse_number(parts[3], option);
-  if (count != std::floor(count) || count < 1 || count > 16384)
+  if (!cli::is_whole_number(count, 1, 16384))
     throw cli::input_error(
         fmt::format("{}: the count must be a whole number 1..16384, got {}", option, parts[3]));
   try {

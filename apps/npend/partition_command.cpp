@@ -38,7 +38,7 @@ std::vector<double> parse_temperature_scan(const std::string& text) {
   if (!(from > 0) || !(to > from))
     throw cli::input_error(
         fmt::format("--scan: temperatures must satisfy 0 < from < to, got {}:{}", from, to));
-  if (count != std::floor(count) || count < 2 || count > 1000)
+  if (!cli::is_whole_number(count, 2, 1000))
     throw cli::input_error(
         fmt::format("--scan: the count must be a whole number 2..1000, got {}", parts[2]));
   std::vector<double> out;
@@ -157,11 +157,8 @@ int run_partition(const partition_command_options& o) {
                            : ""));
   }
   if (!o.seed.empty()) {
-    const double seed = cli::parse_number(o.seed, "--seed");
-    if (seed != std::floor(seed) || seed < 0 || seed > 9.0e15)
-      throw cli::input_error(
-          fmt::format("--seed: must be a whole number 0..9e+15, got {}", o.seed));
-    options.seed = static_cast<std::uint64_t>(seed);
+    options.seed =
+        static_cast<std::uint64_t>(cli::parse_whole_number(o.seed, "--seed", 0, 9.0e15));
   }
   options.boltzmann = o.kb;
   series_output files(o.out);

@@ -64,7 +64,7 @@ int run_poincare(const poincare_options& o) {
   std::size_t max_points = 0;
   if (!o.max_points.empty()) {
     const double k = cli::parse_number(o.max_points, "--max-points");
-    if (k < 1 || k != std::floor(k) || k > 1e9)
+    if (!cli::is_whole_number(k, 1, 1e9))
       throw cli::input_error(
           fmt::format("--max-points: must be a whole number >= 1, got {}", o.max_points));
     max_points = static_cast<std::size_t>(k);

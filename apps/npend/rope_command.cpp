@@ -29,7 +29,7 @@ constexpr int max_rope_links = 5000;  // a dense eigenvector matrix of n² doubl
 std::vector<int> parse_link_counts(const std::string& text) {
   std::vector<int> out;
   for (const double v : cli::parse_number_list(text, "--links")) {
-    if (v != std::floor(v) || v < 1 || v > max_rope_links)
+    if (!cli::is_whole_number(v, 1, max_rope_links))
       throw cli::input_error(fmt::format(
           "--links: each link count must be a whole number 1..{}, got {}", max_rope_links, v));
     if (!out.empty() && v <= out.back())

@@ -39,7 +39,7 @@ struct simulate_options {
 std::size_t parse_every(const std::string& text) {
   if (text.empty()) return 1;
   const double k = cli::parse_number(text, "--every");
-  if (k < 1 || k != std::floor(k) || k > 1e15)
+  if (!cli::is_whole_number(k, 1, 1e15))
     throw cli::input_error(fmt::format("--every: must be a whole number >= 1, got {}", text));
   return static_cast<std::size_t>(k);
 }

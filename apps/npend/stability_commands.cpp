@@ -203,7 +203,7 @@ std::vector<int> parse_fixed(const std::string& text, int links) {
   std::vector<int> out;
   if (text.empty()) return out;
   for (const double v : cli::parse_number_list(text, "--fixed")) {
-    if (v != std::floor(v) || v < 1 || v > links)
+    if (!cli::is_whole_number(v, 1, links))
       throw cli::input_error(fmt::format("--fixed: {} is not a link number 1..{}", v, links));
     out.push_back(static_cast<int>(v));
   }

@@ -17,8 +17,8 @@
 #include "npend/analysis/stability/equilibria.hpp"
 #include "npend/analysis/stability/normal_modes.hpp"
 #include "npend/analysis/series/power_spectrum.hpp"
-#include "section_spec.hpp"
-#include "thread_count.hpp"
+#include "npend/spec/section_spec.hpp"
+#include "npend/spec/thread_count.hpp"
 
 namespace npend::python {
 
@@ -145,9 +145,9 @@ std::vector<double> values_in_parallel(std::size_t total, std::size_t chunk, int
 }
 
 // The OpenMP team for `threads` (0: every core); ValueError naming threads outside
-// 0..cli::max_threads(), checked before any thread starts.
+// 0..spec::max_threads(), checked before any thread starts.
 int team_size(int threads) {
-  cli::check_thread_count(threads, "threads");
+  spec::check_thread_count(threads, "threads");
   return threads > 0 ? threads : omp_get_max_threads();
 }
 
@@ -189,7 +189,7 @@ map_cell_options cell_options(const chain& c, const std::string& quantity, doubl
   o.dt = dt;
   o.flip_link = flip_link;
   if (o.quantity == map_quantity::state)
-    o.component = static_cast<int>(cli::parse_coordinate(component, c.links(), "component"));
+    o.component = static_cast<int>(spec::parse_coordinate(component, c.links(), "component"));
   return o;
 }
 

@@ -9,48 +9,50 @@
 #include <stdexcept>
 
 #include "bindings.hpp"
-#include "chain_options.hpp"
 #include "npend/excitation.hpp"
+#include "npend/spec/chain_spec.hpp"
 
 namespace npend::python {
 
 namespace {
 
-// A per-link list as users give it: None (the default), one number for every link, or one
-// value per link, checked as the command line checks them.
-std::vector<double> per_link(const py::handle& value, int links, const char* what,
-                             std::string_view symbol) {
+// A per-link list as users give it: None (the default, an empty list), one number for every
+// link, or one value per link; chain_spec checks the count as the command line's.
+std::vector<double> per_link(const py::handle& value, int links, const char* what) {
   if (value.is_none()) return {};
   const double_array a = as_array(value, what);
   if (a.ndim() > 1)
     throw std::invalid_argument(
         fmt::format("{}: expected a number or a list of {} numbers (one per link)", what, links));
-  return cli::per_link_values({a.data(), a.data() + a.size()}, what, links, symbol);
+  // An empty list is no value for the links, not the default that None asks for.
+  if (a.size() == 0) spec::per_link_values({}, what, links, spec::find_per_link_key(what)->symbol);
+  return {a.data(), a.data() + a.size()};
 }
 
+// The chain of npend.Chain's arguments: the command line's chain_spec, its messages naming
+// the keywords.
 chain make_chain(int links, const py::object& masses, const py::object& lengths, double g,
                  const py::object& com, const py::object& inertia, bool rods,
                  const py::object& stiffness, const py::object& rest_angles,
                  const py::object& damping, const std::string& pivot,
-                 const std::optional<double>& cart, double cart_damping) {
-  if (links < 1) throw std::invalid_argument(fmt::format("links must be >= 1; got {}", links));
-  chain_parameters p = chain_parameters::uniform(links, 1.0, 1.0, g);
-  if (!masses.is_none()) p.masses = per_link(masses, links, "masses", "m");
-  if (!lengths.is_none()) p.lengths = per_link(lengths, links, "lengths", "l");
-  p.com = per_link(com, links, "com", "c");
-  p.inertia = per_link(inertia, links, "inertia", "J");
-  if (rods) {
-    if (!p.com.empty() || !p.inertia.empty())
-      throw std::invalid_argument("rods=True sets com and inertia; give one or the other");
-    p.make_uniform_rods();
-  }
-  p.stiffness = per_link(stiffness, links, "stiffness", "k");
-  p.rest_angles = per_link(rest_angles, links, "rest_angles", "theta");
-  p.damping = per_link(damping, links, "damping", "b");
-  if (!pivot.empty() && pivot != "fixed") p.pivot = cli::parse_pivot(pivot);
-  p.cart_mass = cart;
-  p.cart_damping = cart_damping;
-  return chain(std::move(p));
+                 const std::optional<double>& cart, const std::optional<double>& cart_damping) {
+  spec::check_links(links, spec::naming::keywords);
+  spec::chain_spec s;
+  s.links = links;
+  s.masses = per_link(masses, links, "masses");
+  s.lengths = per_link(lengths, links, "lengths");
+  s.g = g;
+  s.com = per_link(com, links, "com");
+  s.inertia = per_link(inertia, links, "inertia");
+  s.rods = rods;
+  s.stiffness = per_link(stiffness, links, "stiffness");
+  s.rest_angles = per_link(rest_angles, links, "rest_angles");
+  s.damping = per_link(damping, links, "damping");
+  // parameters["pivot"] says "fixed" for a fixed pivot: that text reads back.
+  s.pivot = pivot == "fixed" ? "" : pivot;
+  s.cart = cart;
+  s.cart_damping = cart_damping;
+  return spec::make_chain(s, spec::naming::keywords);
 }
 
 // f(x) of every state in the batch: `out_per_state` values each, written by `fill`.
@@ -85,7 +87,7 @@ py::dict parameters_dict(const chain_parameters& p) {
   d["damping"] = p.damping;
   d["pivot"] = p.pivot.describe();
   d["cart"] = p.cart_mass ? py::object(py::float_(*p.cart_mass)) : py::object(py::none());
-  d["cart_damping"] = p.cart_damping;
+  d["cart_damping"] = p.cart_mass ? py::object(py::float_(p.cart_damping)) : py::object(py::none());
   return d;
 }
 
@@ -140,7 +142,7 @@ pivot ("vertical:A:OMEGA" or "horizontal:A:OMEGA") make it a physical chain.)")
            py::arg("com") = py::none(), py::arg("inertia") = py::none(), py::arg("rods") = false,
            py::arg("stiffness") = py::none(), py::arg("rest_angles") = py::none(),
            py::arg("damping") = py::none(), py::arg("pivot") = "",
-           py::arg("cart") = py::none(), py::arg("cart_damping") = 0.0)
+           py::arg("cart") = py::none(), py::arg("cart_damping") = py::none())
       .def_property_readonly("links", &chain::links)
       .def_property_readonly("state_size", &chain::state_size)
       .def_property_readonly("is_physical", &chain::is_physical)

@@ -7,7 +7,7 @@
 #include "npend/analysis/chaos/chaos_indicators.hpp"
 #include "npend/analysis/chaos/lyapunov.hpp"
 #include "npend/analysis/chaos/poincare_section.hpp"
-#include "section_spec.hpp"
+#include "npend/spec/section_spec.hpp"
 
 namespace npend::python {
 
@@ -94,11 +94,12 @@ py::dict poincare(const chain& c, const py::handle& x0_in, const std::string& se
                   std::size_t max_crossings, bool unwrapped, double abs_tol, double rel_tol) {
   const auto x0 = start_state(c, x0_in);
   const auto section =
-      cli::section_from_spec(cli::parse_section_spec(section_text, "section"), c.links(), "section",
-                             unwrapped ? cli::angle_mode::unwrapped : cli::angle_mode::circle);
+      spec::section_from_spec(spec::parse_section_spec(section_text, "section"), c.links(),
+                              "section",
+                              unwrapped ? spec::angle_mode::unwrapped : spec::angle_mode::circle);
   auto o = integration_from(t_end, dt, stepper, 0, abs_tol, rel_tol);
   poincare_options po;
-  po.direction = cli::parse_direction(direction, "direction");
+  po.direction = spec::parse_direction(direction, "direction");
   po.max_crossings = max_crossings;
   python_interrupt interrupt;
   o.control = &interrupt;

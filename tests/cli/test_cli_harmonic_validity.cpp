@@ -95,7 +95,7 @@ TEST_CASE("npend corrections: --json is the library's study; --out writes the pl
 
 TEST_CASE("npend backbone and corrections: bad input gets a one-line message, exit status 2") {
   const std::vector<std::pair<std::string, std::string>> cases{
-      {"backbone --links 2 --mode 3", "--mode: must be a whole number in 1..2, got 3"},
+      {"backbone --links 2 --mode 3", "--mode: must be a whole number 1..2, got 3"},
       {"backbone --links 2 --amplitudes 0.1,4", "--amplitudes: 4 rad is not in (0, pi)"},
       {"backbone --links 2 --amplitudes 1:0.5:0.1", "FROM <= TO"},
       {"backbone --links 2 --amplitudes 0.1:0.5", "neither a list"},

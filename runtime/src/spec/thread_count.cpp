@@ -1,13 +1,11 @@
-#include "thread_count.hpp"
-
-#include "input_parsing.hpp"
+#include "npend/spec/thread_count.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <thread>
 
-namespace npend::cli {
+namespace npend::spec {
 
 int max_threads() {
   return 4 * static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
@@ -20,4 +18,4 @@ void check_thread_count(int threads, std::string_view option) {
         max_threads(), max_threads() / 4, threads));
 }
 
-}  // namespace npend::cli
+}  // namespace npend::spec

@@ -1,4 +1,4 @@
-#include "input_parsing.hpp"
+#include "npend/spec/number_parsing.hpp"
 
 #include <fmt/format.h>
 
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numbers>
 
-namespace npend::cli {
+namespace npend::spec {
 
 namespace {
 
@@ -114,4 +114,17 @@ std::vector<double> parse_number_list(std::string_view text, std::string_view op
   return values;
 }
 
-}  // namespace npend::cli
+bool is_whole_number(double value, double low, double high) {
+  return value == std::floor(value) && value >= low && value <= high;
+}
+
+double parse_whole_number(std::string_view text, std::string_view option, double low,
+                          double high) {
+  const double value = parse_number(text, option);
+  if (!is_whole_number(value, low, high))
+    throw input_error(
+        fmt::format("{}: must be a whole number {:g}..{:g}, got {}", option, low, high, text));
+  return value;
+}
+
+}  // namespace npend::spec

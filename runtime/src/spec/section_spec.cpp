@@ -1,12 +1,12 @@
-#include "section_spec.hpp"
+#include "npend/spec/section_spec.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 
-#include "input_parsing.hpp"
+#include "npend/spec/number_parsing.hpp"
 
-namespace npend::cli {
+namespace npend::spec {
 
 namespace {
 
@@ -143,4 +143,4 @@ std::string_view direction_name(crossing_direction direction) {
   return "both";
 }
 
-}  // namespace npend::cli
+}  // namespace npend::spec
