@@ -4,6 +4,7 @@
 #include "npend/analysis/chaos/poincare_section.hpp"
 
 #include "npend/analysis/series/event_times.hpp"
+#include "npend/analysis/stability/backbone.hpp"
 #include "npend/analysis/stability/normal_modes.hpp"
 #include "reference/reference_trajectory.hpp"
 #include "support/test_signals.hpp"
