@@ -63,47 +63,49 @@ struct analyze_options {
   bool unwrapped = false;
 };
 
-int run_analyze(const analyze_options& o) {
-  const fs::path dir = cli::output_folder(o.out, "--out");
-  const auto simulation = o.series.simulation(64);
-  const chain& c = simulation->pendulum;
-  const int n = c.links();
+// What the options ask of the analysis, checked before the run.
+struct analyze_plan {
   motion_analysis_options options;
+  cli::angle_mode angles = cli::angle_mode::circle;
+  std::string event;                               // the event's spec (default phin=0)
+  std::pair<std::size_t, std::size_t> projection;  // the Poincaré plot's coordinates
+  std::string section_what, event_what;            // the section and the events, in words
+};
+
+analyze_plan plan_analysis(const analyze_options& o, int n) {
+  analyze_plan plan;
+  motion_analysis_options& options = plan.options;
   options.coordinate = o.series.column.empty()
                            ? static_cast<std::size_t>(n - 1)
                            : cli::parse_coordinate(o.series.column, n, "--coordinate");
-  const cli::angle_mode angles = o.unwrapped ? cli::angle_mode::unwrapped : cli::angle_mode::circle;
+  plan.angles = o.unwrapped ? cli::angle_mode::unwrapped : cli::angle_mode::circle;
   options.section = cli::section_from_spec(cli::parse_section_spec(o.section, "--section"), n,
-                                           "--section", angles);
+                                           "--section", plan.angles);
   options.section_direction = cli::parse_direction(o.direction, "--direction");
-  const std::string event = o.event.empty() ? fmt::format("phi{}=0", n) : o.event;
-  options.event =
-      cli::section_from_spec(cli::parse_section_spec(event, "--event"), n, "--event", angles);
+  plan.event = o.event.empty() ? fmt::format("phi{}=0", n) : o.event;
+  options.event = cli::section_from_spec(cli::parse_section_spec(plan.event, "--event"), n,
+                                         "--event", plan.angles);
   options.event_direction = cli::parse_direction(o.event_direction, "--event-direction");
-  const auto projection =
+  plan.projection =
       o.project.empty()
           ? std::pair<std::size_t, std::size_t>{options.coordinate,
                                                 options.coordinate < static_cast<std::size_t>(n)
                                                     ? options.coordinate + n
                                                     : options.coordinate - n}
           : cli::parse_projection(o.project, n, "--project");
-
-  motion_analysis a;
-  try {
-    a = cli::on_terminal(*simulation,
-                         [&](const simulated_start& run) { return analyze_motion(run, options); });
-  } catch (const std::invalid_argument& e) {  // the options were checked: the start is at fault
-    throw cli::input_error(e.what());
-  }
-  const time_series& x = a.series;
-  const std::string section_what =
+  plan.section_what =
       fmt::format("{} ({})", o.section, cli::direction_name(options.section_direction));
-  const std::string event_what =
-      fmt::format("{} ({})", event, cli::direction_name(options.event_direction));
-  figure_folder folder(dir, "npend analyze: ", " of " + x.source);
-  // Every file or none: the figures, their data and the index appear together at the end.
-  cli::output_batch batch;
-  const double duration = x.dt * static_cast<double>(x.values.size() - 1);
+  plan.event_what = fmt::format("{} ({})", plan.event, cli::direction_name(options.event_direction));
+  return plan;
+}
+
+// The figures of the folder, each with its text.
+void add_figures(figure_folder& folder, const simulated_start& simulation,
+                 const motion_analysis& a, const analyze_plan& plan) {
+  const chain& c = simulation.pendulum;
+  const int n = c.links();
+  const time_series& x = a.series;
+  const motion_analysis_options& options = plan.options;
   folder.add("series", "Time series",
              fmt::format("{}(t) over the {} samples analysed below (dt = {:g} s). Regular motion "
                          "looks like a beat of a few oscillations; chaotic motion like calm phases "
@@ -141,11 +143,12 @@ int run_analyze(const analyze_options& o) {
         fmt::format("The {} crossings of the section {} over {:g} s, projected on ({}, {}). "
                     "Periodic motion gives finitely many points, quasi-periodic motion closed "
                     "curves, chaotic motion a scattered cloud.",
-                    a.section.size(), section_what, simulation->integration.t_end,
-                    cli::coordinate_name(projection.first, n),
-                    cli::coordinate_name(projection.second, n)),
+                    a.section.size(), plan.section_what, simulation.integration.t_end,
+                    cli::coordinate_name(plan.projection.first, n),
+                    cli::coordinate_name(plan.projection.second, n)),
         [&](series_output& out) {
-          return std::vector{poincare_panel(out, "", c, a.section, projection, section_what)};
+          return std::vector{
+              poincare_panel(out, "", c, a.section, plan.projection, plan.section_what)};
         },
         {820, 760});
   if (a.recurrence)
@@ -155,9 +158,9 @@ int run_analyze(const analyze_options& o) {
                     "density and the spectrum of the interval sequence. Periodic motion "
                     "clusters them at a few values; chaotic motion spreads them around a mean "
                     "T with a broad spectrum.",
-                    event_what, simulation->integration.t_end),
+                    plan.event_what, simulation.integration.t_end),
         [&](series_output& out) {
-          const auto p = recurrence_figure(out, "", event_what, a.event_times, *a.recurrence);
+          const auto p = recurrence_figure(out, "", plan.event_what, a.event_times, *a.recurrence);
           return std::vector{p.intervals, p.distribution, p.spectrum};
         },
         {1500, 520, 3});
@@ -174,23 +177,30 @@ int run_analyze(const analyze_options& o) {
           return std::vector{delay, dimension};
         },
         {1300, 620, 2});
+}
 
-  // The numbers of the index, the terminal and the JSON.
-  const double energy = c.hamiltonian(simulation->x0);
+// The numbers of the index, the terminal and the JSON: the index's title, preamble and table
+// (its entries are the folder's figures).
+figure_index index_text(const simulated_start& simulation, const motion_analysis& a,
+                        const analyze_plan& plan) {
+  const chain& c = simulation.pendulum;
+  const int n = c.links();
+  const time_series& x = a.series;
+  const double duration = x.dt * static_cast<double>(x.values.size() - 1);
+  const double energy = c.hamiltonian(simulation.x0);
   std::string epsilon;
   try {
     epsilon = fmt::format(" (ε = E/(m g l) = {:.4g})", epsilon_from_energy(c, energy));
   } catch (const std::invalid_argument&) {  // unequal masses or lengths: no ε
   }
-  const double residual = a.section_quality.max_residual,
-               energy_error = a.section_quality.max_rel_energy_error;
   std::vector<std::string> lines;
   for (std::size_t k = 0; k < std::min<std::size_t>(a.peaks.size(), 5); ++k)
     lines.push_back(fmt::format("{:.4g}", a.peaks[k].omega));
   const auto seconds = [](const std::optional<double>& v) {
     return v ? fmt::format("{:.4g} s", *v) : std::string("none");
   };
-  const std::vector<std::pair<std::string, std::string>> facts{
+  figure_index index;
+  index.facts = {
       {"energy E", fmt::format("{:.6g} J{}", energy, epsilon)},
       {"series", fmt::format("{}, {} samples, dt = {:g} s ({:g} s)", x.name, x.values.size(), x.dt,
                              duration)},
@@ -199,10 +209,10 @@ int run_analyze(const analyze_options& o) {
       {"autocorrelation",
        fmt::format("first zero {}, first minimum {}", seconds(a.autocorrelation.first_zero),
                    seconds(a.autocorrelation.first_minimum))},
-      {fmt::format("Poincaré section {}", section_what),
+      {fmt::format("Poincaré section {}", plan.section_what),
        fmt::format("{} crossings, largest |g| {:.1e}, largest |H − E|/E {:.1e}", a.section.size(),
-                   residual, energy_error)},
-      {fmt::format("events {}", event_what),
+                   a.section_quality.max_residual, a.section_quality.max_rel_energy_error)},
+      {fmt::format("events {}", plan.event_what),
        a.recurrence
            ? fmt::format("{} events, mean interval T = {:.4g} s, standard deviation "
                          "{:.3g} s",
@@ -213,61 +223,88 @@ int run_analyze(const analyze_options& o) {
                                   delay_method_name(a.tau.method),
                                   a.dimension ? std::to_string(*a.dimension) : "none up to 10")
                     : "none"}};
-  const std::string title =
-      fmt::format("npend analyze: the {}-link chain, E = {:.6g} J", n, energy);
-  const std::vector<std::string> preamble{
+  index.title = fmt::format("npend analyze: the {}-link chain, E = {:.6g} J", n, energy);
+  index.preamble = {
       fmt::format("Masses {} kg, lengths {} m, g = {} m/s². Start x₀ = [φ₁..φ_{}, p₁..p_{}] = "
                   "[{}] (rad, kg m²/s).",
                   fmt::join(c.parameters().masses, ", "), fmt::join(c.parameters().lengths, ", "),
-                  c.parameters().g, n, n, fmt::join(simulation->x0, ", ")),
+                  c.parameters().g, n, n, fmt::join(simulation.x0, ", ")),
       fmt::format("Integrated by {} with dt = {:g} s from t = 0 to {:g} s: the first {} samples "
                   "are the time series, the whole run gives the Poincaré section and the events "
                   "(located on the integrator's steps, not on the samples).",
-                  stepper_name(simulation->integration.stepper), simulation->integration.dt,
-                  simulation->integration.t_end, x.values.size())};
+                  stepper_name(simulation.integration.stepper), simulation.integration.dt,
+                  simulation.integration.t_end, x.values.size())};
+  return index;
+}
+
+void print_analyze_json(const analyze_options& o, const fs::path& dir, const fs::path& index,
+                        const std::vector<std::string>& files, const simulated_start& simulation,
+                        const motion_analysis& a, const analyze_plan& plan,
+                        const std::vector<std::string>& notes) {
+  const time_series& x = a.series;
+  nlohmann::json peaks = nlohmann::json::array();
+  for (const auto& p : a.peaks) peaks.push_back({{"omega", p.omega}, {"power", p.power}});
+  const auto optional = [](const auto& v) { return v ? nlohmann::json(*v) : nlohmann::json(); };
+  nlohmann::json j{
+      {"out", dir.string()},
+      {"index", index.string()},
+      {"files", files},
+      {"links", simulation.pendulum.links()},
+      {"initial_state", simulation.x0},
+      {"energy", simulation.pendulum.hamiltonian(simulation.x0)},
+      {"stepper", std::string(stepper_name(simulation.integration.stepper))},
+      {"dt", simulation.integration.dt},
+      {"t_end", simulation.integration.t_end},
+      {"signal", x.name},
+      {"samples", x.values.size()},
+      {"peaks", peaks},
+      {"first_zero", optional(a.autocorrelation.first_zero)},
+      {"first_minimum", optional(a.autocorrelation.first_minimum)},
+      {"section", o.section},
+      {"angles", cli::angle_mode_name(plan.angles)},
+      {"crossings", a.section.size()},
+      {"max_section_residual", a.section_quality.max_residual},
+      {"max_rel_energy_error", a.section_quality.max_rel_energy_error},
+      {"event", plan.event},
+      {"events", a.event_times.size()},
+      {"mean_interval", a.recurrence ? nlohmann::json(a.recurrence->mean) : nlohmann::json()},
+      {"tau", a.embedded() ? nlohmann::json(a.tau.seconds) : nlohmann::json()},
+      {"dimension", optional(a.dimension)},
+      {"notes", notes}};
+  std::cout << j.dump(2) << "\n";
+}
+
+int run_analyze(const analyze_options& o) {
+  const fs::path dir = cli::output_folder(o.out, "--out");
+  const auto simulation = o.series.simulation(64);
+  const analyze_plan plan = plan_analysis(o, simulation->pendulum.links());
+  motion_analysis a;
+  try {
+    a = cli::on_terminal(*simulation, [&](const simulated_start& run) {
+      return analyze_motion(run, plan.options);
+    });
+  } catch (const std::invalid_argument& e) {  // the options were checked: the start is at fault
+    throw cli::input_error(e.what());
+  }
+  figure_folder folder(dir, "npend analyze: ", " of " + a.series.source);
+  // Every file or none: the figures, their data and the index appear together at the end.
+  cli::output_batch batch;
+  add_figures(folder, *simulation, a, plan);
+  figure_index text = index_text(*simulation, a, plan);
   std::vector<std::string> notes = a.notes;
   notes.insert(notes.end(), folder.notes().begin(), folder.notes().end());
-  folder.index() = {title, preamble, facts, folder.index().entries, notes};
+  folder.index() = {text.title, text.preamble, text.facts, folder.index().entries, notes};
   const fs::path index = folder.write_index();
   batch.commit_all();
   const std::vector<std::string>& files = folder.files();
   for (const auto& note : notes) fmt::print(stderr, "note: {}\n", note);
 
   if (o.json) {
-    nlohmann::json peaks = nlohmann::json::array();
-    for (const auto& p : a.peaks) peaks.push_back({{"omega", p.omega}, {"power", p.power}});
-    const auto optional = [](const auto& v) { return v ? nlohmann::json(*v) : nlohmann::json(); };
-    nlohmann::json j{
-        {"out", dir.string()},
-        {"index", index.string()},
-        {"files", files},
-        {"links", n},
-        {"initial_state", simulation->x0},
-        {"energy", energy},
-        {"stepper", std::string(stepper_name(simulation->integration.stepper))},
-        {"dt", simulation->integration.dt},
-        {"t_end", simulation->integration.t_end},
-        {"signal", x.name},
-        {"samples", x.values.size()},
-        {"peaks", peaks},
-        {"first_zero", optional(a.autocorrelation.first_zero)},
-        {"first_minimum", optional(a.autocorrelation.first_minimum)},
-        {"section", o.section},
-        {"angles", cli::angle_mode_name(angles)},
-        {"crossings", a.section.size()},
-        {"max_section_residual", residual},
-        {"max_rel_energy_error", energy_error},
-        {"event", event},
-        {"events", a.event_times.size()},
-        {"mean_interval", a.recurrence ? nlohmann::json(a.recurrence->mean) : nlohmann::json()},
-        {"tau", a.embedded() ? nlohmann::json(a.tau.seconds) : nlohmann::json()},
-        {"dimension", optional(a.dimension)},
-        {"notes", notes}};
-    std::cout << j.dump(2) << "\n";
+    print_analyze_json(o, dir, index, files, *simulation, a, plan, notes);
     return 0;
   }
-  fmt::print("{}\n\n", title);
-  for (const auto& [name, value] : facts) fmt::print("{:<40} {}\n", name, value);
+  fmt::print("{}\n\n", text.title);
+  for (const auto& [name, value] : text.facts) fmt::print("{:<40} {}\n", name, value);
   fmt::print("\nWrote {} files to {}/; open {}\n", files.size(), dir.string(), index.string());
   return 0;
 }

@@ -19,12 +19,13 @@ using command_list = std::vector<command>;
 void add_eval_command(CLI::App& app, command_list& commands);
 void add_equations_command(CLI::App& app, command_list& commands);
 void add_demo_command(CLI::App& app, command_list& commands);
-/// npend equilibria, npend modes, npend toda-brumer.
-void add_stability_commands(CLI::App& app, command_list& commands);
+void add_equilibria_command(CLI::App& app, command_list& commands);
+void add_modes_command(CLI::App& app, command_list& commands);
+void add_toda_brumer_command(CLI::App& app, command_list& commands);
 void add_simulate_command(CLI::App& app, command_list& commands);
 void add_animate_command(CLI::App& app, command_list& commands);
-/// The time-series analyses: npend spectrum, npend autocorrelation.
-void add_spectrum_commands(CLI::App& app, command_list& commands);
+void add_spectrum_command(CLI::App& app, command_list& commands);
+void add_autocorrelation_command(CLI::App& app, command_list& commands);
 void add_recurrence_command(CLI::App& app, command_list& commands);
 void add_embed_command(CLI::App& app, command_list& commands);
 void add_poincare_command(CLI::App& app, command_list& commands);
@@ -35,7 +36,7 @@ void add_control_command(CLI::App& app, command_list& commands);
 void add_rope_command(CLI::App& app, command_list& commands);
 void add_partition_command(CLI::App& app, command_list& commands);
 void add_map_command(CLI::App& app, command_list& commands);
-/// npend backbone, npend corrections.
-void add_harmonic_validity_commands(CLI::App& app, command_list& commands);
+void add_backbone_command(CLI::App& app, command_list& commands);
+void add_corrections_command(CLI::App& app, command_list& commands);
 
 }  // namespace npend::app

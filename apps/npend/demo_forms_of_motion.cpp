@@ -90,29 +90,21 @@ std::string omegas(const std::vector<spectral_peak>& peaks, std::size_t count) {
   return fmt::format("{}", fmt::join(list, ", "));
 }
 
-}  // namespace
 
-void demo_forms_of_motion(const demo_context& demo) {
-  const auto started = std::chrono::steady_clock::now();
-  const chain& c = demo.triple;
-  figure_folder folder(cli::output_folder(demo.out.string(), "--out"), "npend demo: ", {}, true);
-  fmt::print(
-      "## 5. Forms of motion (paper section 6.6): figures 6.8-6.13, written to {}/\n\n"
-      "The paper's setting: equal masses and lengths, the time series of phi_3 with 2^14 samples\n"
-      "at dt = {:g} s, integrated here by gauss6. Two excitations like those of section 3 (a\n"
-      "zigzag at rest): weak, epsilon = 0.01 (at section 3's 0.1 the nonlinearity already\n"
-      "pulls the highest mode down to 7.6 rad/s), and strong, epsilon = 1.5; the Poincare\n"
-      "sections and the recurrence times come from a {:g} s run of each, located on the\n"
-      "integrator's steps.\n\n",
-      folder.dir().string(), dt, section_time);
-
+// At rest, the arms deflected in a zigzag φ = (s, −s, s) with the energy E = ε m g l.
+std::vector<double> zigzag_start(const chain& c, double epsilon) {
   const std::vector<double> zigzag{1.0, -1.0, 1.0};
+  return deflected_state(c, energy_from_epsilon(c, epsilon), zigzag);
+}
+
+// The weak and the strong excitation, each simulated and analysed.
+std::vector<demo_case> analysed_cases(const chain& c) {
   std::vector<demo_case> cases;
   for (const auto& [key, label, epsilon] :
        {std::tuple{"weak", "(a) weak excitation, ε = 0.01: regular", 0.01},
         std::tuple{"strong", "(b) strong excitation, ε = 1.5: chaotic", 1.5}}) {
     demo_case k{
-        key, label, epsilon, deflected_state(c, energy_from_epsilon(c, epsilon), zigzag), {}};
+        key, label, epsilon, zigzag_start(c, epsilon), {}};
     motion_analysis_options options;
     options.coordinate = 2;                                  // φ₃
     options.section = section_plane::coordinate(3, 0, 0.0);  // φ₁ = 0, upwards
@@ -122,19 +114,34 @@ void demo_forms_of_motion(const demo_context& demo) {
     });
     cases.push_back(std::move(k));
   }
-  const demo_case &weak = cases[0], &strong = cases[1];
-  // A single normal mode (the slowest), 0.1 rad at its largest: periodic motion.
-  const auto modes = normal_modes(c, std::vector<double>{0, 0, 0}).modes;
+  return cases;
+}
+
+// A single normal mode (the slowest), 0.1 rad at its largest: periodic motion, and its
+// Poincaré section.
+struct mode_motion {
+  std::vector<normal_mode> modes;  // all of them, the slowest first
+  std::vector<section_crossing> section;
+};
+
+mode_motion single_mode_motion(const chain& c) {
+  auto modes = normal_modes(c, std::vector<double>{0, 0, 0}).modes;
   std::vector<double> mode_start(6, 0.0);
   const auto& shape = modes[0].shape;
   const double largest = std::fabs(*std::max_element(
       shape.begin(), shape.end(), [](double a, double b) { return std::fabs(a) < std::fabs(b); }));
   for (std::size_t i = 0; i < 3; ++i) mode_start[i] = 0.1 * shape[i] / largest;
   const auto mode_run = simulation(c, mode_start);
-  const auto mode_section =
+  auto mode_section =
       poincare_section(c, mode_start, section_plane::coordinate(3, 0, 0.0), mode_run.integration)
           .crossings;
+  return {std::move(modes), std::move(mode_section)};
+}
 
+// The index's title, preamble and facts; returns the normal-mode frequencies as written.
+std::vector<std::string> write_index_head(figure_folder& folder, const chain& c,
+                                          const std::vector<demo_case>& cases,
+                                          const std::vector<normal_mode>& modes) {
   auto& index = folder.index();
   index.title = "npend demo: forms of motion of the triple pendulum (paper §6.6, Abb. 6.8–6.13)";
   index.preamble = {
@@ -155,7 +162,11 @@ void demo_forms_of_motion(const demo_context& demo) {
   for (const auto& m : modes) mode_frequencies.push_back(fmt::format("{:.3f}", m.frequency));
   index.facts.push_back(
       {"normal-mode frequencies (rad/s)", fmt::format("{}", fmt::join(mode_frequencies, ", "))});
+  return mode_frequencies;
+}
 
+void add_time_series_figure(figure_folder& folder, const std::vector<demo_case>& cases) {
+  const demo_case &weak = cases[0], &strong = cases[1];
   // The motions themselves (the beats the paper mentions with Abb. 6.9a).
   folder.add("time_series", "The two motions: φ₃(t)",
              fmt::format(
@@ -173,11 +184,13 @@ void demo_forms_of_motion(const demo_context& demo) {
                return panels;
              },
              {1400, 520, 2});
+}
 
+void add_animations(figure_folder& folder, const chain& c) {
   // The two kinds of motion to watch: section 3's weak excitation (ε = 0.01 would move the
   // bobs by a few pixels only) and the strong one.
   for (const auto& [key, epsilon] : {std::pair{"weak", 0.1}, std::pair{"strong", 1.5}}) {
-    const auto x0 = deflected_state(c, energy_from_epsilon(c, epsilon), zigzag);
+    const auto x0 = zigzag_start(c, epsilon);
     add_demo_animation(
         folder, c, x0, fmt::format("animation_{}", key),
         fmt::format("The {} excitation, animated (ε = {})", key, epsilon),
@@ -189,7 +202,13 @@ void demo_forms_of_motion(const demo_context& demo) {
                                 : "Large irregular swings of all three arms, bending against "
                                   "each other; below epsilon = 2 no arm goes over the top."));
   }
+}
 
+void add_poincare_figure(figure_folder& folder, const chain& c, const std::vector<demo_case>& cases,
+                         const mode_motion& mode) {
+  const demo_case &weak = cases[0], &strong = cases[1];
+  const auto& modes = mode.modes;
+  const auto& mode_section = mode.section;
   // Abb. 6.8: the Poincaré section.
   double mode_spread = 0;
   for (const auto& x : mode_section)
@@ -218,7 +237,11 @@ void demo_forms_of_motion(const demo_context& demo) {
                    "(c) strong excitation: chaotic")};
       },
       {1500, 540, 3});
+}
 
+void add_spectrum_figures(figure_folder& folder, const std::vector<demo_case>& cases,
+                          const std::vector<std::string>& mode_frequencies) {
+  const demo_case &weak = cases[0], &strong = cases[1];
   // Abb. 6.9 and 6.10: spectral density and autocorrelation.
   folder.add(
       "fig6_9_spectral_density", "Abb. 6.9: spectral density of φ₃",
@@ -253,7 +276,10 @@ void demo_forms_of_motion(const demo_context& demo) {
         return panels;
       },
       {1400, 520, 2});
+}
 
+void add_recurrence_figures(figure_folder& folder, const std::vector<demo_case>& cases) {
+  const demo_case &weak = cases[0], &strong = cases[1];
   // Abb. 6.11 and 6.12: recurrence times of φ₃ = 0.
   std::vector<recurrence_panels> recurrence;
   std::vector<std::string> interval_spectra;
@@ -295,7 +321,10 @@ void demo_forms_of_motion(const demo_context& demo) {
         return panels;
       },
       {1400, 520, 2}, interval_spectra);
+}
 
+void add_delay_figure(figure_folder& folder, const std::vector<demo_case>& cases) {
+  const demo_case &weak = cases[0], &strong = cases[1];
   // Abb. 6.13: delay coordinates.
   const auto tau_text = [](const demo_case& k) {
     return fmt::format("tau = {:.3f} s by {}, dimension {}", k.a.tau.seconds,
@@ -328,6 +357,33 @@ void demo_forms_of_motion(const demo_context& demo) {
         return delays;
       },
       {1300, 1200, 2});
+}
+
+}  // namespace
+
+void demo_forms_of_motion(const demo_context& demo) {
+  const auto started = std::chrono::steady_clock::now();
+  const chain& c = demo.triple;
+  figure_folder folder(cli::output_folder(demo.out.string(), "--out"), "npend demo: ", {}, true);
+  fmt::print(
+      "## 5. Forms of motion (paper section 6.6): figures 6.8-6.13, written to {}/\n\n"
+      "The paper's setting: equal masses and lengths, the time series of phi_3 with 2^14 samples\n"
+      "at dt = {:g} s, integrated here by gauss6. Two excitations like those of section 3 (a\n"
+      "zigzag at rest): weak, epsilon = 0.01 (at section 3's 0.1 the nonlinearity already\n"
+      "pulls the highest mode down to 7.6 rad/s), and strong, epsilon = 1.5; the Poincare\n"
+      "sections and the recurrence times come from a {:g} s run of each, located on the\n"
+      "integrator's steps.\n\n",
+      folder.dir().string(), dt, section_time);
+
+  const std::vector<demo_case> cases = analysed_cases(c);
+  const mode_motion mode = single_mode_motion(c);
+  const std::vector<std::string> mode_frequencies = write_index_head(folder, c, cases, mode.modes);
+  add_time_series_figure(folder, cases);
+  add_animations(folder, c);
+  add_poincare_figure(folder, c, cases, mode);
+  add_spectrum_figures(folder, cases, mode_frequencies);
+  add_recurrence_figures(folder, cases);
+  add_delay_figure(folder, cases);
 
   for (const auto& k : cases)
     for (const auto& note : k.a.notes) folder.index().notes.push_back(k.key + ": " + note);

@@ -12,6 +12,7 @@
 
 #include "demo_sections.hpp"
 #include "figure_index.hpp"
+#include "npend/analysis/motion/energy_drift.hpp"
 #include "npend/analysis/stability/floquet.hpp"
 #include "npend/analysis/stability/lqr.hpp"
 #include "npend/analysis/stability/normal_modes.hpp"
@@ -65,35 +66,17 @@ double largest(const std::vector<double>& v) {
   return m;
 }
 
-}  // namespace
+// The start of (a) and (b): every arm at 1.2 rad, at rest.
+std::vector<double> swing_start(const chain& c) {
+  const std::vector<double> angles{1.2, 1.2, 1.2}, rest(3, 0.0);
+  return c.state_from_velocities(angles, rest);
+}
 
-void demo_physical(const demo_context& demo) {
-  const auto started = std::chrono::steady_clock::now();
-  figure_folder folder(cli::output_folder((demo.out / "physical").string(), "--out"),
-                       "npend demo (physical pendulum): ", {}, true);
-  fmt::print(
-      "## 6. The physical pendulum (paper section 6.2's remark): written to {}/\n\n"
-      "Rigid links with inertia, joint damping, a shaken pivot and joint motors, derived by\n"
-      "npend-gen --model physical (docs/model.md).\n\n",
-      folder.dir().string());
+// (a) Uniform rods against point masses, the same links, masses and start.
+void add_rods_against_points(figure_folder& folder, const chain& points, const chain& rods) {
   auto& index = folder.index();
-  index.title = "npend demo: the physical triple pendulum, damped, shaken and standing";
-  index.preamble = {
-      "The paper's model is point masses on massless rods; its §6.2 remarks that the physical "
-      "pendulum, whose arms have moments of inertia, \"should not be hard\". These figures use "
-      "the general chain npend derives for it (docs/model.md): uniform rods (c = l/2, "
-      "J = m l²/12), joint damping, a pivot shaken vertically, and motors at the joints."};
-
-  // (a) Uniform rods against point masses, the same links, masses and start.
-  const chain& points = demo.triple;
-  chain_parameters rod_params = points.parameters();
-  rod_params.make_uniform_rods();
-  const chain rods(rod_params);
-  const std::vector<double> start_angles{1.2, 1.2, 1.2}, rest(3, 0.0);
-  const auto point_run =
-      run(make_implicit_system(points), points.state_from_velocities(start_angles, rest), 20, 10);
-  const auto rod_run =
-      run(make_implicit_system(rods), rods.state_from_velocities(start_angles, rest), 20, 10);
+  const auto point_run = run(make_implicit_system(points), swing_start(points), 20, 10);
+  const auto rod_run = run(make_implicit_system(rods), swing_start(rods), 20, 10);
   index.facts.push_back(
       {"normal-mode frequencies, point masses (rad/s)", frequencies_text(points)});
   index.facts.push_back({"normal-mode frequencies, uniform rods (rad/s)", frequencies_text(rods)});
@@ -120,32 +103,24 @@ void demo_physical(const demo_context& demo) {
         return std::vector{panel};
       },
       {1300, 520, 1});
+}
 
-  // (b) A damped run: H(t) falls by exactly the work of the joint friction.
+// (b) A damped run: H(t) falls by exactly the work of the joint friction.
+void add_damped_rods(figure_folder& folder, const chain_parameters& rod_params) {
+  auto& index = folder.index();
   chain_parameters damped_params = rod_params;
   damped_params.damping = {0.05, 0.05, 0.05};
   const chain damped(damped_params);
-  const auto damped_run =
-      run(make_implicit_system(damped), damped.state_from_velocities(start_angles, rest), 60, 1);
+  const auto damped_run = run(make_implicit_system(damped), swing_start(damped), 60, 1);
   std::vector<double> energy, balance;
-  double work = 0, previous_power = 0, worst = 0;
+  energy_balance books(damped);
   for (std::size_t k = 0; k < damped_run.t.size(); ++k) {
-    std::vector<double> x(6), dphi(3);
+    std::vector<double> x(6);
     for (std::size_t i = 0; i < 6; ++i) x[i] = damped_run.x[i][k];
-    damped.velocities(std::span<const double>(x).first(3), std::span<const double>(x).subspan(3),
-                      dphi);
-    double power = 0;  // −Σ b_j θ̇_j², the friction's power
-    for (int j = 0; j < 3; ++j) {
-      const double rate =
-          dphi[static_cast<std::size_t>(j)] - (j > 0 ? dphi[static_cast<std::size_t>(j - 1)] : 0.0);
-      power -= 0.05 * rate * rate;
-    }
-    if (k > 0) work += (damped_run.t[k] - damped_run.t[k - 1]) * (power + previous_power) / 2;
-    previous_power = power;
-    energy.push_back(damped.hamiltonian(x));
-    balance.push_back(energy.back() - work);
-    worst = std::max(worst, std::fabs(balance.back() - energy.front()));
+    energy.push_back(books.add(damped_run.t[k], x));
+    balance.push_back(books.balance());
   }
+  const double worst = books.max_imbalance();
   index.facts.push_back(
       {"damped rods (b = 0.05 N m s/rad)",
        fmt::format("H from {:.4f} J to {:.4f} J in 60 s; H − ∫P dt constant to {:.1e} J",
@@ -177,25 +152,26 @@ void demo_physical(const demo_context& demo) {
         return std::vector{panel};
       },
       {1100, 560, 1});
+}
 
-  // (c) Kapitza and Acheson: the inverted chains on a shaken pivot.
+// (c) Kapitza and Acheson: the inverted chains on a shaken pivot.
+void add_inverted_chains(figure_folder& folder) {
+  auto& index = folder.index();
   const double amplitude = 0.002, link = 0.2;
   std::vector<std::vector<double>> chart(4);  // Ω, then max |μ| of 1, 2, 3 links
   std::vector<double> threshold(3, 0.0);
   for (int k = 0; k <= 90; ++k) chart[0].push_back(400 + 40.0 * k);
-  for (int n = 1; n <= 3; ++n)
-    for (const double omega : chart[0]) {
-      chain_parameters p = chain_parameters::uniform(n, 1.0, link);
-      p.pivot = pivot_motion::vertical(amplitude, omega);
-      const auto r = floquet_analysis(chain(p), [&] {
-        std::vector<double> x(static_cast<std::size_t>(2 * n), 0.0);
-        for (int i = 0; i < n; ++i) x[static_cast<std::size_t>(i)] = pi;
-        return x;
-      }());
-      chart[static_cast<std::size_t>(n)].push_back(r.max_modulus);
-      if (r.stable && threshold[static_cast<std::size_t>(n - 1)] == 0)
-        threshold[static_cast<std::size_t>(n - 1)] = omega;
-    }
+  for (int n = 1; n <= 3; ++n) {
+    chain_parameters p = chain_parameters::uniform(n, 1.0, link);
+    p.pivot = pivot_motion::vertical(amplitude, chart[0].front());
+    std::vector<double> upright(static_cast<std::size_t>(2 * n), 0.0);
+    for (int i = 0; i < n; ++i) upright[static_cast<std::size_t>(i)] = pi;
+    const floquet_scan_result scan = floquet_frequency_scan(chain(p), upright, chart[0]);
+    for (const auto& point : scan.points)
+      chart[static_cast<std::size_t>(n)].push_back(point.max_modulus);
+    if (!scan.stable_windows.empty())
+      threshold[static_cast<std::size_t>(n - 1)] = scan.stable_windows.front().first;
+  }
   index.facts.push_back(
       {"inverted chains held by a shaken pivot (a = 2 mm, l = 0.2 m)",
        fmt::format("from Ω = {:g}, {:g}, {:g} rad/s for 1, 2, 3 links (aΩ = {:.2f}, {:.2f}, "
@@ -230,8 +206,11 @@ void demo_physical(const demo_context& demo) {
         return std::vector{panel};
       },
       {1100, 600, 1});
+}
 
-  // (d) The standing triple pendulum held by motors (LQR).
+// (d) The standing triple pendulum held by motors (LQR).
+void add_standing_chain(figure_folder& folder, const chain& points) {
+  auto& index = folder.index();
   const std::vector<double> up{pi, pi, pi};
   const lqr_design design = lqr(points, up);
   std::vector<double> x0{pi + 0.1, pi + 0.1, pi + 0.1, 0, 0, 0};
@@ -284,6 +263,34 @@ void demo_physical(const demo_context& demo) {
         return std::vector{angles, torques};
       },
       {1400, 560, 2});
+}
+
+}  // namespace
+
+void demo_physical(const demo_context& demo) {
+  const auto started = std::chrono::steady_clock::now();
+  figure_folder folder(cli::output_folder((demo.out / "physical").string(), "--out"),
+                       "npend demo (physical pendulum): ", {}, true);
+  fmt::print(
+      "## 6. The physical pendulum (paper section 6.2's remark): written to {}/\n\n"
+      "Rigid links with inertia, joint damping, a shaken pivot and joint motors, derived by\n"
+      "npend-gen --model physical (docs/model.md).\n\n",
+      folder.dir().string());
+  auto& index = folder.index();
+  index.title = "npend demo: the physical triple pendulum, damped, shaken and standing";
+  index.preamble = {
+      "The paper's model is point masses on massless rods; its §6.2 remarks that the physical "
+      "pendulum, whose arms have moments of inertia, \"should not be hard\". These figures use "
+      "the general chain npend derives for it (docs/model.md): uniform rods (c = l/2, "
+      "J = m l²/12), joint damping, a pivot shaken vertically, and motors at the joints."};
+
+  const chain& points = demo.triple;
+  chain_parameters rod_params = points.parameters();
+  rod_params.make_uniform_rods();
+  add_rods_against_points(folder, points, chain(rod_params));
+  add_damped_rods(folder, rod_params);
+  add_inverted_chains(folder);
+  add_standing_chain(folder, points);
 
   for (const auto& note : folder.notes()) folder.index().notes.push_back(note);
   const auto index_path = folder.write_index();

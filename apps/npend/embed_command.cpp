@@ -19,7 +19,7 @@ namespace npend::app {
 
 namespace {
 
-constexpr std::size_t min_samples = 64;
+constexpr std::size_t min_embed_samples = 64;
 
 struct embed_options {
   cli::series_options series;
@@ -118,7 +118,7 @@ nlohmann::json nullable(bool present, const std::vector<double>& values) {
 int run_embed(const embed_options& o) {
   const std::optional<std::size_t> fixed_dim = checked_fixed_dimension(o);
   series_output files(o.out);
-  const time_series x = o.series.load_one(min_samples);
+  const time_series x = o.series.load_one(min_embed_samples);
   const delay_choice tau = delay_from_option(
       o.tau, x,
       {.bins = o.bins, .estimator = *mutual_information_estimator_from_name(o.mi_estimator)});

@@ -115,91 +115,70 @@ int run_single(const chain& c, const floquet_command_options& o, const floquet_o
   return 0;
 }
 
-// Contiguous runs of stable frequencies, as [first, last] pairs.
-std::vector<std::pair<double, double>> stable_windows(const std::vector<double>& omega,
-                                                      const std::vector<bool>& stable) {
-  std::vector<std::pair<double, double>> out;
-  for (std::size_t i = 0; i < omega.size(); ++i) {
-    if (!stable[i]) continue;
-    if (i > 0 && stable[i - 1])
-      out.back().second = omega[i];
-    else
-      out.emplace_back(omega[i], omega[i]);
+// The chart's data (CSV) and its plot.
+void write_scan_files(series_output& files, const floquet_scan_result& scan,
+                      const std::vector<double>& x0, const pivot_motion& drive) {
+  std::vector<double> omega, a_omega, modulus, stable_flag, modulus_error;
+  for (const auto& p : scan.points) {
+    omega.push_back(p.frequency);
+    a_omega.push_back(drive.amplitude * p.frequency);
+    modulus.push_back(p.max_modulus);
+    stable_flag.push_back(p.stable ? 1.0 : 0.0);
+    modulus_error.push_back(p.modulus_error);
   }
-  return out;
+  const std::string data = files.write_csv(
+      "",
+      std::vector<std::string>{"omega", "a_omega", "max_modulus", "stable", "modulus_error"},
+      std::vector{omega, a_omega, modulus, stable_flag, modulus_error});
+  cli::plot_panel panel{
+      .title = fmt::format("Floquet stability of {} over the drive frequency ({} drive, a = {} m)",
+                           fmt::join(x0, ","),
+                           drive.type == pivot_motion::kind::vertical ? "vertical" : "horizontal",
+                           drive.amplitude),
+      .xlabel = "drive frequency Ω (rad/s)",
+      .ylabel = "largest multiplier |μ|_{max}",
+      .log_y = true,
+      .commands = {"set key top right", "set grid"}};
+  panel.curves.push_back({data, "1:3", "lines lw 2 lc rgb '#1f77b4'", "max |μ|"});
+  panel.curves.push_back(
+      {data, "($4 > 0.5 ? $1 : 1/0):3", "points pt 7 ps 0.6 lc rgb '#2ca02c'", "stable"});
+  files.write_plot({.description = {"npend floquet --scan: the largest Floquet multiplier over "
+                                    "the drive frequency; stable where it is 1",
+                                    fmt::format("data: {}", data)},
+                    .panels = {panel}});
 }
 
 int run_scan(const chain& base, const floquet_command_options& o, const floquet_options& options) {
-  const frequency_scan scan = parse_scan(o.scan);
+  const frequency_scan range = parse_scan(o.scan);
   const pivot_motion& drive = base.parameters().pivot;
   const std::vector<double> x0 = start_state(base, o);
   series_output files(o.out);
+  std::vector<double> frequencies;
+  for (int k = 0; k < range.count; ++k)
+    frequencies.push_back(range.from + (range.to - range.from) * k / (range.count - 1));
   cli::terminal_run control;
-  std::vector<double> omega, a_omega, modulus, modulus_error, stable_flag;
-  std::vector<bool> stable;
-  std::vector<floquet_verdict> verdicts;
-  for (int k = 0; k < scan.count; ++k) {
-    const double w = scan.from + (scan.to - scan.from) * k / (scan.count - 1);
-    chain_parameters params = base.parameters();
-    params.pivot.frequency = w;
-    const chain c(params);
-    run_control_part part(&control, static_cast<std::size_t>(k),
-                          static_cast<std::size_t>(scan.count));
-    floquet_options opts = options;
-    opts.control = &part;
-    const floquet_result r = floquet_analysis(c, x0, opts);
-    if (r.stopped) {
-      control.finish();
-      fmt::print(stderr, "npend floquet: interrupted at Omega = {} rad/s{}\n", w,
-                 o.out.empty() ? "" : fmt::format("; nothing written to {}", o.out));
-      return control.exit_code();
-    }
-    omega.push_back(w);
-    a_omega.push_back(drive.amplitude * w);
-    modulus.push_back(r.max_modulus);
-    modulus_error.push_back(r.modulus_error);
-    verdicts.push_back(r.verdict);
-    stable.push_back(r.stable);
-    stable_flag.push_back(r.stable ? 1.0 : 0.0);
-  }
+  floquet_options opts = options;
+  opts.control = &control;
+  const floquet_scan_result scan = floquet_frequency_scan(base, x0, frequencies, opts);
   control.finish();
-  const auto windows = stable_windows(omega, stable);
-  if (files.enabled()) {
-    const std::string data =
-        files.write_csv("",
-                        std::vector<std::string>{"omega", "a_omega", "max_modulus", "stable",
-                                                 "modulus_error"},
-                        std::vector{omega, a_omega, modulus, stable_flag, modulus_error});
-    cli::plot_panel panel{
-        .title =
-            fmt::format("Floquet stability of {} over the drive frequency ({} drive, a = {} m)",
-                        fmt::join(x0, ","),
-                        drive.type == pivot_motion::kind::vertical ? "vertical" : "horizontal",
-                        drive.amplitude),
-        .xlabel = "drive frequency Ω (rad/s)",
-        .ylabel = "largest multiplier |μ|_{max}",
-        .log_y = true,
-        .commands = {"set key top right", "set grid"}};
-    panel.curves.push_back({data, "1:3", "lines lw 2 lc rgb '#1f77b4'", "max |μ|"});
-    panel.curves.push_back(
-        {data, "($4 > 0.5 ? $1 : 1/0):3", "points pt 7 ps 0.6 lc rgb '#2ca02c'", "stable"});
-    files.write_plot({.description = {"npend floquet --scan: the largest Floquet multiplier over "
-                                      "the drive frequency; stable where it is 1",
-                                      fmt::format("data: {}", data)},
-                      .panels = {panel}});
+  if (scan.stopped) {
+    fmt::print(stderr, "npend floquet: interrupted at Omega = {} rad/s{}\n", scan.stopped_at,
+               o.out.empty() ? "" : fmt::format("; nothing written to {}", o.out));
+    return control.exit_code();
   }
+  if (files.enabled()) write_scan_files(files, scan, x0, drive);
   if (o.json) {
     nlohmann::json j = describe_chain(base);
     j["at"] = x0;
     nlohmann::json rows = nlohmann::json::array(), list = nlohmann::json::array();
-    for (std::size_t i = 0; i < omega.size(); ++i)
-      rows.push_back({{"omega", omega[i]},
-                      {"a_omega", a_omega[i]},
-                      {"max_modulus", modulus[i]},
-                      {"modulus_error", modulus_error[i]},
-                      {"verdict", verdict_name(verdicts[i])},
-                      {"stable", static_cast<bool>(stable[i])}});
-    for (const auto& [lo, hi] : windows) list.push_back({lo, hi});
+    for (const auto& p : scan.points)
+      rows.push_back({{"omega", p.frequency},
+                      {"a_omega", drive.amplitude * p.frequency},
+                      {"max_modulus", p.max_modulus},
+                      {"modulus_error", p.modulus_error},
+                      {"verdict", verdict_name(p.verdict)},
+                      {"stable", p.stable}});
+    for (const auto& [lo, hi] : scan.stable_windows) list.push_back({lo, hi});
     j["scan"] = rows;
     j["stable_windows"] = list;
     files.add_to(j);
@@ -207,14 +186,15 @@ int run_scan(const chain& base, const floquet_command_options& o, const floquet_
     return 0;
   }
   fmt::print("{}-link chain at {}, drive amplitude {} m: {} frequencies {}..{} rad/s\n",
-             base.links(), x0, drive.amplitude, scan.count, scan.from, scan.to);
+             base.links(), x0, drive.amplitude, range.count, range.from, range.to);
   fmt::print("{:>12} {:>12} {:>16} {:>10} {:>9}\n", "Omega", "a*Omega", "max |mu|", "+-",
              "verdict");
-  for (std::size_t i = 0; i < omega.size(); ++i)
-    fmt::print("{:>12.6g} {:>12.6g} {:>16.10g} {:>10.2g} {:>9}\n", omega[i], a_omega[i],
-               modulus[i], modulus_error[i], verdict_name(verdicts[i]));
-  if (windows.empty()) fmt::print("no stable frequency in the scan\n");
-  for (const auto& [lo, hi] : windows)
+  for (const auto& p : scan.points)
+    fmt::print("{:>12.6g} {:>12.6g} {:>16.10g} {:>10.2g} {:>9}\n", p.frequency,
+               drive.amplitude * p.frequency, p.max_modulus, p.modulus_error,
+               verdict_name(p.verdict));
+  if (scan.stable_windows.empty()) fmt::print("no stable frequency in the scan\n");
+  for (const auto& [lo, hi] : scan.stable_windows)
     fmt::print("stable for Omega in [{:.6g}, {:.6g}] rad/s (a*Omega in [{:.6g}, {:.6g}] m/s)\n", lo,
                hi, drive.amplitude * lo, drive.amplitude * hi);
   files.print();

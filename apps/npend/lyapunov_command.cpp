@@ -78,8 +78,7 @@ lyapunov_options make_options(const lyapunov_command_options& o) {
       throw cli::input_error(
           fmt::format("--convergence-fraction: must be in (0, 1], got {}", l.convergence_fraction));
   }
-  if (!o.blocks.empty())
-    l.blocks = static_cast<std::size_t>(cli::parse_whole_number(o.blocks, "--blocks", 2, 1000));
+  if (!o.blocks.empty()) l.blocks = static_cast<std::size_t>(cli::parse_whole_number(o.blocks, "--blocks", 2, 1000));
   return l;
 }
 
@@ -187,8 +186,7 @@ int run_equations(const lyapunov_command_options& o) {
       throw cli::input_error(
           "--exponents: not with --ensemble (an ensemble takes the full "
           "spectrum or --maximal)");
-    count = static_cast<int>(
-        cli::parse_whole_number(o.exponents, "--exponents", 1, 2.0 * c.links()));
+    count = static_cast<int>(cli::parse_whole_number(o.exponents, "--exponents", 1, 2.0 * c.links()));
   }
   const bool full = !o.maximal && !count;
   std::optional<lyapunov_ensemble_options> ensemble;
@@ -203,8 +201,7 @@ int run_equations(const lyapunov_command_options& o) {
         throw cli::input_error(
             fmt::format("--ensemble-radius: must be in (0, 0.1] rad, got {}", o.ensemble_radius));
     }
-    if (!o.seed.empty())
-      ensemble->seed =
+    if (!o.seed.empty()) ensemble->seed =
           static_cast<std::uint64_t>(cli::parse_whole_number(o.seed, "--seed", 0, 9.0e15));
   } else {
     for (const char* name : {"--ensemble-radius", "--seed"})
@@ -355,7 +352,8 @@ std::vector<std::string> column_list(const std::string& text) {
   return out;
 }
 
-int run_series(const lyapunov_command_options& o) {
+// The options of the equations, refused with --input.
+void refuse_equation_options(const lyapunov_command_options& o) {
   for (const char* name : {"--masses",
                            "--lengths",
                            "--g",
@@ -380,233 +378,230 @@ int run_series(const lyapunov_command_options& o) {
     if (given(o, name))
       throw cli::input_error(
           fmt::format("{}: only for the equations (--links N), not with --input", name));
-  std::optional<double> spacing;
+}
+
+// What --input's options ask for, checked before the file is read.
+struct series_request {
+  std::optional<double> spacing;       // --dt
+  std::vector<std::string> selectors;  // --column
+  std::optional<std::size_t> dimension;
+  std::optional<std::pair<double, double>> fit;
+  std::vector<double> radii;
+};
+
+series_request parse_series_request(const lyapunov_command_options& o) {
+  series_request q;
   if (!o.integrator.dt.empty()) {
-    spacing = cli::parse_number(o.integrator.dt, "--dt");
-    if (!(*spacing > 0))
+    q.spacing = cli::parse_number(o.integrator.dt, "--dt");
+    if (!(*q.spacing > 0))
       throw cli::input_error(fmt::format("--dt: must be positive, got {}", o.integrator.dt));
   }
-  // Several columns: a multivariate embedding of the observables themselves by default.
-  const std::vector<std::string> selectors = column_list(o.column);
-  std::size_t dimension = selectors.size() > 1 ? 1 : 6;
-  if (!o.dim.empty())
-    dimension = static_cast<std::size_t>(cli::parse_whole_number(o.dim, "--dim", 1, 20));
-  std::optional<std::pair<double, double>> fit;
-  if (!o.fit.empty()) fit = fit_range(o.fit);
-  std::vector<double> radii;
+  q.selectors = column_list(o.column);
+  if (!o.dim.empty()) q.dimension = static_cast<std::size_t>(cli::parse_whole_number(o.dim, "--dim", 1, 20));
+  if (!o.fit.empty()) q.fit = fit_range(o.fit);
   if (!o.radii.empty()) {
-    radii = cli::parse_number_list(o.radii, "--radius");
-    for (double r : radii)
+    q.radii = cli::parse_number_list(o.radii, "--radius");
+    for (double r : q.radii)
       if (!(r > 0)) throw cli::input_error(fmt::format("--radius: must be positive, got {}", r));
   }
-  series_output files(o.out);
+  return q;
+}
+
+// The measured series: the first selected column, and with several columns all of them
+// standardised side by side (observables in different units: each in units of its standard
+// deviation).
+struct measured_series {
+  time_series x;
+  std::vector<std::vector<double>> observables;  // empty for one column
+};
+
+measured_series load_measured_series(const lyapunov_command_options& o, const series_request& q) {
   const std::string text = cli::read_text_file(o.input, "--input");
   const sampled_signals signals =
-      cli::signals_from_csv(cli::parse_csv(text, o.input), o.input, spacing, min_series_samples);
+      cli::signals_from_csv(cli::parse_csv(text, o.input), o.input, q.spacing, min_series_samples);
   std::vector<time_series> chosen;
-  for (const auto& selector : selectors)
+  for (const auto& selector : q.selectors)
     chosen.push_back(cli::select_signal(signals, selector, "--column"));
-  time_series x = chosen.front();
-  std::vector<std::vector<double>> observables;
+  measured_series m{chosen.front(), {}};
   if (chosen.size() > 1) {
-    // Observables in different units: each in units of its standard deviation.
-    for (const auto& c : chosen) observables.push_back(c.values);
+    for (const auto& c : chosen) m.observables.push_back(c.values);
     try {
-      observables = standardised_series(observables);
+      m.observables = standardised_series(m.observables);
     } catch (const std::invalid_argument& e) {
       throw cli::input_error(fmt::format("--column: {}", e.what()));
     }
     std::vector<std::string> names;
     for (const auto& c : chosen) names.push_back(c.name);
-    x.name = fmt::format("{}", fmt::join(names, ","));
+    m.x.name = fmt::format("{}", fmt::join(names, ","));
   }
-  const double dt = x.dt;
+  return m;
+}
 
-  // τ: a rule of npend embed, or seconds.
-  std::size_t tau = 0;
-  std::string tau_method = "given";
-  if (const auto method = delay_method_from_name(o.tau)) {
+// τ in samples and how it was found: a rule of npend embed, or seconds.
+std::pair<std::size_t, std::string> series_delay(const std::string& text, const time_series& x) {
+  const double dt = x.dt;
+  if (const auto method = delay_method_from_name(text)) {
     const delay_choice choice = choose_delay(x.values, dt, *method);
     if (!choice.found)
       throw cli::input_error(fmt::format(
           "--tau {}: the series has no such feature (no spectral peak, zero or minimum within "
           "the lags searched); choose another method or give tau in seconds",
-          o.tau));
-    tau = choice.samples;
-    tau_method = std::string(delay_method_name(choice.method));
-  } else {
-    double seconds = 0;
-    try {
-      seconds = cli::parse_number(o.tau, "--tau");
-    } catch (const cli::input_error&) {
-      throw cli::input_error(fmt::format(
-          "--tau: '{}' is not auto, T/4, acf-zero, acf-min, ami or a delay in seconds", o.tau));
-    }
-    const double samples = std::round(seconds / dt);
-    if (!(samples >= 1 && samples < static_cast<double>(x.values.size())))
-      throw cli::input_error(fmt::format(
-          "--tau: {} s is not between dt = {:.6g} s and the series' length", o.tau, dt));
-    tau = static_cast<std::size_t>(samples);
+          text));
+    return {choice.samples, std::string(delay_method_name(choice.method))};
   }
-  const std::size_t n = x.values.size();
-  series_lyapunov_options options;
-  auto& s = options.stretching;
-  s.delay = tau;
-  s.dimension = dimension;
-  s.theiler_window = std::max<std::size_t>(1, dimension - 1) * tau;
+  double seconds = 0;
+  try {
+    seconds = cli::parse_number(text, "--tau");
+  } catch (const cli::input_error&) {
+    throw cli::input_error(fmt::format(
+        "--tau: '{}' is not auto, T/4, acf-zero, acf-min, ami or a delay in seconds", text));
+  }
+  const double samples = std::round(seconds / dt);
+  if (!(samples >= 1 && samples < static_cast<double>(x.values.size())))
+    throw cli::input_error(fmt::format(
+        "--tau: {} s is not between dt = {:.6g} s and the series' length", text, dt));
+  return {static_cast<std::size_t>(samples), "given"};
+}
+
+// The library's Kantz options with the choices made on the command line (the library fills
+// in the rest).
+series_lyapunov_options series_options(const lyapunov_command_options& o, const series_request& q,
+                                       const measured_series& m, std::size_t tau) {
+  const double dt = m.x.dt;
+  kantz_choices choices{.delay = tau, .dimension = q.dimension, .radii = q.radii};
   if (!o.theiler.empty()) {
     const double seconds = cli::parse_number(o.theiler, "--theiler");
     if (!(seconds >= 0)) throw cli::input_error("--theiler: must be at least 0");
-    s.theiler_window = static_cast<std::size_t>(std::round(seconds / dt));
+    choices.theiler_window = static_cast<std::size_t>(std::round(seconds / dt));
   }
-  s.horizon = std::min<std::size_t>(40 * tau, n / 4);
   if (!o.horizon.empty()) {
     const double seconds = cli::parse_number(o.horizon, "--horizon");
     if (!(seconds >= dt))
       throw cli::input_error(fmt::format("--horizon: must be at least dt = {:.6g} s", dt));
-    s.horizon = static_cast<std::size_t>(std::round(seconds / dt));
+    choices.horizon = static_cast<std::size_t>(std::round(seconds / dt));
   }
-  s.horizon = std::max<std::size_t>(s.horizon, 2);
-  s.step = std::max<std::size_t>(1, s.horizon / 200);
-  s.radii = radii;
-  if (fit) {
-    if (fit->second > static_cast<double>(s.horizon) * dt * (1 + 1e-12))
+  const std::size_t columns = std::max<std::size_t>(1, m.observables.size());
+  series_lyapunov_options options = kantz_options(m.x.values.size(), columns, choices);
+  if (q.fit) {
+    const double horizon = static_cast<double>(options.stretching.horizon) * dt;
+    if (q.fit->second > horizon * (1 + 1e-12))
       throw cli::input_error(fmt::format("--fit: {} s lies beyond the horizon {:.6g} s (--horizon)",
-                                         fit->second, static_cast<double>(s.horizon) * dt));
-    options.fit_from = fit->first;
-    options.fit_to = fit->second;
+                                         q.fit->second, horizon));
+    options.fit_from = q.fit->first;
+    options.fit_to = q.fit->second;
   }
-  series_lyapunov_result r;
-  try {
-    r = observables.empty() ? series_lyapunov_exponent(x.values, dt, options)
-                            : series_lyapunov_exponent(observables, dt, options);
-  } catch (const std::invalid_argument& e) {
-    throw cli::input_error(e.what());
-  }
-  std::vector<double> t;
-  for (std::size_t k : r.stretching.steps) t.push_back(static_cast<double>(k) * dt);
-  // How far the middle curve rises: a few units of ln means the neighbourhoods are too
-  // coarse for a linear region.
-  const auto& middle = r.stretching.curves[r.stretching.curves.size() / 2].s;
-  double low = INFINITY, high = -INFINITY;
-  for (double v : middle)
-    if (std::isfinite(v)) {
-      low = std::min(low, v);
-      high = std::max(high, v);
-    }
-  const double rise = high - low;
-  std::vector<std::string> notes;
-  if (!r.linear_region) notes.push_back("no estimate: " + r.nonlinearity);
-  if (rise < 3)
-    notes.push_back(
-        r.linear_region && r.maximal_exponent > 2 * r.uncertainty
-            ? fmt::format("the stretching curve rises by only {:.2g} (ln units) over the horizon: "
-                          "the estimate rests on few e-foldings of a short linear region (more "
-                          "samples give closer neighbours and a longer one)",
-                          rise)
-            : fmt::format(
-                  "the stretching curve rises by only {:.2g} (ln units) over the horizon: either "
-                  "nearby states do not separate (regular motion, exponent 0) or the neighbours "
-                  "are too far apart for a linear region (a series too short for its dimension), "
-                  "and then the slope need not be the maximal exponent",
-                  rise));
-  if (r.linear_region && r.uncertainty > 0.25 * std::fabs(r.maximal_exponent) &&
-      r.maximal_exponent > 0)
-    notes.push_back(
-        "the uncertainty is more than a quarter of the exponent: the curve has no "
-        "clear linear region in the fit range (see --fit)");
+  return options;
+}
 
-  if (files.enabled()) {
-    std::vector<std::string> names{"t"};
-    std::vector<std::vector<double>> columns{t};
-    for (const auto& c : r.stretching.curves) {
-      names.push_back(fmt::format("S_eps_{:.4g}", c.radius));
-      columns.push_back(c.s);
-    }
-    const std::string data = files.write_csv("", names, columns);
-    cli::plot_panel panel{
-        .title = fmt::format("Stretching curve of {} (Kantz; m = {}, tau = {:.4g} s): slope {:.4g} "
-                             "+- {:.2g} 1/s over {:.4g} ... {:.4g} s",
-                             x.name, dimension, static_cast<double>(tau) * dt, r.maximal_exponent,
-                             r.uncertainty, r.fit_from, r.fit_to),
-        .xlabel = "Δt (s)",
-        .ylabel = "S(Δt) = <ln mean distance>",
-        .commands = {
-            fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2", r.fit_from),
-            fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2", r.fit_to),
-            "set key left top"}};
-    for (std::size_t q = 0; q < r.stretching.curves.size(); ++q) {
-      panel.curves.push_back({data, fmt::format("1:{}", q + 2), "lines lw 1.5",
-                              fmt::format("ε = {:.3g}", r.stretching.curves[q].radius)});
-    }
-    const auto& f = r.fits[r.fits.size() / 2];
-    panel.commands.push_back(fmt::format("f(x) = {} + {} * x", f.intercept, f.slope));
-    panel.curves.push_back(
-        {data, fmt::format("1:(($1 >= {} && $1 <= {}) ? f($1) : 1/0)", r.fit_from, r.fit_to),
-         "lines lw 3 dt 3", fmt::format("fit, slope {:.4g} /s", f.slope)});
-    files.write_plot(
-        {.description = {fmt::format("npend lyapunov: stretching curves of {}", series_summary(x)),
-                         fmt::format("data: {} (t, S for each radius)", data)},
-         .panels = {panel}});
+// The stretching curves (CSV) and their plot with the fitted line.
+void write_series_files(series_output& files, const time_series& x,
+                        const series_lyapunov_result& r, const std::vector<double>& t,
+                        const stretching_options& s) {
+  std::vector<std::string> names{"t"};
+  std::vector<std::vector<double>> columns{t};
+  for (const auto& c : r.stretching.curves) {
+    names.push_back(fmt::format("S_eps_{:.4g}", c.radius));
+    columns.push_back(c.s);
   }
+  const std::string data = files.write_csv("", names, columns);
+  cli::plot_panel panel{
+      .title = fmt::format("Stretching curve of {} (Kantz; m = {}, tau = {:.4g} s): slope {:.4g} "
+                           "+- {:.2g} 1/s over {:.4g} ... {:.4g} s",
+                           x.name, s.dimension, static_cast<double>(s.delay) * x.dt,
+                           r.maximal_exponent, r.uncertainty, r.fit_from, r.fit_to),
+      .xlabel = "Δt (s)",
+      .ylabel = "S(Δt) = <ln mean distance>",
+      .commands = {
+          fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2", r.fit_from),
+          fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2", r.fit_to),
+          "set key left top"}};
+  for (std::size_t q = 0; q < r.stretching.curves.size(); ++q) {
+    panel.curves.push_back({data, fmt::format("1:{}", q + 2), "lines lw 1.5",
+                            fmt::format("ε = {:.3g}", r.stretching.curves[q].radius)});
+  }
+  const auto& f = r.fits[r.fits.size() / 2];
+  panel.commands.push_back(fmt::format("f(x) = {} + {} * x", f.intercept, f.slope));
+  panel.curves.push_back(
+      {data, fmt::format("1:(($1 >= {} && $1 <= {}) ? f($1) : 1/0)", r.fit_from, r.fit_to),
+       "lines lw 3 dt 3", fmt::format("fit, slope {:.4g} /s", f.slope)});
+  files.write_plot(
+      {.description = {fmt::format("npend lyapunov: stretching curves of {}", series_summary(x)),
+                       fmt::format("data: {} (t, S for each radius)", data)},
+       .panels = {panel}});
+}
 
-  if (o.json) {
-    nlohmann::json j = describe_series(x);
-    j["method"] = "Kantz";
-    // Without a linear region the slope is no estimate of the exponent: null, not a number.
-    j["maximal_exponent"] = r.linear_region ? nlohmann::json(r.maximal_exponent) : nlohmann::json();
-    j["uncertainty"] = r.linear_region ? nlohmann::json(r.uncertainty) : nlohmann::json();
-    j["linear_region"] = r.linear_region;
-    j["fit_slope"] = r.maximal_exponent;
-    j["growth_before_fit"] = r.growth_before_fit;
-    j["growth_in_fit"] = r.growth_in_fit;
-    j["columns"] = selectors;
-    j["uncertainty_parts"] = {{"statistical", std::isfinite(r.statistical_uncertainty)
-                                                  ? nlohmann::json(r.statistical_uncertainty)
-                                                  : nlohmann::json()},
-                              {"radius", r.radius_uncertainty},
-                              {"range", r.range_uncertainty}};
-    j["fit_range"] = {r.fit_from, r.fit_to};
-    j["fit_range_method"] = r.automatic_range ? "automatic" : "given";
-    j["tau"] = static_cast<double>(tau) * dt;
-    j["tau_samples"] = tau;
-    j["tau_method"] = tau_method;
-    j["dimension"] = dimension;
-    j["theiler_window"] = static_cast<double>(s.theiler_window) * dt;
-    j["horizon"] = static_cast<double>(s.horizon) * dt;
-    j["rise"] = rise;
-    nlohmann::json fits = nlohmann::json::array(), curve_s = nlohmann::json::array();
-    for (std::size_t q = 0; q < r.fits.size(); ++q) {
-      const auto& f = r.fits[q];
-      const auto& c = r.stretching.curves[q];
-      fits.push_back(
-          {{"radius", f.radius},
-           {"slope", f.slope},
-           {"standard_error",
-            std::isfinite(f.standard_error) ? nlohmann::json(f.standard_error) : nlohmann::json()},
-           {"group_standard_error", std::isfinite(f.group_standard_error)
-                                        ? nlohmann::json(f.group_standard_error)
-                                        : nlohmann::json()},
-           {"references", c.references},
-           {"mean_neighbours", c.mean_neighbours}});
-      curve_s.push_back(numbers(c.s));
-    }
-    j["fits"] = fits;
-    nlohmann::json radii_json = nlohmann::json::array();
-    for (const auto& c : r.stretching.curves) radii_json.push_back(c.radius);
-    j["curve"] = {{"t", t}, {"radii", radii_json}, {"s", curve_s}};
-    if (!notes.empty()) j["warnings"] = notes;
-    files.add_to(j);
-    std::cout << j.dump(2) << "\n";
-    return 0;
+// How the exponent was measured, for the JSON and the text.
+struct series_run {
+  const time_series& x;
+  const std::vector<std::string>& selectors;
+  std::size_t observables;
+  const std::string& tau_method;
+  const stretching_options& s;
+};
+
+void print_series_json(const series_run& run, const series_lyapunov_result& r,
+                       const std::vector<double>& t, series_output& files) {
+  const stretching_options& s = run.s;
+  const double dt = run.x.dt;
+  nlohmann::json j = describe_series(run.x);
+  j["method"] = "Kantz";
+  // Without a linear region the slope is no estimate of the exponent: null, not a number.
+  j["maximal_exponent"] = r.linear_region ? nlohmann::json(r.maximal_exponent) : nlohmann::json();
+  j["uncertainty"] = r.linear_region ? nlohmann::json(r.uncertainty) : nlohmann::json();
+  j["linear_region"] = r.linear_region;
+  j["fit_slope"] = r.maximal_exponent;
+  j["growth_before_fit"] = r.growth_before_fit;
+  j["growth_in_fit"] = r.growth_in_fit;
+  j["columns"] = run.selectors;
+  j["uncertainty_parts"] = {{"statistical", std::isfinite(r.statistical_uncertainty)
+                                                ? nlohmann::json(r.statistical_uncertainty)
+                                                : nlohmann::json()},
+                            {"radius", r.radius_uncertainty},
+                            {"range", r.range_uncertainty}};
+  j["fit_range"] = {r.fit_from, r.fit_to};
+  j["fit_range_method"] = r.automatic_range ? "automatic" : "given";
+  j["tau"] = static_cast<double>(s.delay) * dt;
+  j["tau_samples"] = s.delay;
+  j["tau_method"] = run.tau_method;
+  j["dimension"] = s.dimension;
+  j["theiler_window"] = static_cast<double>(s.theiler_window) * dt;
+  j["horizon"] = static_cast<double>(s.horizon) * dt;
+  j["rise"] = r.rise;
+  nlohmann::json fits = nlohmann::json::array(), curve_s = nlohmann::json::array();
+  for (std::size_t q = 0; q < r.fits.size(); ++q) {
+    const auto& f = r.fits[q];
+    const auto& c = r.stretching.curves[q];
+    fits.push_back(
+        {{"radius", f.radius},
+         {"slope", f.slope},
+         {"standard_error",
+          std::isfinite(f.standard_error) ? nlohmann::json(f.standard_error) : nlohmann::json()},
+         {"group_standard_error", std::isfinite(f.group_standard_error)
+                                      ? nlohmann::json(f.group_standard_error)
+                                      : nlohmann::json()},
+         {"references", c.references},
+         {"mean_neighbours", c.mean_neighbours}});
+    curve_s.push_back(numbers(c.s));
   }
-  fmt::print("Maximal Lyapunov exponent of {} (Kantz's method)\n\n", series_summary(x));
+  j["fits"] = fits;
+  nlohmann::json radii_json = nlohmann::json::array();
+  for (const auto& c : r.stretching.curves) radii_json.push_back(c.radius);
+  j["curve"] = {{"t", t}, {"radii", radii_json}, {"s", curve_s}};
+  if (!r.warnings.empty()) j["warnings"] = r.warnings;
+  files.add_to(j);
+  std::cout << j.dump(2) << "\n";
+}
+
+void print_series_text(const series_run& run, const series_lyapunov_result& r) {
+  const stretching_options& s = run.s;
+  const double dt = run.x.dt;
+  fmt::print("Maximal Lyapunov exponent of {} (Kantz's method)\n\n", series_summary(run.x));
   fmt::print(
       "delay embedding{}: m = {}, tau = {:.6g} s ({} samples; {}), Theiler window {:.6g} s\n",
-      observables.empty()
+      run.observables == 0
           ? std::string()
-          : fmt::format(" of {} standardised columns side by side", observables.size()),
-      dimension, static_cast<double>(tau) * dt, tau, tau_method,
+          : fmt::format(" of {} standardised columns side by side", run.observables),
+      s.dimension, static_cast<double>(s.delay) * dt, s.delay, run.tau_method,
       static_cast<double>(s.theiler_window) * dt);
   fmt::print(
       "stretching curve S(dt) up to {:.6g} s; slope fitted over {:.6g} ... {:.6g} s ({})\n\n",
@@ -629,7 +624,33 @@ int run_series(const lyapunov_command_options& o) {
       "slopes' standard error over {} groups of reference points, half the slopes' range over "
       "the radii, and half the difference of the slopes over the two halves of the fit range\n",
       r.statistical_uncertainty, r.radius_uncertainty, r.range_uncertainty, s.groups);
-  for (const auto& note : notes) fmt::print("warning: {}\n", note);
+  for (const auto& note : r.warnings) fmt::print("warning: {}\n", note);
+}
+
+int run_series(const lyapunov_command_options& o) {
+  refuse_equation_options(o);
+  const series_request request = parse_series_request(o);
+  series_output files(o.out);
+  const measured_series m = load_measured_series(o, request);
+  const auto [tau, tau_method] = series_delay(o.tau, m.x);
+  const series_lyapunov_options options = series_options(o, request, m, tau);
+  series_lyapunov_result r;
+  try {
+    r = m.observables.empty() ? series_lyapunov_exponent(m.x.values, m.x.dt, options)
+                              : series_lyapunov_exponent(m.observables, m.x.dt, options);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(e.what());
+  }
+  std::vector<double> t;
+  for (std::size_t k : r.stretching.steps) t.push_back(static_cast<double>(k) * m.x.dt);
+  if (files.enabled()) write_series_files(files, m.x, r, t, options.stretching);
+  const series_run run{m.x, request.selectors, m.observables.size(), tau_method,
+                       options.stretching};
+  if (o.json) {
+    print_series_json(run, r, t, files);
+    return 0;
+  }
+  print_series_text(run, r);
   files.print();
   return 0;
 }

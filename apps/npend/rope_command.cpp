@@ -54,15 +54,14 @@ struct chain_result {
 
 // The observed order p of e ∝ n^−p between the two largest chains, per mode (NaN when a mode
 // is missing from either).
-std::vector<double> convergence_order(const std::vector<chain_result>& chains, int modes) {
+std::vector<double> observed_orders(const std::vector<chain_result>& chains, int modes) {
   std::vector<double> out(static_cast<std::size_t>(modes), std::nan(""));
   if (chains.size() < 2) return out;
   const chain_result& a = chains[chains.size() - 2];
   const chain_result& b = chains.back();
   for (std::size_t k = 0; k < out.size(); ++k)
     if (k < a.relative_error.size() && k < b.relative_error.size())
-      out[k] = std::log(std::fabs(a.relative_error[k]) / std::fabs(b.relative_error[k])) /
-               std::log(static_cast<double>(b.links) / a.links);
+      out[k] = convergence_order(a.relative_error[k], a.links, b.relative_error[k], b.links);
   return out;
 }
 
@@ -170,7 +169,7 @@ int run_rope(const rope_command_options& o) {
       r.relative_error.push_back(r.modes[k].frequency / rope[k] - 1);
     chains.push_back(std::move(r));
   }
-  const std::vector<double> order = convergence_order(chains, o.modes);
+  const std::vector<double> order = observed_orders(chains, o.modes);
   if (files.enabled()) write_files(files, o, chains, o.modes);
   batch.commit_all();
 

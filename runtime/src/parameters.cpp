@@ -162,12 +162,6 @@ pivot_motion::vec2 pivot_motion::position_at(double t) const {
   return harmonic(*this, t, 0);
 }
 
-pivot_motion::vec2 pivot_motion::velocity_at(double t) const {
-  if (type == kind::fixed) return {0.0, 0.0};
-  if (type == kind::custom) return velocity(t);
-  return harmonic(*this, t, 1);
-}
-
 pivot_motion::vec2 pivot_motion::acceleration_at(double t) const {
   if (type == kind::fixed) return {0.0, 0.0};
   if (type == kind::custom) return acceleration(t);

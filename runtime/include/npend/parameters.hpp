@@ -35,7 +35,6 @@ struct pivot_motion {
   /// 2π/Ω of a built-in drive; 0 for a fixed pivot or a custom path.
   double period() const;
   vec2 position_at(double t) const;
-  vec2 velocity_at(double t) const;
   vec2 acceleration_at(double t) const;
   /// d/dt of the acceleration.
   vec2 jerk_at(double t) const;

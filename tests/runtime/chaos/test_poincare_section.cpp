@@ -4,6 +4,7 @@
 #include "npend/analysis/chaos/poincare_section.hpp"
 
 #include "npend/analysis/series/event_times.hpp"
+#include "npend/analysis/stability/backbone.hpp"
 #include "npend/analysis/stability/normal_modes.hpp"
 #include "reference/reference_trajectory.hpp"
 #include "support/test_signals.hpp"
@@ -39,8 +40,7 @@ TEST_CASE(
   const double a = 1.0, g = c.parameters().g;
   const std::vector<double> x0{a, 0.0};
   const double energy = g * (1 - std::cos(a));
-  // T = 4 √(l/g) K(sin(a/2)) for the amplitude a.
-  const double period = 4 / std::sqrt(g) * std::comp_ellint_1(std::sin(a / 2));
+  const double period = npend::pendulum_period(a, 1.0, g);
   for (const auto direction : {crossing_direction::up, crossing_direction::down}) {
     const auto r = poincare_section(c, x0, section_plane::coordinate(1, 0, 0.0), run_for(30),
                                     {.direction = direction});
@@ -62,7 +62,7 @@ TEST_CASE(
 TEST_CASE("poincare_section: integrating backwards finds the same crossings, refined") {
   const chain c(chain_parameters::uniform(1));
   const std::vector<double> x0{1.0, 0.0};
-  const double period = 4 / std::sqrt(c.parameters().g) * std::comp_ellint_1(std::sin(0.5));
+  const double period = npend::pendulum_period(1.0, 1.0, c.parameters().g);
   for (stepper_kind k : all_stepper_kinds()) {
     integration_options o = run_for(-10, k, -1e-3);
     o.abs_tol = o.rel_tol = 1e-12;

@@ -3,6 +3,7 @@
 // pendulum motion (0, as its equations say), and the argument checks.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -242,4 +243,68 @@ TEST_CASE("stretching_curves: several series must be sampled together; standardi
   for (std::size_t p = 0; p < a.steps.size(); ++p)
     CHECK(b.curves[0].s[p] ==
           doctest::Approx(a.curves[0].s[p] + 0.5 * std::log(2.0)).epsilon(1e-12));
+}
+
+TEST_CASE("kantz_options: the defaults for one series and for several, counted by hand") {
+  // One series: m = 6, the Theiler window (m − 1)τ, the horizon 40 τ within a quarter of
+  // the series, evaluated at every sample up to 200 points.
+  auto o = npend::kantz_options(10000, 1, {.delay = 7});
+  CHECK(o.stretching.delay == 7);
+  CHECK(o.stretching.dimension == 6);
+  CHECK(o.stretching.theiler_window == 35);
+  CHECK(o.stretching.horizon == 280);
+  CHECK(o.stretching.step == 1);
+  CHECK_FALSE(o.fit_from.has_value());
+  // A short series: a quarter of its 1000 samples bounds the horizon.
+  o = npend::kantz_options(1000, 1, {.delay = 10});
+  CHECK(o.stretching.horizon == 250);
+  // Several series: the observables themselves (m = 1), the window at least one delay; a
+  // horizon of 4000 samples is evaluated every 20th.
+  o = npend::kantz_options(100000, 3, {.delay = 100});
+  CHECK(o.stretching.dimension == 1);
+  CHECK(o.stretching.theiler_window == 100);
+  CHECK(o.stretching.horizon == 4000);
+  CHECK(o.stretching.step == 20);
+  // What is chosen stays, except a horizon below 2 samples.
+  o = npend::kantz_options(
+      1000, 1,
+      {.delay = 3, .dimension = 2, .theiler_window = 0, .horizon = 1, .radii = {0.5, 1.0}});
+  CHECK(o.stretching.dimension == 2);
+  CHECK(o.stretching.theiler_window == 0);
+  CHECK(o.stretching.horizon == 2);
+  CHECK(o.stretching.radii == std::vector<double>{0.5, 1.0});
+  o = npend::kantz_options(1000, 1, {.delay = 3, .fit_from = 0.1, .fit_to = 0.4});
+  CHECK(o.fit_from == 0.1);
+  CHECK(o.fit_to == 0.4);
+  CHECK(npend::kantz_dimension(1) == 6);
+  CHECK(npend::kantz_dimension(4) == 1);
+  CHECK_THROWS_AS(npend::kantz_dimension(0), std::invalid_argument);
+  CHECK_THROWS_AS(npend::kantz_options(1000, 1, {.delay = 0}), std::invalid_argument);
+  CHECK_THROWS_AS(npend::kantz_options(0, 1, {.delay = 1}), std::invalid_argument);
+  CHECK_THROWS_AS(npend::kantz_options(1000, 0, {.delay = 1}), std::invalid_argument);
+  CHECK_THROWS_AS(npend::kantz_options(1000, 1, {.delay = 1, .dimension = 0}),
+                  std::invalid_argument);
+}
+
+TEST_CASE("series_lyapunov_exponent: a sine's curve barely rises, and the result warns of it") {
+  // Motion on a closed loop: neighbours keep their distance, S stays flat (rise ≈ 0).
+  const double dt = 0.01, period = 1.2345;
+  std::vector<double> x;
+  for (int j = 0; j < 4000; ++j) x.push_back(std::sin(2 * std::numbers::pi * j * dt / period));
+  const auto o = npend::kantz_options(x.size(), 1, {.delay = 31});
+  const auto r = npend::series_lyapunov_exponent(x, dt, o);
+  double low = INFINITY, high = -INFINITY;
+  for (double v : r.stretching.curves[r.stretching.curves.size() / 2].s)
+    if (std::isfinite(v)) {
+      low = std::min(low, v);
+      high = std::max(high, v);
+    }
+  CHECK(r.rise == high - low);
+  CHECK(r.rise < 3);
+  bool warned = false;
+  for (const auto& w : r.warnings)
+    warned = warned || w.starts_with("the stretching curve rises by only");
+  CHECK(warned);
+  // Without a linear region the first warning says so, with the reason.
+  if (!r.linear_region) CHECK(r.warnings.front() == "no estimate: " + r.nonlinearity);
 }

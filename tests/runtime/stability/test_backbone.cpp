@@ -16,10 +16,7 @@ using npend::chain_parameters;
 
 namespace {
 
-// The exact frequency ratio ω(θ₀)/ω₀ of a single pendulum swinging with amplitude θ₀.
-double pendulum_frequency_ratio(double amplitude) {
-  return std::numbers::pi / (2 * std::comp_ellint_1(std::sin(amplitude / 2)));
-}
+using npend::pendulum_frequency_ratio;
 
 // The amplitude at which the exact ratio is 1 − shift (it falls monotonically), by bisection.
 double pendulum_threshold(double shift) {
@@ -129,4 +126,34 @@ TEST_CASE("backbone_curve: bad arguments are refused with the reason") {
   o.thresholds = {0.01, 1.5};
   CHECK_THROWS_WITH_AS(npend::measure_mode_frequency(c, 1, 0.1, o), Contains("threshold 1.5"),
                        std::invalid_argument);
+}
+
+TEST_CASE("pendulum_period: 2 pi sqrt(l/g) for small swings, and the amplitude series beyond") {
+  const double l = 1.3, g = 9.81, small = 2 * std::numbers::pi * std::sqrt(l / g);
+  CHECK(npend::pendulum_period(0.0, l, g) == doctest::Approx(small).epsilon(1e-15));
+  CHECK(npend::pendulum_period(1e-4, l, g) == doctest::Approx(small).epsilon(1e-9));
+  // T = T₀ (1 + a²/16 + 11 a⁴/3072 + 173 a⁶/737280 + 22931 a⁸/1321205760 + …); the next
+  // term is below 1e-11 of T₀ at a = 0.3.
+  for (const double a : {0.1, 0.3}) {
+    CAPTURE(a);
+    const double a2 = a * a;
+    const double series =
+        small * (1 + a2 / 16 + 11 * a2 * a2 / 3072 + 173 * a2 * a2 * a2 / 737280 +
+                 22931 * a2 * a2 * a2 * a2 / 1321205760);
+    CHECK(npend::pendulum_period(a, l, g) == doctest::Approx(series).epsilon(1e-11));
+    // The frequency ratio is T₀ / T.
+    CHECK(pendulum_frequency_ratio(a) == doctest::Approx(small / series).epsilon(1e-11));
+  }
+  // Near the top the period grows without bound, like (4/ω₀) ln(8/(π − a)) for a → π (the
+  // next term is (π − a)²/16 of it: 6e-8 at 1e-3 rad from the top).
+  const double close = std::numbers::pi - 1e-3;
+  CHECK(npend::pendulum_period(close, l, g) ==
+        doctest::Approx(4 * std::sqrt(l / g) * std::log(8 / (std::numbers::pi - close)))
+            .epsilon(1e-6));
+  CHECK(pendulum_frequency_ratio(0.0) == doctest::Approx(1.0).epsilon(1e-15));
+  CHECK_THROWS_AS(npend::pendulum_period(std::numbers::pi, l, g), std::invalid_argument);
+  CHECK_THROWS_AS(npend::pendulum_period(-0.1, l, g), std::invalid_argument);
+  CHECK_THROWS_AS(npend::pendulum_period(0.5, 0.0, g), std::invalid_argument);
+  CHECK_THROWS_AS(npend::pendulum_period(0.5, l, -1.0), std::invalid_argument);
+  CHECK_THROWS_AS(pendulum_frequency_ratio(4.0), std::invalid_argument);
 }

@@ -235,3 +235,61 @@ TEST_CASE("floquet: the error estimate bounds the change to a run with many more
   CHECK(std::fabs(a.max_modulus - b.max_modulus) <= a.modulus_error);
   CHECK(b.modulus_error < a.modulus_error);
 }
+
+TEST_CASE("floquet_frequency_scan: Kapitza's stable window starts where a^2 Omega^2 / (2 g l) = 1") {
+  // a/l = 0.01: the averaged potential's criterion holds to far better than the 1 % grid
+  // (3e-5, the test of Acheson's pendulums above), and no grid point lies that close to it.
+  const double a = 0.002, l = 0.2, g = 9.81, critical = std::sqrt(2 * g * l) / a;  // 990 rad/s
+  chain_parameters p = chain_parameters::uniform(1, 1.0, l, g);
+  p.pivot = pivot_motion::vertical(a, 1.0);
+  std::vector<double> omega;
+  for (int k = 0; k <= 20; ++k) omega.push_back(905 + 10.0 * k);
+  const std::vector<double> x0{pi, 0.0};
+  const auto scan = npend::floquet_frequency_scan(chain(p), x0, omega);
+  REQUIRE(scan.points.size() == omega.size());
+  CHECK_FALSE(scan.stopped);
+  double first_above = 0;
+  for (const double w : omega)
+    if (w > critical) {
+      first_above = w;
+      break;
+    }
+  for (std::size_t k = 0; k < omega.size(); ++k) {
+    CAPTURE(omega[k]);
+    CHECK(scan.points[k].frequency == omega[k]);
+    CHECK(scan.points[k].stable == (omega[k] > critical));
+  }
+  REQUIRE(scan.stable_windows.size() == 1);
+  CHECK(scan.stable_windows.front().first == first_above);
+  CHECK(scan.stable_windows.front().second == omega.back());
+}
+
+namespace {
+
+// Asks to stop at once.
+struct stop_now final : npend::run_control {
+  bool stop_requested() override { return true; }
+};
+
+}  // namespace
+
+TEST_CASE("floquet_frequency_scan: a stop request ends it at the first frequency; bad arguments") {
+  chain_parameters p = chain_parameters::uniform(1);
+  p.pivot = pivot_motion::vertical(0.05, 100.0);
+  const chain c(p);
+  const std::vector<double> x0{pi, 0.0}, omega{100.0, 200.0};
+  stop_now stop;
+  npend::floquet_options o;
+  o.control = &stop;
+  const auto scan = npend::floquet_frequency_scan(c, x0, omega, o);
+  CHECK(scan.stopped);
+  CHECK(scan.stopped_at == 100.0);
+  CHECK(scan.points.empty());
+  CHECK(scan.stable_windows.empty());
+  CHECK_THROWS_AS(npend::floquet_frequency_scan(chain(chain_parameters::uniform(1)), x0, omega),
+                  std::invalid_argument);
+  CHECK_THROWS_AS(npend::floquet_frequency_scan(c, x0, std::vector<double>{}),
+                  std::invalid_argument);
+  CHECK_THROWS_AS(npend::floquet_frequency_scan(c, x0, std::vector<double>{100.0, -1.0}),
+                  std::invalid_argument);
+}

@@ -87,3 +87,13 @@ TEST_CASE("hanging chain: bad input is refused with the reason") {
   CHECK_THROWS_AS(npend::hanging_chain_modes(one, one, 0.0, 1), std::invalid_argument);
   CHECK_THROWS_AS(npend::rope_frequency(0, 1.0, 9.81), std::invalid_argument);
 }
+
+TEST_CASE("convergence_order: the exponent of errors that fall like a power of n") {
+  // e = 0.7 n^-2 and e = 0.3 n^-1 exactly; the sign of an error does not matter.
+  CHECK(npend::convergence_order(0.7 / (10.0 * 10.0), 10, 0.7 / (40.0 * 40.0), 40) ==
+        doctest::Approx(2.0).epsilon(1e-14));
+  CHECK(npend::convergence_order(-0.3 / 50.0, 50, 0.3 / 200.0, 200) ==
+        doctest::Approx(1.0).epsilon(1e-14));
+  CHECK_THROWS_AS(npend::convergence_order(0.1, 10, 0.05, 10), std::invalid_argument);
+  CHECK_THROWS_AS(npend::convergence_order(0.1, 0, 0.05, 10), std::invalid_argument);
+}

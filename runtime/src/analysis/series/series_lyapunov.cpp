@@ -446,6 +446,38 @@ void judge_linear_region(series_lyapunov_result& r, const series_lyapunov_option
   }
 }
 
+// The rise of the middle radius's curve and the warnings on the estimate
+// (series_lyapunov_result::warnings).
+void add_warnings(series_lyapunov_result& r) {
+  const auto& middle = r.stretching.curves[r.stretching.curves.size() / 2].s;
+  double low = INFINITY, high = -INFINITY;
+  for (double v : middle)
+    if (std::isfinite(v)) {
+      low = std::min(low, v);
+      high = std::max(high, v);
+    }
+  r.rise = high - low;
+  if (!r.linear_region) r.warnings.push_back("no estimate: " + r.nonlinearity);
+  if (r.rise < 3)
+    r.warnings.push_back(
+        r.linear_region && r.maximal_exponent > 2 * r.uncertainty
+            ? fmt::format("the stretching curve rises by only {:.2g} (ln units) over the horizon: "
+                          "the estimate rests on few e-foldings of a short linear region (more "
+                          "samples give closer neighbours and a longer one)",
+                          r.rise)
+            : fmt::format(
+                  "the stretching curve rises by only {:.2g} (ln units) over the horizon: either "
+                  "nearby states do not separate (regular motion, exponent 0) or the neighbours "
+                  "are too far apart for a linear region (a series too short for its dimension), "
+                  "and then the slope need not be the maximal exponent",
+                  r.rise));
+  if (r.linear_region && r.uncertainty > 0.25 * std::fabs(r.maximal_exponent) &&
+      r.maximal_exponent > 0)
+    r.warnings.push_back(
+        "the uncertainty is more than a quarter of the exponent: the curve has no "
+        "clear linear region in the fit range (see --fit)");
+}
+
 // The fit of the slope to the curves of `stretching`, and the verdict on its range.
 series_lyapunov_result fit_stretching(stretching_result stretching, double dt,
                                       const series_lyapunov_options& o) {
@@ -515,10 +547,41 @@ series_lyapunov_result fit_stretching(stretching_result stretching, double dt,
                             r.radius_uncertainty * r.radius_uncertainty +
                             r.range_uncertainty * r.range_uncertainty);
   judge_linear_region(r, o);
+  add_warnings(r);
   return r;
 }
 
 }  // namespace
+
+std::size_t kantz_dimension(std::size_t series) {
+  if (series == 0) throw std::invalid_argument("kantz_dimension: series must be at least 1");
+  return series > 1 ? 1 : 6;
+}
+
+series_lyapunov_options kantz_options(std::size_t samples, std::size_t series,
+                                      const kantz_choices& choices) {
+  if (samples == 0) throw std::invalid_argument("kantz_options: samples must be at least 1");
+  if (series == 0) throw std::invalid_argument("kantz_options: series must be at least 1");
+  if (choices.delay < 1)
+    throw std::invalid_argument("kantz_options: delay must be at least 1 sample");
+  if (choices.dimension && *choices.dimension < 1)
+    throw std::invalid_argument("kantz_options: dimension must be at least 1");
+  series_lyapunov_options options;
+  auto& s = options.stretching;
+  s.delay = choices.delay;
+  s.dimension = choices.dimension ? *choices.dimension : kantz_dimension(series);
+  // The embedding window: neighbours closer in time lie on the same piece of trajectory.
+  s.theiler_window = choices.theiler_window
+                         ? *choices.theiler_window
+                         : std::max<std::size_t>(1, s.dimension - 1) * s.delay;
+  s.horizon = choices.horizon ? *choices.horizon : std::min<std::size_t>(40 * s.delay, samples / 4);
+  s.horizon = std::max<std::size_t>(s.horizon, 2);
+  s.step = std::max<std::size_t>(1, s.horizon / 200);
+  s.radii = choices.radii;
+  options.fit_from = choices.fit_from;
+  options.fit_to = choices.fit_to;
+  return options;
+}
 
 series_lyapunov_result series_lyapunov_exponent(std::span<const double> x, double dt,
                                                 const series_lyapunov_options& o) {

@@ -186,4 +186,21 @@ backbone_result backbone_curve(const chain& c, int mode, std::span<const double>
   return r;
 }
 
+double pendulum_frequency_ratio(double amplitude) {
+  if (!(amplitude >= 0 && amplitude < std::numbers::pi))
+    throw std::invalid_argument(fmt::format(
+        "pendulum_frequency_ratio: the amplitude must be in [0, pi) rad, got {}", amplitude));
+  return std::numbers::pi / (2 * std::comp_ellint_1(std::sin(amplitude / 2)));
+}
+
+double pendulum_period(double amplitude, double length, double g) {
+  if (!(amplitude >= 0 && amplitude < std::numbers::pi))
+    throw std::invalid_argument(fmt::format(
+        "pendulum_period: the amplitude must be in [0, pi) rad, got {}", amplitude));
+  if (!(length > 0) || !(g > 0))
+    throw std::invalid_argument(fmt::format(
+        "pendulum_period: the length and g must be positive, got {} m and {} m/s^2", length, g));
+  return 4 * std::comp_ellint_1(std::sin(amplitude / 2)) / std::sqrt(g / length);
+}
+
 }  // namespace npend

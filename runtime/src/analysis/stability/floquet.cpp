@@ -139,4 +139,50 @@ floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
   return r;
 }
 
+floquet_scan_result floquet_frequency_scan(const chain& c, std::span<const double> x0,
+                                           std::span<const double> frequencies,
+                                           const floquet_options& options) {
+  const pivot_motion& drive = c.parameters().pivot;
+  if (drive.type != pivot_motion::kind::vertical && drive.type != pivot_motion::kind::horizontal)
+    throw std::invalid_argument(
+        "floquet_frequency_scan: the chain needs a built-in periodic drive (vertical:A:OMEGA or "
+        "horizontal:A:OMEGA)");
+  if (frequencies.empty())
+    throw std::invalid_argument("floquet_frequency_scan: no frequencies to scan");
+  for (const double w : frequencies)
+    if (!(w > 0) || !std::isfinite(w))
+      throw std::invalid_argument(fmt::format(
+          "floquet_frequency_scan: the drive frequency {} rad/s is not positive and finite", w));
+  floquet_scan_result scan;
+  for (std::size_t k = 0; k < frequencies.size(); ++k) {
+    const double w = frequencies[k];
+    chain_parameters params = c.parameters();
+    params.pivot.frequency = w;
+    const chain driven(params);
+    run_control_part part(options.control, k, frequencies.size());
+    floquet_options opts = options;
+    opts.control = &part;
+    const floquet_result r = floquet_analysis(driven, x0, opts);
+    if (r.stopped) {
+      scan.stopped = true;
+      scan.stopped_at = w;
+      return scan;
+    }
+    scan.points.push_back({.frequency = w,
+                           .max_modulus = r.max_modulus,
+                           .modulus_error = r.modulus_error,
+                           .verdict = r.verdict,
+                           .stable = r.stable});
+  }
+  for (std::size_t i = 0; i < scan.points.size(); ++i) {
+    if (!scan.points[i].stable) continue;
+    const double w = scan.points[i].frequency;
+    if (i > 0 && scan.points[i - 1].stable)
+      scan.stable_windows.back().second = w;
+    else
+      scan.stable_windows.emplace_back(w, w);
+  }
+  return scan;
+}
+
 }  // namespace npend

@@ -121,7 +121,42 @@ struct series_lyapunov_result {
   /// Of the middle radius's curve: how much S grew from Δt = 0 to the fit range, and within
   /// it (ln units).
   double growth_before_fit = 0, growth_in_fit = 0;
+  /// How far the curve of the radius in the middle of the list (index count / 2) rises over
+  /// the horizon, its largest minus its smallest finite S (ln units): a few units mean the
+  /// neighbourhoods are too coarse for a linear region.
+  double rise = 0;
+  /// What a reader of the estimate must know, one sentence each: "no estimate: " and the
+  /// nonlinearity when there is no linear region; a rise below 3 (few e-foldings: a short
+  /// linear region, regular motion, or neighbours too far apart); and an uncertainty above a
+  /// quarter of a positive exponent in a linear region (no clear linear region in the fit
+  /// range fit_from ... fit_to, which `npend lyapunov --fit` sets).
+  std::vector<std::string> warnings;
 };
+
+/// The choices of Kantz's method a caller may make; those left empty take the defaults that
+/// kantz_options documents.
+struct kantz_choices {
+  std::size_t delay = 1;                      ///< τ in samples (≥ 1)
+  std::optional<std::size_t> dimension;       ///< m per series (≥ 1)
+  std::optional<std::size_t> theiler_window;  ///< in samples
+  std::optional<std::size_t> horizon;         ///< in samples
+  std::vector<double> radii;                  ///< ε (empty: stretching_options' default)
+  std::optional<double> fit_from, fit_to;     ///< the fit range (s); none: chosen on the curve
+};
+
+/// The embedding dimension Kantz's method takes by default for `series` series embedded
+/// together (≥ 1): 6 for one series; 1 for several, the observables themselves as coordinates.
+/// Throws std::invalid_argument for series = 0.
+std::size_t kantz_dimension(std::size_t series);
+
+/// series_lyapunov_options for `series` series (≥ 1) of `samples` samples each (≥ 1), with
+/// what `choices` leaves open filled in: m = kantz_dimension(series); the Theiler window
+/// max(1, m − 1)·τ, the embedding window; the horizon min(40 τ, samples / 4), and at least 2
+/// samples whatever was chosen; the curve evaluated every max(1, horizon / 200) samples (about
+/// 200 points). The other stretching options keep their defaults. Throws
+/// std::invalid_argument for a delay or dimension of 0, samples = 0 or series = 0.
+series_lyapunov_options kantz_options(std::size_t samples, std::size_t series,
+                                      const kantz_choices& choices);
 
 /// The maximal Lyapunov exponent of x_j = x(t₀ + j dt) (dim N, dt > 0 in s) by Kantz's
 /// method: stretching_curves, then on each radius's curve a least-squares line over the fit

@@ -84,4 +84,16 @@ backbone_point measure_mode_frequency(const chain& c, int mode, double amplitude
 backbone_result backbone_curve(const chain& c, int mode, std::span<const double> amplitudes,
                                const backbone_options& options = {});
 
+/// The single pendulum's exact backbone, the measure of every backbone: its frequency ratio
+/// ω/ω₀ = π / (2 K(sin(a/2))) at the amplitude a (rad, 0 ≤ a < π), K the complete elliptic
+/// integral of the first kind and ω₀ = √(g/l) the linear frequency. 1 at a = 0, falling to 0
+/// as a → π. Throws std::invalid_argument for an amplitude outside [0, π).
+double pendulum_frequency_ratio(double amplitude);
+
+/// The single pendulum's exact period T = 4 K(sin(a/2)) / ω₀ (s) at the amplitude a (rad,
+/// 0 ≤ a < π), ω₀ = √(g/l) for a point mass on a rod of length l (m) under gravity g (m/s²):
+/// 2π √(l/g) for small swings. Throws std::invalid_argument for an amplitude outside [0, π)
+/// or a length or g that is not positive.
+double pendulum_period(double amplitude, double length, double g);
+
 }  // namespace npend

@@ -5,6 +5,7 @@
 
 #include <complex>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "npend/chain.hpp"
@@ -61,5 +62,37 @@ struct floquet_result {
 /// size of x0, or steps < 2.
 floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
                                 const floquet_options& options = {}, double period = 0);
+
+/// One drive frequency of floquet_frequency_scan: the floquet_analysis there, in brief.
+struct floquet_scan_point {
+  double frequency = 0;      ///< Ω (rad/s)
+  double max_modulus = 0;    ///< max |μ|
+  double modulus_error = 0;  ///< its error estimate (floquet_result::modulus_error)
+  floquet_verdict verdict = floquet_verdict::unstable;
+  bool stable = false;  ///< verdict == floquet_verdict::stable
+};
+
+/// A stability chart over the drive frequency.
+struct floquet_scan_result {
+  std::vector<floquet_scan_point> points;  ///< one per frequency, in the order given
+  /// The runs of consecutive stable points, as [first, last] frequencies (rad/s): where the
+  /// drive holds the orbit, to the scan's resolution.
+  std::vector<std::pair<double, double>> stable_windows;
+  /// A run control stopped it at the frequency `stopped_at` (rad/s); `points` holds the
+  /// frequencies before it and `stable_windows` is empty.
+  bool stopped = false;
+  double stopped_at = 0;
+};
+
+/// floquet_analysis of the orbit through x0 (dim 2n) for each drive frequency Ω of
+/// `frequencies` (rad/s, dim K ≥ 1), the chain c otherwise unchanged: Kapitza's and Acheson's
+/// stability charts. The chain needs a built-in periodic drive (pivot_motion::vertical or
+/// horizontal), whose amplitude stays; each analysis takes one drive period 2π/Ω. The
+/// control of `options` hears the scan's progress, each frequency an equal part. Throws
+/// std::invalid_argument for a chain without a built-in periodic drive, no frequencies, a
+/// frequency that is not positive and finite, and as floquet_analysis does.
+floquet_scan_result floquet_frequency_scan(const chain& c, std::span<const double> x0,
+                                           std::span<const double> frequencies,
+                                           const floquet_options& options = {});
 
 }  // namespace npend

@@ -42,4 +42,10 @@ double rope_frequency(int k, double length, double g);
 /// The rope's k-th mode shape J₀(j_{0,k} √(s/L)) at the distance s from its free end.
 double rope_shape(int k, double s, double length);
 
+/// The observed order p of a convergence e ∝ n^−p from the errors e_a at n_a links and e_b
+/// at n_b links: p = ln(|e_a| / |e_b|) / ln(n_b / n_a) (2 for the hanging chain's
+/// frequencies against the rope's). Throws std::invalid_argument for link counts that are not
+/// positive or are equal.
+double convergence_order(double error_a, int links_a, double error_b, int links_b);
+
 }  // namespace npend
