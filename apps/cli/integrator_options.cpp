@@ -35,6 +35,21 @@ void check_step_count(double t_end, double dt, std::string_view options,
                                   options, t_end / dt, integrator_options::max_steps, advice));
 }
 
+void parse_tolerances(const std::string& abs_text, const std::string& rel_text,
+                      std::string_view refusal, double& abs_tol, double& rel_tol) {
+  const auto tolerance = [&](const std::string& text, const char* option, double& value) {
+    if (text.empty()) return;
+    if (!refusal.empty()) throw input_error(fmt::format("{}: {}", option, refusal));
+    value = parse_number(text, option);
+    if (value < 0)
+      throw input_error(fmt::format("{}: must not be negative, got {}", option, value));
+  };
+  tolerance(abs_text, "--abs-tol", abs_tol);
+  tolerance(rel_text, "--rel-tol", rel_tol);
+  if (abs_tol == 0 && rel_tol == 0)
+    throw input_error("--abs-tol/--rel-tol: both are 0; at least one must be positive");
+}
+
 integration_options integrator_options::make() const {
   integration_options o;
   o.t_start = 0;
@@ -52,19 +67,13 @@ integration_options integrator_options::make() const {
       throw input_error(fmt::format("--stepper: {}", e.what()));
     }
   }
-  const auto tolerance = [&](const std::string& text, const char* option, double& value) {
-    if (text.empty()) return;
-    if (!is_adaptive(o.stepper))
-      throw input_error(fmt::format("{}: only the adaptive steppers ({}) take tolerances, not {}",
-                                    option, stepper_names(stepper_use::adaptive), stepper_name(o.stepper)));
-    value = parse_number(text, option);
-    if (value < 0)
-      throw input_error(fmt::format("{}: must not be negative, got {}", option, value));
-  };
-  tolerance(abs_tol, "--abs-tol", o.abs_tol);
-  tolerance(rel_tol, "--rel-tol", o.rel_tol);
-  if (o.abs_tol == 0 && o.rel_tol == 0)
-    throw input_error("--abs-tol/--rel-tol: both are 0; at least one must be positive");
+  parse_tolerances(abs_tol, rel_tol,
+                   is_adaptive(o.stepper)
+                       ? ""
+                       : fmt::format("only the adaptive steppers ({}) take tolerances, not {}",
+                                     stepper_names(stepper_use::adaptive),
+                                     stepper_name(o.stepper)),
+                   o.abs_tol, o.rel_tol);
   return o;
 }
 

@@ -39,4 +39,11 @@ struct integrator_options {
 void check_step_count(double t_end, double dt, std::string_view options,
                       std::string_view advice = "use a larger --dt");
 
+/// --abs-tol and --rel-tol as typed (`abs_text`, `rel_text`; empty: `abs_tol` and `rel_tol`
+/// keep their defaults). `refusal`: empty where the stepper takes tolerances, else why it
+/// does not, said after "<option>: " for a tolerance given anyway. Throws input_error naming
+/// the option: a tolerance refused, not a number or negative, or both tolerances 0.
+void parse_tolerances(const std::string& abs_text, const std::string& rel_text,
+                      std::string_view refusal, double& abs_tol, double& rel_tol);
+
 }  // namespace npend::cli

@@ -1,13 +1,15 @@
 // npend map: a quantity of chaos — the time to the first flip (Heyl's fractal) or the maximal
 // Lyapunov exponent — over a 2-D grid of start states, computed in tiles on every core (and
 // across the ranks of an MPI job, or the jobs of an array with --part and `npend map merge`),
-// written as .npy, PNG and JSON, and resumable after an interruption.
+// written as .npy, PNG and JSON, and resumable after an interruption. The run itself — its
+// identity, tiles, resume, parallel computation and assembly — is the library's map_run
+// (npend/analysis/chaos/map_run.hpp); this file parses, prints, writes the result files and
+// keeps the output folder's policy.
 #include <fmt/format.h>
 #include <omp.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <future>
@@ -19,7 +21,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>
 
@@ -27,11 +28,10 @@
 #include "command.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
-#include "map_tile_queue.hpp"
 #include "npend/analysis/chaos/chaos_map.hpp"
 #include "npend/analysis/chaos/map_grid.hpp"
+#include "npend/analysis/chaos/map_run.hpp"
 #include "npend/batch_math.hpp"
-#include "npend/integrators/integration_error.hpp"
 #include "output_file.hpp"
 #include "plotting.hpp"
 #include "section_spec.hpp"
@@ -116,14 +116,8 @@ void write_csv(const fs::path& path, const axis& ax, const axis& ay,
   cli::write_file_atomically(path, text);
 }
 
-// Which tiles a run computes: all of them, or with --part I/N those whose index is I - 1
-// modulo N — a fixed assignment, so that the jobs of an array need not talk to each other.
-struct part_share {
-  int index = 1, count = 1;
-  bool has(int tile) const { return tile % count == index - 1; }
-};
-
-part_share parse_part(const std::string& text) {
+// --part I/N: the tiles whose index is I - 1 modulo N (map_part).
+map_part parse_part(const std::string& text) {
   const auto whole = [](std::string_view piece, int& out) {
     const std::string digits(cli::trim(piece));
     if (digits.empty() || digits.size() > 6 ||
@@ -133,7 +127,7 @@ part_share parse_part(const std::string& text) {
     return true;
   };
   const auto pieces = cli::split_list(text, '/');
-  part_share share;
+  map_part share;
   if (pieces.size() != 2 || !whole(pieces[0], share.index) || !whole(pieces[1], share.count) ||
       share.index < 1 || share.index > share.count)
     throw cli::input_error(
@@ -141,83 +135,13 @@ part_share parse_part(const std::string& text) {
   return share;
 }
 
-// The cells of one tile: columns x0..x1 - 1, rows y0..y1 - 1.
-struct tile_bounds {
-  int x0, x1, y0, y1;
-  std::size_t cells() const { return static_cast<std::size_t>((x1 - x0) * (y1 - y0)); }
-};
-
-struct tile_layout {
-  int size, tiles_x, tiles_y;
-  int count() const { return tiles_x * tiles_y; }
-  // Tile `index` (row-major over the tiles), clipped at the grid's edges.
-  tile_bounds bounds(int index, const axis& ax, const axis& ay) const {
-    const int x0 = index % tiles_x * size, y0 = index / tiles_x * size;
-    return {x0, std::min(ax.count, x0 + size), y0, std::min(ay.count, y0 + size)};
-  }
-};
-
-// FNV-1a (64 bit): of the run's identity, the tag at the head of every tile file, which ties
-// the tile to its run.json without repeating the identity in each tile; and of each tile's
-// data, its checksum.
-std::uint64_t fnv1a(std::string_view text) {
-  std::uint64_t hash = 0xcbf29ce484222325ULL;
-  for (const unsigned char ch : text) {
-    hash ^= ch;
-    hash *= 0x100000001b3ULL;
-  }
-  return hash;
-}
-
-// Everything a run needs, checked: the chain, the grid (its axes and base start), the tiles,
-// and the run's identity, which a resumed run, another part or a merge must share.
-struct map_run {
+// The options and the library's run they describe.
+struct map_job {
   map_command_options o;
-  chain c;
-  map_grid grid;
-  map_cell_options cell;
-  tile_layout layout;
-  part_share part;
-  fs::path dir;
-  nlohmann::json identity;
-  std::uint64_t tag;
+  map_run run;
 
   bool parted() const { return !o.part.empty(); }
-  fs::path tiles() const { return dir / "tiles"; }
-  fs::path run_file() const { return dir / "tiles" / "run.json"; }
-  fs::path tile_path(int index) const {
-    return dir / "tiles" / fmt::format("tile_{:06d}.bin", index);
-  }
 };
-
-// The run's identity: what makes two runs the same map.
-nlohmann::json run_identity(const map_command_options& o, const chain& c, const map_grid& grid,
-                            const map_cell_options& cell) {
-  const auto spec = [](const axis& a) {
-    return nlohmann::json{{"name", a.name}, {"from", a.from}, {"to", a.to}, {"count", a.count}};
-  };
-  nlohmann::json identity = {{"links", c.links()},
-          {"packed_parameters", c.packed_parameters()},
-          {"x", spec(grid.x)},
-          {"y", spec(grid.y)},
-          {"quantity", o.quantity},
-          {"component", cell.component},
-          {"t_end", o.t_end},
-          {"dt", o.dt},
-          {"flip_link", o.flip_link},
-          {"gali_order", o.gali_order},
-          {"tile", o.tile},
-          {"base_angles", grid.angles},
-          {grid.velocities ? "base_velocities" : "base_momenta", grid.momenta}};
-  // rk4 maps keep the identity they had before dopri5 came, so that their folders resume.
-  if (cell.stepping.stepper != stepper_kind::rk4)
-    identity["stepper"] = stepper_name(cell.stepping.stepper);
-  if (cell.stepping.stepper == stepper_kind::dopri5) {
-    identity["abs_tol"] = cell.stepping.abs_tol;
-    identity["rel_tol"] = cell.stepping.rel_tol;
-  }
-  return identity;
-}
 
 // The options as typed (the chain file's values filled in), stored in run.json beside the
 // identity so that `npend map merge DIR` can rebuild the run from the folder alone.
@@ -288,18 +212,12 @@ map_stepping map_stepping_of(const map_command_options& o, map_quantity quantity
         "--stepper: the chaos indicators ({}) integrate with rk4 only; {} takes flip, "
         "lyapunov and state",
         map_quantity_name(quantity), o.stepper));
-  const auto tolerance = [&](const std::string& text, const char* option, double& value) {
-    if (text.empty()) return;
-    if (stepping.stepper != stepper_kind::dopri5)
-      throw cli::input_error(
-          fmt::format("{}: only with --stepper dopri5 (the others take a fixed --dt)", option));
-    value = cli::parse_number(text, option);
-    if (value < 0) throw cli::input_error(fmt::format("{}: must not be negative, got {}", option, value));
-  };
-  tolerance(o.abs_tol, "--abs-tol", stepping.abs_tol);
-  tolerance(o.rel_tol, "--rel-tol", stepping.rel_tol);
-  if (stepping.abs_tol == 0 && stepping.rel_tol == 0)
-    throw cli::input_error("--abs-tol/--rel-tol: both are 0; at least one must be positive");
+  cli::parse_tolerances(
+      o.abs_tol, o.rel_tol,
+      stepping.stepper == stepper_kind::dopri5
+          ? ""
+          : "only with --stepper dopri5 (the others take a fixed --dt)",
+      stepping.abs_tol, stepping.rel_tol);
   return stepping;
 }
 
@@ -355,7 +273,7 @@ void set_base_start(const map_command_options& o, int n, map_grid& grid) {
 }
 
 // Checks the options and builds the run; touches no file.
-map_run prepare_run(const map_command_options& o) {
+map_job prepare_run(const map_command_options& o) {
   // Any chain: damping, springs and a driven pivot are axes too; map_grid::validate refuses
   // what a quantity or axis cannot take (an energy axis on a chain that loses energy).
   const chain c = o.chain.make_chain(cli::model_support::any, "npend map");
@@ -374,13 +292,16 @@ map_run prepare_run(const map_command_options& o) {
   if (o.flip_link < 0 || o.flip_link > n)
     throw cli::input_error(
         fmt::format("--flip-link: 1..{} (or 0: any arm), got {}", n, o.flip_link));
-  if (o.tile < 1 || o.tile > 1024)
-    throw cli::input_error(fmt::format("--tile: 1..1024, got {}", o.tile));
+  try {
+    check_map_tile_size(o.tile);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(fmt::format("--{}", e.what()));
+  }
   cli::check_thread_count(o.threads, "--threads");
   if (o.force && (o.resume || !o.part.empty()))
     throw cli::input_error(
         "--force: only for a fresh run (--resume and --part keep the folder's tiles)");
-  const part_share part = o.part.empty() ? part_share{} : parse_part(o.part);
+  const map_part part = o.part.empty() ? map_part{} : parse_part(o.part);
   set_base_start(o, n, grid);
   // The chain and options a cell can take, checked before any thread starts.
   if (cell.quantity != map_quantity::gali && o.gali_order != 0)
@@ -401,109 +322,72 @@ map_run prepare_run(const map_command_options& o) {
     throw cli::input_error(axis_message(grid, e.what()));
   }
   if (o.out.empty()) throw cli::input_error("--out: the folder for map.npy, map.png, map.json");
-  const tile_layout layout{o.tile, (grid.x.count + o.tile - 1) / o.tile,
-                           (grid.y.count + o.tile - 1) / o.tile};
-  nlohmann::json identity = run_identity(o, c, grid, cell);
-  const std::uint64_t tag = fnv1a(identity.dump());
-  return {o,      c,    std::move(grid),      cell, layout, part, fs::path(o.out),
-          std::move(identity), tag};
+  return {o, map_run({std::move(grid), cell, o.tile, part}, fs::path(o.out))};
 }
 
-nlohmann::json run_file_content(const map_run& run) {
-  return {{"identity", run.identity}, {"options", options_record(run.o)}};
+std::string run_file_text(const map_job& job) {
+  return job.run.run_file_text(options_record(job.o).dump());
 }
 
 // run.json of a folder; input_error naming `option` if it is not readable.
-nlohmann::json read_run_file(const fs::path& file, std::string_view option) {
-  std::ifstream in(file);
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::exception&) {
-  }
-  if (!j.is_object() || !j.contains("identity") || !j.contains("options"))
+map_run_record read_run_file(const fs::path& file, std::string_view option) {
+  std::optional<map_run_record> record = read_map_run_record(file);
+  if (!record)
     throw cli::input_error(fmt::format("{}: {} is not readable", option, file.string()));
-  return j;
+  return *record;
 }
 
-void check_same_map(const map_run& run, std::string_view option) {
-  if (read_run_file(run.run_file(), option)["identity"] != run.identity)
+void check_same_map(const map_job& job, std::string_view option) {
+  if (!job.run.same_map(read_run_file(job.run.run_file(), option)))
     throw cli::input_error(fmt::format(
-        "{}: {} holds a different map (other chain, axes, quantity or times)", option, run.o.out));
-}
-
-// Whether `name` is a file npend map writes in DIR/tiles: run.json, tile_NNNNNN.bin, or the
-// hidden temporary of either (".<name>.npend-XXXXXX", cli::temporary_sibling) that a killed
-// process may have left.
-bool own_tile_file(std::string name) {
-  constexpr std::string_view temporary = ".npend-";
-  if (name.size() > 1 + temporary.size() + 6 && name.front() == '.' &&
-      name.compare(name.size() - 6 - temporary.size(), temporary.size(), temporary) == 0)
-    name = name.substr(1, name.size() - 1 - 6 - temporary.size());
-  if (name == "run.json") return true;
-  return name.size() == 15 && name.rfind("tile_", 0) == 0 &&
-         name.compare(11, 4, ".bin") == 0 &&
-         name.find_first_not_of("0123456789", 5) == 11;
-}
-
-// Removes npend's own files from DIR/tiles (own_tile_file), then the folder if that left it
-// empty: a file someone else put there stays, and so does the folder holding it.
-void remove_own_tiles(const map_run& run) {
-  std::error_code ec;
-  std::vector<fs::path> own;
-  for (const auto& entry : fs::directory_iterator(run.tiles(), ec))
-    if (own_tile_file(entry.path().filename().string()) && !entry.is_directory(ec))
-      own.push_back(entry.path());
-  for (const fs::path& path : own) fs::remove(path, ec);
-  fs::remove(run.tiles(), ec);  // only if empty
+        "{}: {} holds a different map (other chain, axes, quantity or times)", option, job.o.out));
 }
 
 // A new run: run.json says which map the new tiles belong to. A tiles folder that holds
 // anything (an interrupted run of this or another map, a part of a job array, files of the
 // user's) is refused, and with --force only npend's own files are removed from it.
-void start_fresh_folder(const map_run& run) {
+void start_fresh_folder(const map_job& job) {
+  const map_run& run = job.run;
   std::error_code ec;
-  fs::create_directories(run.dir, ec);
+  fs::create_directories(run.folder(), ec);
   if (ec)
-    throw cli::input_error(fmt::format("--out: cannot create '{}': {}", run.o.out, ec.message()));
-  if (fs::is_directory(run.tiles(), ec) && !fs::is_empty(run.tiles(), ec)) {
-    if (!run.o.force) {
-      nlohmann::json record;
-      if (fs::exists(run.run_file(), ec)) try {
-          record = read_run_file(run.run_file(), "--out");
-        } catch (const cli::input_error&) {
-        }
-      if (record.is_object() && record["identity"] == run.identity)
+    throw cli::input_error(fmt::format("--out: cannot create '{}': {}", job.o.out, ec.message()));
+  if (fs::is_directory(run.tiles_folder(), ec) && !fs::is_empty(run.tiles_folder(), ec)) {
+    if (!job.o.force) {
+      std::optional<map_run_record> record;
+      if (fs::exists(run.run_file(), ec)) record = read_map_run_record(run.run_file());
+      if (record && run.same_map(*record))
         throw cli::input_error(fmt::format(
             "--out: {} holds an unfinished run of this map: finish it with --resume, or start "
             "afresh with --force",
-            run.tiles().string()));
+            run.tiles_folder().string()));
       throw cli::input_error(fmt::format(
           "--out: {} holds another run's tiles or other files: give another --out, or --force "
           "to remove npend's tiles from it (other files stay)",
-          run.tiles().string()));
+          run.tiles_folder().string()));
     }
-    remove_own_tiles(run);
+    run.remove_own_tiles();
   }
-  fs::create_directories(run.tiles(), ec);
+  fs::create_directories(run.tiles_folder(), ec);
   if (ec)
-    throw cli::input_error(fmt::format("--out: cannot write in '{}': {}", run.o.out, ec.message()));
-  cli::write_file_atomically(run.run_file(), run_file_content(run).dump(2) + "\n");
+    throw cli::input_error(fmt::format("--out: cannot write in '{}': {}", job.o.out, ec.message()));
+  cli::write_file_atomically(run.run_file(), run_file_text(job));
 }
 
 // The parts of a job array may start at the same moment on one shared folder, so none of
 // them clears it: the first to get there writes run.json — complete under a temporary name,
 // then hard-linked into place, which fails atomically (also on NFS) when another part was
 // first — and every part checks that run.json describes its own map.
-void claim_run_file(const map_run& run) {
+void claim_run_file(const map_job& job) {
+  const map_run& run = job.run;
   std::error_code ec;
-  fs::create_directories(run.tiles(), ec);
+  fs::create_directories(run.tiles_folder(), ec);
   if (ec)
-    throw cli::input_error(fmt::format("--out: cannot write in '{}': {}", run.o.out, ec.message()));
+    throw cli::input_error(fmt::format("--out: cannot write in '{}': {}", job.o.out, ec.message()));
   const fs::path temporary = cli::temporary_sibling(run.run_file());
   {
     std::ofstream out(temporary);
-    out << run_file_content(run).dump(2) << "\n";
+    out << run_file_text(job);
     out.close();
     if (!out) {
       fs::remove(temporary, ec);
@@ -516,218 +400,64 @@ void claim_run_file(const map_run& run) {
   if (linked != 0 && error != EEXIST)
     throw std::runtime_error(
         fmt::format("cannot create '{}': {}", run.run_file().string(), std::strerror(error)));
-  if (linked != 0) check_same_map(run, "--part");
+  if (linked != 0) check_same_map(job, "--part");
 }
 
-void prepare_folder(const map_run& run) {
-  if (run.parted()) return claim_run_file(run);
-  if (!run.o.resume) return start_fresh_folder(run);
-  if (!fs::exists(run.run_file()))
-    throw cli::input_error(fmt::format("--resume: {} holds no interrupted map (no {})", run.o.out,
-                                       run.run_file().string()));
-  check_same_map(run, "--resume");
+void prepare_folder(const map_job& job) {
+  if (job.parted()) return claim_run_file(job);
+  if (!job.o.resume) return start_fresh_folder(job);
+  if (!fs::exists(job.run.run_file()))
+    throw cli::input_error(fmt::format("--resume: {} holds no interrupted map (no {})", job.o.out,
+                                       job.run.run_file().string()));
+  check_same_map(job, "--resume");
 }
 
-// A tile file: the run's tag, the FNV-1a (64 bit) checksum of the data, then the data: the
-// values as float64 in the machine's byte order.
-void write_tile(const map_run& run, int index, const std::vector<double>& values) {
-  const std::string data = bytes_of(values);
-  const std::uint64_t checksum = fnv1a(data);
-  std::string bytes(reinterpret_cast<const char*>(&run.tag), sizeof run.tag);
-  bytes.append(reinterpret_cast<const char*>(&checksum), sizeof checksum);
-  bytes += data;
-  // Not synced: a tile is checked when read back (its size, the run's tag and the checksum),
-  // so one that a crash of the machine left incomplete or garbled is found; syncing each cost
-  // 0.2 ms a tile, 60 ms on a 256^2 map, all of it serial (the disk takes one fsync at a time).
-  cli::write_file_atomically(run.tile_path(index), bytes, cli::durability::cached);
+// A tile that is not sound, with what to do about it: a folder in a tile's place is bad
+// input, anything else a failure.
+[[noreturn]] void throw_tile_error(const map_tile_error& e) {
+  const std::string what = std::string(e.what()) + "; remove it and finish with --resume";
+  if (e.is_folder()) throw cli::input_error(what);
+  throw std::runtime_error(what);
 }
 
-// A tile read back: its values, or what is wrong with the file.
-struct tile_contents {
-  std::vector<double> values;
-  std::string problem;  // empty: the values are the tile's
-};
-
-tile_contents load_tile(const map_run& run, int index) {
-  const fs::path path = run.tile_path(index);
-  // A folder opens, and fails on the first read with a message about stream buffers.
-  std::error_code ec;
-  if (fs::is_directory(path, ec))
-    throw cli::input_error(fmt::format(
-        "tile {} is a directory, not a tile file; remove it and finish with --resume",
-        path.string()));
-  std::ifstream in(path, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in) return {{}, fmt::format("tile {} cannot be read", path.string())};
-  std::vector<double> values(run.layout.bounds(index, run.grid.x, run.grid.y).cells());
-  constexpr std::size_t head = 2 * sizeof(std::uint64_t);  // the tag and the checksum
-  const std::size_t expected = head + values.size() * sizeof(double);
-  if (bytes.size() != expected)
-    return {{},
-            fmt::format("tile {} is incomplete ({} bytes, expected {}: a crash may have cut it "
-                        "short)",
-                        path.string(), bytes.size(), expected)};
-  std::uint64_t tag = 0, checksum = 0;
-  std::memcpy(&tag, bytes.data(), sizeof tag);
-  std::memcpy(&checksum, bytes.data() + sizeof tag, sizeof checksum);
-  if (tag != run.tag)
-    return {{},
-            fmt::format("tile {} was written by another run (of another map than {})",
-                        path.string(), run.run_file().string())};
-  const std::string_view data(bytes.data() + head, bytes.size() - head);
-  if (fnv1a(data) != checksum)
-    return {{},
-            fmt::format("tile {} is damaged: its data do not match its checksum", path.string())};
-  std::memcpy(values.data(), data.data(), data.size());
-  return {std::move(values), {}};
-}
-
-// The values of a tile that must be sound (assembling the map); std::runtime_error naming the
-// tile and what is wrong with it otherwise.
-std::vector<double> read_tile(const map_run& run, int index) {
-  tile_contents tile = load_tile(run, index);
-  if (!tile.problem.empty())
-    throw std::runtime_error(tile.problem + "; remove it and finish with --resume");
-  return std::move(tile.values);
-}
-
-// How many of a tile's cells need integrating, estimated from up to 4 x 4 of them: the
-// energy rules many flip-map cells out, and such a cell costs nothing.
-int tile_work_estimate(const map_run& run, int index) {
-  const tile_bounds b = run.layout.bounds(index, run.grid.x, run.grid.y);
-  const int stride = std::max(1, run.layout.size / 4);
-  int work = 0;
-  for (int j = b.y0; j < b.y1; j += stride)
-    for (int i = b.x0; i < b.x1; i += stride)
-      work += map_cell_forbidden(run.grid, i, j, run.cell) ? 0 : 1;
-  return work;
-}
-
-// A tile a resumed run finds is kept if it reads back sound (load_tile); one that does not is
-// computed again, and stderr says why.
-bool tile_done(const map_run& run, int index) {
-  if (!run.o.resume || !fs::exists(run.tile_path(index))) return false;
-  const std::string problem = load_tile(run, index).problem;
-  if (problem.empty()) return true;
-  fmt::print(stderr, "npend map: note: {}; computing it again\n", problem);
-  return false;
-}
-
-// This run's tiles (its part's), without those a resumed run finds done, the most work
-// first: whoever takes the last tiles then takes cheap ones, and no worker waits long for
-// another at the end. (Each tile's values do not depend on the order.)
-std::vector<int> pending_tiles(const map_run& run) {
-  std::vector<std::pair<int, int>> pending;  // (-work, tile)
-  for (int t = 0; t < run.layout.count(); ++t)
-    if (run.part.has(t) && !tile_done(run, t))
-      pending.emplace_back(-tile_work_estimate(run, t), t);
-  std::sort(pending.begin(), pending.end());
-  std::vector<int> tiles;
-  tiles.reserve(pending.size());
-  for (const auto& entry : pending) tiles.push_back(entry.second);
-  return tiles;
-}
-
-long tiles_present(const map_run& run) {
-  long present = 0;
-  for (int t = 0; t < run.layout.count(); ++t) present += fs::exists(run.tile_path(t)) ? 1 : 0;
-  return present;
-}
-
-// The values of tile `index`, row-major within the tile; a cell the energy rules out or
-// whose integration fails is NaN. The tile's cells go to the library together, so that they
-// run on the batch kernels' lanes together (each value the same as map_cell's). The cells
-// poll `stop` inside their steps; once it asks to stop, the values are not the tile's.
-std::vector<double> compute_tile(const map_run& run, int index, run_control& stop) {
-  const tile_bounds b = run.layout.bounds(index, run.grid.x, run.grid.y);
-  std::vector<int> columns, rows;
-  for (int j = b.y0; j < b.y1; ++j)
-    for (int i = b.x0; i < b.x1; ++i) {
-      columns.push_back(i);
-      rows.push_back(j);
-    }
-  map_cell_options cell = run.cell;
-  cell.control = &stop;
-  return map_grid_values(run.grid, columns, rows, cell);
-}
-
-struct tiles_outcome {
-  bool interrupted = false;
-  std::exception_ptr error;  // the first tile that failed (not thrown: MPI must abort the job)
-};
-
-// What the cells of every thread poll inside their steps: a signal (the command line's
-// control), or a tile that failed on another thread. Polled from many threads at once, it
-// only reads flags.
-class cells_stop final : public run_control {
- public:
-  cells_stop(const cli::terminal_run& control, const std::atomic<bool>& failed)
-      : m_control(control), m_failed(failed) {}
-  bool stop_requested() override { return m_failed.load() || m_control.interrupted(); }
-
- private:
-  const cli::terminal_run& m_control;
-  const std::atomic<bool>& m_failed;
-};
-
-// Computes the tiles `queue` hands out on `threads` threads, each written as soon as it is
-// done, until the queue runs dry, a signal asks to stop or a tile fails. A signal abandons
-// the tiles in flight at once (their cells poll it inside their steps): they are not
-// written, and a resumed run computes them. `total`: the tiles the progress bar counts
-// (shown only with `show_progress`).
-tiles_outcome compute_tiles(const map_run& run, tile_queue& queue, int threads,
-                            cli::terminal_run& control, long total, bool show_progress) {
-  std::atomic<bool> stop{false};
-  cells_stop cells(control, stop);
-  std::exception_ptr error;
-#pragma omp parallel num_threads(threads)
-  {
-    bool finished = false;
-    for (int index; !stop.load() && (index = queue.next(finished)) >= 0;) {
-      try {
-        std::vector<double> values = compute_tile(run, index, cells);
-        if (cells.stop_requested()) {  // abandoned part way: not this tile's values
-          stop = true;
-          queue.stop();
-          break;
-        }
-        write_tile(run, index, values);
-      } catch (...) {
-#pragma omp critical(npend_map_error)
-        if (!error) error = std::current_exception();
-        stop = true;
-        queue.stop();
-        break;
-      }
-      finished = true;
-      if (omp_get_thread_num() == 0) {
-        if (show_progress)
-          control.progress(static_cast<double>(queue.finished()), static_cast<double>(total));
-        if (control.stop_requested()) {
-          stop = true;
-          queue.stop();
-        }
-      }
-    }
+// The tiles this run computes; a tile a resumed run finds unsound is computed again, and
+// stderr says why.
+std::vector<int> pending_tiles(const map_job& job) {
+  try {
+    return job.run.pending_tiles(job.o.resume, [](const std::string& problem) {
+      fmt::print(stderr, "npend map: note: {}; computing it again\n", problem);
+    });
+  } catch (const map_tile_error& e) {
+    throw_tile_error(e);
   }
-  control.finish();
-  return {control.interrupted(), error};
 }
 
-int report_interrupted(const map_run& run, int exit_code) {
+// The tiles as atomic output files, not synced: a tile is checked when read back (its size,
+// the run's tag and the checksum), so one that a crash of the machine left incomplete or
+// garbled is found, and the disk takes one fsync at a time, which would make the threads
+// queue for it.
+void write_tile_file(const fs::path& path, std::string_view bytes) {
+  cli::write_file_atomically(path, bytes, cli::durability::cached);
+}
+
+// The tiles `queue` hands out, on `threads` threads (map_run::compute_tiles); the progress
+// bar, shown with `show_progress`, counts `total` tiles.
+map_tiles_outcome compute_tiles(const map_job& job, map_tile_queue& queue, int threads,
+                                cli::terminal_run& control, long total, bool show_progress) {
+  const map_tiles_outcome outcome =
+      job.run.compute_tiles(queue, threads, control, write_tile_file, total, show_progress);
+  control.finish();
+  return outcome;
+}
+
+int report_interrupted(const map_job& job, int exit_code) {
   fmt::print(stderr,
              "npend map: interrupted: {} of {} tiles are in {}; finish with the same command "
              "and --resume\n",
-             tiles_present(run), run.layout.count(), run.tiles().string());
+             job.run.tiles_present(), job.run.layout().count(), job.run.tiles_folder().string());
   return exit_code;
 }
 
-// The heat map. `low`..`high` is the range of the finite values (for flip times dt..t_end, on
-// a log scale). The palette is viridis between two thin bands: white at the top for the cells
-// that never flipped (+inf), red at the bottom for failed cells (NaN). The colour bar runs
-// from `bottom` to `top`, a hair beyond low and high, and those cells are given these ends.
-// (Leaving them undefined needs gnuplot's `image pixels`, whose millions of sub-pixel
-// rectangles wash the colours out.)
 // How a quantity is shown: the plot's title, the colour bar's label and whether its scale is
 // logarithmic (times and the indicators that fall exponentially).
 struct quantity_style {
@@ -735,9 +465,9 @@ struct quantity_style {
   bool logarithmic = false;
 };
 
-quantity_style style_of(const map_command_options& o) {
+quantity_style style_of(const map_command_options& o, map_quantity quantity) {
   const auto over = fmt::format(" over {:g} s; red: failed", o.t_end);
-  switch (parse_map_quantity(o.quantity)) {
+  switch (quantity) {
     case map_quantity::flip:
       return {
           fmt::format("Time to the first flip (s); white: no flip by {:g} s; red: failed", o.t_end),
@@ -763,15 +493,22 @@ quantity_style style_of(const map_command_options& o) {
   return {};
 }
 
+// The heat map. `low`..`high` is the range of the finite values (for flip times dt..t_end, on
+// a log scale). The palette is viridis between two thin bands: white at the top for the cells
+// that never flipped (+inf), red at the bottom for failed cells (NaN). The colour bar runs
+// from `bottom` to `top`, a hair beyond low and high, and those cells are given these ends.
+// (Leaving them undefined needs gnuplot's `image pixels`, whose millions of sub-pixel
+// rectangles wash the colours out.)
 // `mask_header_bytes` > 0: forbidden.npy marks the cells the energy rules out, drawn grey.
 // Without failed cells every NaN is a forbidden one, so the map's NaN are left transparent
 // over a grey plot area; only with failed cells too (red) does forbidden.npy go over the map
-// as a grey layer, whose per-cell `using` expressions took gnuplot 0.9 of the 1.3 s it spent
-// on a 256² map.
-cli::plot_outcome write_png(const fs::path& dir, const map_command_options& o, const axis& ax,
-                            const axis& ay, std::size_t header_bytes, double low, double high,
+// as a grey layer, whose per-cell `using` expressions cost gnuplot most of its time on a
+// large map.
+cli::plot_outcome write_png(const fs::path& dir, const map_command_options& o,
+                            map_quantity quantity, const axis& ax, const axis& ay,
+                            std::size_t header_bytes, double low, double high,
                             std::size_t mask_header_bytes, long failed) {
-  quantity_style style = style_of(o);
+  quantity_style style = style_of(o, quantity);
   if (mask_header_bytes > 0) style.title += "; grey: ruled out by the energy";
   // A 900 x 800 picture shows at most ~1000 cells a side: beyond that gnuplot draws every
   // stride-th cell (a 4096² map drawn whole: gnuplot took over 4.5 minutes and 1.6 GB).
@@ -840,62 +577,46 @@ cli::plot_outcome write_png(const fs::path& dir, const map_command_options& o, c
 // run went (threads, ranks, merged), added to map.json. A signal (`control`) stops it before
 // map.npy and before map.json, keeping the tiles: throws cli::interrupted saying so (the
 // output files' temporaries go as they unwind).
-nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
+nlohmann::json assemble_map(const map_job& job, const nlohmann::json& facts,
                             std::chrono::steady_clock::time_point started,
-                            const cli::terminal_run& control) {
-  const auto stop_if_interrupted = [&] {
-    if (control.interrupted())
-      throw cli::interrupted(
-          fmt::format("interrupted while assembling the map; its tiles stay in {}: npend map "
-                      "merge {} assembles it",
-                      run.tiles().string(), run.o.out),
-          control.exit_code());
+                            cli::terminal_run& control) {
+  const map_run& run = job.run;
+  const auto stopped = [&] {
+    return cli::interrupted(
+        fmt::format("interrupted while assembling the map; its tiles stay in {}: npend map "
+                    "merge {} assembles it",
+                    run.tiles_folder().string(), job.o.out),
+        control.exit_code());
   };
-  const map_command_options& o = run.o;
-  const axis &ax = run.grid.x, &ay = run.grid.y;
-  // Row-major, row 0 = the first y value.
-  std::vector<double> grid(static_cast<std::size_t>(ax.count) * static_cast<std::size_t>(ay.count));
-  const auto cell = [&](int i, int j) -> double& {
-    return grid[static_cast<std::size_t>(j) * static_cast<std::size_t>(ax.count) +
-                static_cast<std::size_t>(i)];
-  };
-  for (int t = 0; t < run.layout.count(); ++t) {
-    stop_if_interrupted();
-    const std::vector<double> values = read_tile(run, t);
-    const tile_bounds b = run.layout.bounds(t, ax, ay);
-    std::size_t k = 0;
-    for (int j = b.y0; j < b.y1; ++j)
-      for (int i = b.x0; i < b.x1; ++i) cell(i, j) = values[k++];
+  const map_command_options& o = job.o;
+  const map_quantity quantity = run.cell().quantity;
+  const axis &ax = run.grid().x, &ay = run.grid().y;
+  std::optional<std::vector<double>> assembled;
+  try {
+    assembled = run.assemble(&control);
+  } catch (const map_tile_error& e) {
+    throw_tile_error(e);
   }
-  stop_if_interrupted();
+  if (!assembled) throw stopped();
+  const std::vector<double>& grid = *assembled;  // row-major, row 0 = the first y value
   // The result files all or none (the tiles stay for --resume until they are in place).
   cli::output_batch batch;
   const std::string header = npy_header(ay.count, ax.count);
-  cli::write_file_atomically(run.dir / "map.npy", header + bytes_of(grid));
+  cli::write_file_atomically(run.folder() / "map.npy", header + bytes_of(grid));
   const bool small = static_cast<long>(ax.count) * ay.count <= max_csv_cells;
   // NaN: ruled out by the energy (not integrated) or failed; +inf: no flip by t_end.
-  long never = 0, failed = 0, forbidden = 0;
-  std::string mask(grid.size(), '\0');
-  for (int j = 0; j < ay.count; ++j)
-    for (int i = 0; i < ax.count; ++i) {
-      const double v = cell(i, j);
-      if (std::isinf(v)) ++never;
-      if (!std::isnan(v)) continue;
-      if (map_cell_forbidden(run.grid, i, j, run.cell)) {
-        ++forbidden;
-        mask[static_cast<std::size_t>(j) * static_cast<std::size_t>(ax.count) +
-             static_cast<std::size_t>(i)] = 1;
-      } else {
-        ++failed;
-      }
-    }
+  const map_cell_counts counts = run.count_cells(grid);
+  const long forbidden = counts.forbidden, failed = counts.failed;
   const std::string mask_header = forbidden > 0 ? npy_header(ay.count, ax.count, "|u1") : "";
-  if (forbidden > 0) cli::write_file_atomically(run.dir / "forbidden.npy", mask_header + mask);
+  if (forbidden > 0)
+    cli::write_file_atomically(
+        run.folder() / "forbidden.npy",
+        mask_header + std::string(counts.forbidden_mask.begin(), counts.forbidden_mask.end()));
   double low = std::numeric_limits<double>::infinity(), high = -low;
   for (const double v : grid)
     if (std::isfinite(v)) low = std::min(low, v), high = std::max(high, v);
-  const bool indicator_to_zero = o.quantity == "sali" || o.quantity == "gali";
-  if (o.quantity == "flip") {  // dt..t_end on a log scale (a decade when t_end is one step)
+  const bool indicator_to_zero = quantity == map_quantity::sali || quantity == map_quantity::gali;
+  if (quantity == map_quantity::flip) {  // dt..t_end on a log scale (a decade when t_end is one step)
     low = o.dt;
     high = o.t_end > o.dt ? o.t_end : 10 * o.dt;
   } else if (indicator_to_zero) {  // a log scale: from 1e-16 (or the least value) up
@@ -905,13 +626,14 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
     low = std::isfinite(low) ? low - 1 : 0;
     high = low + 2;
   }
-  // gnuplot draws from map.npy and forbidden.npy while this thread writes the rest: gnuplot
-  // takes about 0.1 s, a part of a short map's wall time that no thread count shortens.
+  // gnuplot draws from map.npy and forbidden.npy while this thread writes the rest, so that
+  // its time overlaps the CSV's and the summary's.
   std::future<cli::plot_outcome> plot = std::async(std::launch::async, [&] {
-    return write_png(run.dir, o, ax, ay, header.size(), low, high, mask_header.size(), failed);
+    return write_png(run.folder(), o, quantity, ax, ay, header.size(), low, high,
+                     mask_header.size(), failed);
   });
-  if (small) write_csv(run.dir / "map.csv", ax, ay, grid);
-  nlohmann::json summary = run.identity;
+  if (small) write_csv(run.folder() / "map.csv", ax, ay, grid);
+  nlohmann::json summary = nlohmann::json::parse(run.identity());
   summary.update(facts);
   summary["x"] = {{"name", ax.name}, {"from", ax.from}, {"to", ax.to}, {"count", ax.count}};
   summary["y"] = {{"name", ay.name}, {"from", ay.from}, {"to", ay.to}, {"count", ay.count}};
@@ -919,54 +641,57 @@ nlohmann::json assemble_map(const map_run& run, const nlohmann::json& facts,
   summary["integrated"] = ax.count * ay.count - forbidden;
   summary["forbidden"] = forbidden;
   summary["failed"] = failed;
-  if (o.quantity == "flip") summary["no_flip"] = never;
+  if (quantity == map_quantity::flip) summary["no_flip"] = counts.no_flip;
   // The batch lanes the cells ran on (0: cell by cell), and the ISA they were built for.
-  summary["batch"] = {{"isa", batch_isa()}, {"lanes", batch_lanes(run.c)}};
-  summary["stepper"] = stepper_name(run.cell.stepping.stepper);
+  summary["batch"] = {{"isa", batch_isa()}, {"lanes", batch_lanes(run.base_chain())}};
+  summary["stepper"] = stepper_name(run.cell().stepping.stepper);
   summary["resumed"] = o.resume;
   summary["files"] = {"map.npy", "map.json", "map.gp", "map.png"};
   if (small) summary["files"].push_back("map.csv");
   if (forbidden > 0) summary["files"].push_back("forbidden.npy");
   std::error_code ec;
-  if (forbidden == 0) fs::remove(run.dir / "forbidden.npy", ec);  // an earlier map's
+  if (forbidden == 0) fs::remove(run.folder() / "forbidden.npy", ec);  // an earlier map's
   const cli::plot_outcome drawn = plot.get();
   if (!drawn.rendered) fmt::print(stderr, "npend map: note: {}\n", drawn.message);
   summary["wall_seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  stop_if_interrupted();
-  cli::write_file_atomically(run.dir / "map.json", summary.dump(2) + "\n");
+  if (control.interrupted()) throw stopped();
+  cli::write_file_atomically(run.folder() / "map.json", summary.dump(2) + "\n");
   batch.commit_all();
-  remove_own_tiles(run);
+  run.remove_own_tiles();
   return summary;
 }
 
 // `how`: where the map was computed ("on 8 threads"), for the line on stdout.
-void print_map_summary(const map_run& run, const nlohmann::json& summary, const std::string& how) {
-  if (run.o.json) {
+void print_map_summary(const map_job& job, const nlohmann::json& summary, const std::string& how) {
+  const map_run& run = job.run;
+  if (job.o.json) {
     std::cout << summary.dump(2) << "\n";
     return;
   }
-  fmt::print("{} map of {} x {} cells ({} x {}) in {:.1f} s {}: {}\n", run.o.quantity, run.grid.x.count,
-             run.grid.y.count, run.grid.x.name, run.grid.y.name, summary["wall_seconds"].get<double>(), how,
-             (run.dir / "map.npy").string());
+  fmt::print("{} map of {} x {} cells ({} x {}) in {:.1f} s {}: {}\n",
+             map_quantity_name(run.cell().quantity), run.grid().x.count, run.grid().y.count,
+             run.grid().x.name, run.grid().y.name, summary["wall_seconds"].get<double>(), how,
+             (run.folder() / "map.npy").string());
   if (summary["forbidden"].get<long>() > 0)
     fmt::print("{} cells ruled out by their energy, not integrated (NaN; forbidden.npy)\n",
                summary["forbidden"].get<long>());
-  if (run.o.quantity == "flip")
-    fmt::print("no flip by t = {:g} s: {} cells (+inf)\n", run.o.t_end,
+  if (run.cell().quantity == map_quantity::flip)
+    fmt::print("no flip by t = {:g} s: {} cells (+inf)\n", job.o.t_end,
                summary["no_flip"].get<long>());
   if (summary["failed"].get<long>() > 0)
     fmt::print("{} cells failed to integrate (NaN)\n", summary["failed"].get<long>());
 }
 
 // A part of a job array assembles nothing: it says what it did and how to merge.
-void print_part_summary(const map_run& run, long computed, double seconds) {
-  const long present = tiles_present(run);
-  if (run.o.json) {
-    const nlohmann::json summary = {{"part", run.o.part},
+void print_part_summary(const map_job& job, long computed, double seconds) {
+  const long present = job.run.tiles_present();
+  const int tiles = job.run.layout().count();
+  if (job.o.json) {
+    const nlohmann::json summary = {{"part", job.o.part},
                                     {"tiles_computed", computed},
                                     {"tiles_present", present},
-                                    {"tiles", run.layout.count()},
+                                    {"tiles", tiles},
                                     {"wall_seconds", seconds}};
     std::cout << summary.dump(2) << "\n";
     return;
@@ -974,20 +699,20 @@ void print_part_summary(const map_run& run, long computed, double seconds) {
   fmt::print(
       "part {} of the map: {} tiles in {:.1f} s; {} of {} tiles are in {}; when every part is "
       "done: npend map merge {}\n",
-      run.o.part, computed, seconds, present, run.layout.count(), run.tiles().string(), run.o.out);
+      job.o.part, computed, seconds, present, tiles, job.run.tiles_folder().string(), job.o.out);
 }
 
 // After the tiles: a part stops here, a whole run assembles the map.
-int finish_map(const map_run& run, long computed, const nlohmann::json& facts,
+int finish_map(const map_job& job, long computed, const nlohmann::json& facts,
                const std::string& how, std::chrono::steady_clock::time_point started,
-               const cli::terminal_run& control) {
-  if (run.parted()) {
+               cli::terminal_run& control) {
+  if (job.parted()) {
     print_part_summary(
-        run, computed,
+        job, computed,
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     return 0;
   }
-  print_map_summary(run, assemble_map(run, facts, started, control), how);
+  print_map_summary(job, assemble_map(job, facts, started, control), how);
   return 0;
 }
 
@@ -998,17 +723,17 @@ int thread_count(const map_command_options& o) {
 // One process: its threads take the tiles from a shared counter.
 int run_map(const map_command_options& o) {
   const auto started = std::chrono::steady_clock::now();
-  const map_run run = prepare_run(o);
-  prepare_folder(run);
+  const map_job job = prepare_run(o);
+  prepare_folder(job);
   const int threads = thread_count(o);
-  const std::vector<int> pending = pending_tiles(run);
+  const std::vector<int> pending = pending_tiles(job);
   const long total = static_cast<long>(pending.size());
-  local_tile_queue queue(pending);
+  local_map_tile_queue queue(pending);
   cli::terminal_run control;
-  const tiles_outcome outcome = compute_tiles(run, queue, threads, control, total, true);
+  const map_tiles_outcome outcome = compute_tiles(job, queue, threads, control, total, true);
   if (outcome.error) std::rethrow_exception(outcome.error);
-  if (outcome.interrupted) return report_interrupted(run, control.exit_code());
-  return finish_map(run, total, {{"threads", threads}}, fmt::format("on {} threads", threads),
+  if (outcome.stopped) return report_interrupted(job, control.exit_code());
+  return finish_map(job, total, {{"threads", threads}}, fmt::format("on {} threads", threads),
                     started, control);
 }
 
@@ -1022,35 +747,33 @@ int run_merge(const std::string& folder, bool json) {
   if (!fs::exists(file))
     throw cli::input_error(
         fmt::format("merge: {} holds no map's tiles (no {})", folder, file.string()));
-  const nlohmann::json record = read_run_file(file, "merge");
+  const map_run_record record = read_run_file(file, "merge");
   map_command_options o;
   try {
-    o = options_from_record(record["options"]);
+    o = options_from_record(nlohmann::json::parse(record.options));
   } catch (const nlohmann::json::exception&) {
     throw cli::input_error(fmt::format("merge: {} is not readable", file.string()));
   }
   o.out = folder;
   o.json = json;
-  const map_run run = prepare_run(o);
-  if (run.identity != record["identity"])
+  const map_job job = prepare_run(o);
+  if (!job.run.same_map(record))
     throw cli::input_error(fmt::format(
         "merge: {} does not describe the map its options give (written by another npend?)",
         file.string()));
-  std::vector<std::string> missing;
-  for (int t = 0; t < run.layout.count(); ++t)
-    if (!fs::exists(run.tile_path(t))) missing.push_back(run.tile_path(t).filename().string());
+  const std::vector<int> missing = job.run.missing_tiles();
   if (!missing.empty()) {
     constexpr std::size_t shown = 8;
     std::string names;
     for (std::size_t k = 0; k < std::min(shown, missing.size()); ++k)
-      names += (k > 0 ? ", " : "") + missing[k];
+      names += (k > 0 ? ", " : "") + job.run.tile_path(missing[k]).filename().string();
     if (missing.size() > shown) names += ", ...";
     throw cli::input_error(fmt::format(
         "merge: {} of {} tiles are missing from {}: {} (run the parts that compute them, with "
         "--resume to keep the tiles that are there)",
-        missing.size(), run.layout.count(), run.tiles().string(), names));
+        missing.size(), job.run.layout().count(), job.run.tiles_folder().string(), names));
   }
-  return finish_map(run, 0, {{"merged", true}}, "by merging its tiles", started, control);
+  return finish_map(job, 0, {{"merged", true}}, "by merging its tiles", started, control);
 }
 
 #ifdef NPEND_WITH_MPI
@@ -1069,10 +792,10 @@ int run_merge(const std::string& folder, bool json) {
 // is found by every rank alike and reported by rank 0 only.
 int run_map_on_ranks(const map_command_options& o, mpi::session& mpi) {
   const auto started = std::chrono::steady_clock::now();
-  const map_run run = prepare_run(o);
+  const map_job job = prepare_run(o);
   if (mpi.rank() == 0) {
     try {
-      prepare_folder(run);
+      prepare_folder(job);
     } catch (const cli::input_error&) {
       mpi.broadcast(2);
       throw;
@@ -1085,32 +808,32 @@ int run_map_on_ranks(const map_command_options& o, mpi::session& mpi) {
   const int threads = thread_count(o);
   cli::terminal_run control;
   long total = 0;
-  tiles_outcome outcome;
+  map_tiles_outcome outcome;
   std::vector<long> tiles_per_rank;
   if (mpi.rank() == 0) {
-    const std::vector<int> pending = pending_tiles(run);
+    const std::vector<int> pending = pending_tiles(job);
     total = static_cast<long>(pending.size());
-    local_tile_queue tiles(pending);
+    local_map_tile_queue tiles(pending);
     mpi::tile_coordinator queue(tiles, mpi);
-    outcome = compute_tiles(run, queue, threads, control, total, true);
+    outcome = compute_tiles(job, queue, threads, control, total, true);
     if (outcome.error) abort_job(mpi, outcome.error);
     queue.wait_for_ranks();
     tiles_per_rank = queue.tiles_per_rank();
   } else {
     mpi::tile_worker queue;
-    outcome = compute_tiles(run, queue, threads, control, 0, false);
+    outcome = compute_tiles(job, queue, threads, control, 0, false);
     if (outcome.error) abort_job(mpi, outcome.error);
     queue.done();
   }
-  const int exit_code = mpi.max(outcome.interrupted ? control.exit_code() : 0);
+  const int exit_code = mpi.max(outcome.stopped ? control.exit_code() : 0);
   if (mpi.rank() != 0) return exit_code;
-  if (exit_code != 0) return report_interrupted(run, exit_code);
-  // The ranks need each other no more. MPI_Finalize waits some 45 ms for mpirun (measured
-  // with Open MPI 4.1 on one machine); rank 0 assembles the map meanwhile. (MPI_Finalize
-  // must be called by the thread that initialised MPI, so the map goes to another thread.)
+  if (exit_code != 0) return report_interrupted(job, exit_code);
+  // The ranks need each other no more. MPI_Finalize waits for mpirun, which takes a while;
+  // rank 0 assembles the map meanwhile. (MPI_Finalize must be called by the thread that
+  // initialised MPI, so the map goes to another thread.)
   std::future<int> finished = std::async(std::launch::async, [&] {
     return finish_map(
-        run, total,
+        job, total,
         {{"threads", threads}, {"ranks", mpi.size()}, {"tiles_per_rank", tiles_per_rank}},
         fmt::format("on {} ranks x {} threads", mpi.size(), threads), started, control);
   });

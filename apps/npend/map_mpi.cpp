@@ -79,7 +79,7 @@ void session::abort(const std::string& what, int exit_code) const {
   std::abort();  // MPI_Abort does not return; this tells the compiler so
 }
 
-tile_coordinator::tile_coordinator(tile_queue& tiles, const session& mpi)
+tile_coordinator::tile_coordinator(map_tile_queue& tiles, const session& mpi)
     : m_tiles(tiles),
       m_ranks(mpi.size()),
       m_handed(static_cast<std::size_t>(mpi.size()), 0),

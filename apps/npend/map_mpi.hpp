@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "map_tile_queue.hpp"
+#include "npend/analysis/chaos/map_tile_queue.hpp"
 
 namespace npend::app::mpi {
 
@@ -52,9 +52,9 @@ class session {
 /// Rank 0's queue: its own threads take tiles from `tiles` directly, and a server thread
 /// answers the other ranks' requests from the same queue, so that whoever is free next gets
 /// the next tile (dynamic load balancing: chaotic cells cost far more than regular ones).
-class tile_coordinator final : public tile_queue {
+class tile_coordinator final : public map_tile_queue {
  public:
-  tile_coordinator(tile_queue& tiles, const session& mpi);
+  tile_coordinator(map_tile_queue& tiles, const session& mpi);
   /// Waits for the server thread (call wait_for_ranks first on every normal path).
   ~tile_coordinator() override;
 
@@ -69,7 +69,7 @@ class tile_coordinator final : public tile_queue {
  private:
   void serve();
 
-  tile_queue& m_tiles;
+  map_tile_queue& m_tiles;
   int m_ranks;
   std::atomic<long> m_own{0};  // rank 0's threads
   std::vector<long> m_handed;  // the other ranks, counted by the server thread
@@ -78,11 +78,11 @@ class tile_coordinator final : public tile_queue {
 
 /// A rank > 0's queue: tiles come from rank 0, `ahead` requests in flight. Each tile handed
 /// out is replaced by a new request at once, so that answers are there when a thread wants
-/// one: rank 0's server thread answers within its 2 ms poll and once it gets a core, and
-/// with one request ahead a rank waited 1.8 ms a tile on average (measured on a 512^2 flip
-/// map, where many tiles take less). A rank keeps at most `ahead` tiles beyond the ones it
-/// computes.
-class tile_worker final : public tile_queue {
+/// one: rank 0's server thread answers only within its 2 ms poll and once it gets a core,
+/// which is as long as many a tile of a flip map takes to compute, so with a single request
+/// ahead a rank's threads would spend much of their time waiting. A rank keeps at most
+/// `ahead` tiles beyond the ones it computes.
+class tile_worker final : public map_tile_queue {
  public:
   tile_worker();
   ~tile_worker() override;

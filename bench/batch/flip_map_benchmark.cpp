@@ -79,9 +79,9 @@ std::vector<double> start_of(const settings& s, int i, int j) {
           0, 0};
 }
 
-// The baseline: npend::integrate per cell (rk4 at dt), an observer stopping the run at
-// the first grid point where an arm is upright; the cells the energy rules out are skipped,
-// as the other two runs skip them.
+// The baseline a user without the map's cell functions would write: npend::integrate per
+// cell (rk4 at dt), an observer stopping the run at the first grid point where an arm is
+// upright; the cells the energy rules out are skipped, as the other two runs skip them.
 std::vector<double> integrate_map(const npend::chain& c, const settings& s,
                                   const npend::flip_options& o) {
   std::vector<double> map;

@@ -2,7 +2,6 @@
 // npend.embed, npend.choose_delay), stability (npend.equilibria, npend.modes) and chaos maps
 // (npend.map, npend.map_cells).
 #include <fmt/format.h>
-#include <omp.h>
 #include <pybind11/complex.h>
 #include <pybind11/stl.h>
 
@@ -13,6 +12,7 @@
 #include "npend/analysis/series/autocorrelation.hpp"
 #include "npend/analysis/chaos/chaos_map.hpp"
 #include "npend/analysis/chaos/map_grid.hpp"
+#include "npend/analysis/chaos/map_run.hpp"
 #include "npend/analysis/series/delay_embedding.hpp"
 #include "npend/analysis/stability/equilibria.hpp"
 #include "npend/analysis/stability/normal_modes.hpp"
@@ -123,77 +123,13 @@ py::dict modes(const chain& c, const py::object& angles_in) {
   return d;
 }
 
-// `total` values over `threads` OpenMP threads (0: all cores), computed `chunk` at a time by
-// compute(first, count) (a chunk's cells go to the library together, so that they fill
-// the batch kernels' lanes); each cell's value depends on its start alone, so the result does
-// not depend on the thread count. Threads other than the caller's only read the interrupt
-// flag; the caller's thread polls Python's signal handlers.
-template <class Compute>
-std::vector<double> values_in_parallel(std::size_t total, std::size_t chunk, int team,
-                                       python_interrupt& interrupt, const Compute& compute) {
-  std::vector<double> out(total, std::numeric_limits<double>::quiet_NaN());
-  const auto chunks = static_cast<long>((total + chunk - 1) / chunk);
-  py::gil_scoped_release no_gil;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(team)
-  for (long k = 0; k < chunks; ++k) {
-    if (interrupt.stop_requested()) continue;
-    const std::size_t first = static_cast<std::size_t>(k) * chunk;
-    const std::vector<double> values = compute(first, std::min(chunk, total - first));
-    std::copy(values.begin(), values.end(), out.begin() + static_cast<long>(first));
-  }
-  return out;
-}
-
-// The OpenMP team for `threads` (0: every core); ValueError naming threads outside
-// 0..spec::max_threads(), checked before any thread starts.
-int team_size(int threads) {
-  spec::check_thread_count(threads, "threads");
-  return threads > 0 ? threads : omp_get_max_threads();
-}
-
-std::vector<double> cells_in_parallel(const chain& c, const state_batch& starts,
-                                      const map_cell_options& o, int threads,
-                                      python_interrupt& interrupt) {
-  const int team = team_size(threads);
-  // Enough chunks to balance the threads, each enough cells to keep the lanes full (up to
-  // 256, the cells of one of npend map's default tiles).
-  const std::size_t chunk =
-      std::clamp<std::size_t>(starts.count / (4 * static_cast<std::size_t>(team)), 8, 256);
-  return values_in_parallel(starts.count, chunk, team, interrupt,
-                            [&](std::size_t first, std::size_t count) {
-                              return map_cells(c, {starts.row(first), count * starts.width}, o);
-                            });
-}
-
-// The map's stepping: rk4, or dopri5 under the tolerances (checked by map_cell_options).
-map_stepping stepping_of(const std::string& stepper, double abs_tol, double rel_tol) {
-  map_stepping s;
-  try {
-    s.stepper = parse_stepper_kind(stepper);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(fmt::format("stepper: {}", e.what()));
-  }
-  s.abs_tol = abs_tol;
-  s.rel_tol = rel_tol;
-  return s;
-}
-
-map_cell_options cell_options(const chain& c, const std::string& quantity, double t_end,
-                              double dt, int flip_link, int gali_order,
-                              const std::string& component, const map_stepping& stepping) {
-  map_cell_options o;
-  o.stepping = stepping;
-  o.gali_order = gali_order;
-  o.quantity = parse_map_quantity(quantity);
-  o.t_end = t_end;
-  o.dt = dt;
-  o.flip_link = flip_link;
+// A state map's coordinate: phi1..phin or p1..pn.
+void set_component(map_cell_options& o, const chain& c, const std::string& component) {
   if (o.quantity == map_quantity::state)
     o.component = static_cast<int>(spec::parse_coordinate(component, c.links(), "component"));
-  return o;
 }
 
-// Cells run on threads, where no exception may leave: every start must be finite.
+// Every start must be finite (the library's message would name its own argument).
 void check_finite(const state_batch& b) {
   for (std::size_t i = 0; i < b.count * b.width; ++i)
     if (!std::isfinite(b.array.data()[i]))
@@ -206,12 +142,18 @@ py::array_t<double> map_cells(const chain& c, const py::handle& x, const std::st
                               const std::string& component, const std::string& stepper,
                               double abs_tol, double rel_tol, int threads) {
   const state_batch b = to_states(x, c.state_size(), "x");
-  const auto o = cell_options(c, quantity, t_end, dt, flip_link, gali_order, component,
-                              stepping_of(stepper, abs_tol, rel_tol));
+  map_cell_options o =
+      make_map_cell_options(quantity, t_end, dt, flip_link, gali_order, stepper, abs_tol, rel_tol);
+  set_component(o, c, component);
   o.validate(c);
   check_finite(b);
+  spec::check_thread_count(threads, "threads");
   python_interrupt interrupt;
-  auto values = cells_in_parallel(c, b, o, threads, interrupt);
+  std::vector<double> values;
+  {
+    py::gil_scoped_release no_gil;
+    values = map_cell_values(c, {b.row(0), b.count * b.width}, o, threads, &interrupt);
+  }
   interrupt.raise_if_interrupted();
   std::vector<py::ssize_t> shape;
   if (!b.single) shape.push_back(static_cast<py::ssize_t>(b.count));
@@ -228,20 +170,6 @@ map_axis axis_from(const py::tuple& spec, int links, const char* what) {
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("{}: {}", what, e.what()));
   }
-}
-
-// The grid's cells row by row (the cells of one chain together, as npend map's tiles).
-std::vector<double> grid_in_parallel(const map_grid& grid, const map_cell_options& o, int threads,
-                                     python_interrupt& interrupt) {
-  const auto cols = static_cast<std::size_t>(grid.x.count);
-  return values_in_parallel(cols * static_cast<std::size_t>(grid.y.count), cols,
-                            team_size(threads), interrupt, [&](std::size_t first, std::size_t) {
-                              const int row = static_cast<int>(first / cols);
-                              std::vector<int> columns(cols), rows(cols, row);
-                              for (std::size_t i = 0; i < cols; ++i)
-                                columns[i] = static_cast<int>(i);
-                              return map_grid_values(grid, columns, rows, o);
-                            });
 }
 
 py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
@@ -266,11 +194,17 @@ py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple
     grid.momenta = to_vector(velocities, n, "velocities");
     grid.velocities = true;
   }
-  const auto o = cell_options(c, quantity, t_end, dt, flip_link, gali_order, component,
-                              stepping_of(stepper, abs_tol, rel_tol));
+  map_cell_options o =
+      make_map_cell_options(quantity, t_end, dt, flip_link, gali_order, stepper, abs_tol, rel_tol);
+  set_component(o, c, component);
   grid.validate(o);
+  spec::check_thread_count(threads, "threads");
   python_interrupt interrupt;
-  auto values = grid_in_parallel(grid, o, threads, interrupt);
+  std::vector<double> values;
+  {
+    py::gil_scoped_release no_gil;
+    values = map_values(grid, o, threads, &interrupt);
+  }
   interrupt.raise_if_interrupted();
   return to_numpy(std::move(values),
                   {static_cast<py::ssize_t>(grid.y.count), static_cast<py::ssize_t>(grid.x.count)});

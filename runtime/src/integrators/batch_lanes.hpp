@@ -23,9 +23,9 @@ namespace npend::detail {
 const batch_kernels* lane_kernels(const chain& c);
 
 // Blocks of batch_width lanes stepped at once, in one call of the kernels. One block's rhs
-// is a short chain of dependent operations (a sincos, then a division); independent blocks
-// let the processor overlap them: 1.2x the steps per second of one block, measured on a
-// 128^2 flip map with AVX-512 (before the kernels took the blocks' sines first).
+// is a short chain of dependent operations (a sincos, then a division), whose latency a
+// single block leaves the processor waiting out; independent blocks let it overlap them
+// (bench/batch/flip_map_benchmark.cpp measures what they gain on a machine).
 constexpr int lane_blocks = batch_blocks;
 
 // What the lanes integrate, one block of W lanes at a time (W = batch_width): the chain's

@@ -112,7 +112,19 @@ void apply_coordinate(std::vector<double>& phi, std::vector<double>& second, con
     second[slot(a.link)] = v;
 }
 
-// The cell's start [φ, p] on chain c, its momenta scaled to the energy E of an energy axis.
+// What cell (i, j) — column i of x, row j of y — starts from.
+struct map_start {
+  chain_parameters parameters;
+  std::vector<double> state;  // [φ, p] (2n)
+  // False where an energy axis asks for less than the potential energy of the cell's angles:
+  // no start has that energy, and the cell is not integrated.
+  bool reachable = true;
+};
+
+// The cell's start [φ, p] on chain c (the cell's, from cell_parameters: uniform rods stay
+// uniform rods when a mass or length axis changes them). An energy axis scales the momenta
+// the other settings give (the direction p ∝ (l_1, …, l_n), a push on the hanging chain's
+// lowest bob, where those are all 0) so that H = E.
 map_start start_on(const chain& c, const map_grid& grid, int i, int j) {
   const auto n = static_cast<std::size_t>(c.links());
   std::vector<double> phi = grid.angles, second = grid.momenta;
@@ -245,10 +257,6 @@ void map_grid::validate(const map_cell_options& options) const {
   options.validate(chain(parameters));
   check_axis_chain(*this, x, options);
   check_axis_chain(*this, y, options);
-}
-
-map_start map_cell_start(const map_grid& grid, int i, int j) {
-  return start_on(chain(cell_parameters(grid, i, j)), grid, i, j);
 }
 
 bool map_cell_forbidden(const map_grid& grid, int i, int j, const map_cell_options& options) {

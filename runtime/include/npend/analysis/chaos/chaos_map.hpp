@@ -1,7 +1,6 @@
 // The per-cell quantities of a chaos map (npend map): the time to the first flip of an arm
 // (J. Heyl, "The double pendulum fractal", 2008) and the maximal Lyapunov exponent, for one
-// start state each. The grid, its tiles, threads and files are the command's
-// (apps/npend/map_command.cpp).
+// start state each. The grid is map_grid.hpp's; its tiles, threads and files map_run.hpp's.
 #pragma once
 
 #include <span>

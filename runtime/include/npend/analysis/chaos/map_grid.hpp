@@ -1,6 +1,6 @@
 // The grid of a chaos map (npend map, npend.map): two axes over start coordinates, start
 // velocities, the energy or the chain's parameters, and what each cell starts from. The
-// per-cell quantities are chaos_map.hpp's; the tiles, threads and files are the command's.
+// per-cell quantities are chaos_map.hpp's; the tiles, threads and files are map_run.hpp's.
 #pragma once
 
 #include <span>
@@ -65,21 +65,6 @@ struct map_grid {
   void validate(const map_cell_options& options) const;
 };
 
-/// What cell (i, j) — column i of x, row j of y — starts from.
-struct map_start {
-  chain_parameters parameters;
-  std::vector<double> state;  ///< [φ, p] (2n)
-  /// False where an energy axis asks for less than the potential energy of the cell's angles:
-  /// no start has that energy, and the cell is not integrated.
-  bool reachable = true;
-};
-
-/// The start of cell (i, j). An energy axis scales the momenta the other settings give (the
-/// direction p ∝ (l_1, …, l_n), a push on the hanging chain's lowest bob, where those are
-/// all 0) so that H = E. Uniform rods (c = l/2, J = m l²/12) stay uniform rods when a mass
-/// or length axis changes them.
-map_start map_cell_start(const map_grid& grid, int i, int j);
-
 /// The map's value at cell (i, j) for each (i, j) in `cells`, as map_cells computes them
 /// (cells with the same chain together, so that they run on the batch lanes together);
 /// NaN where the energy rules the cell out (map_cell_forbidden) or the integration fails,
@@ -89,7 +74,8 @@ std::vector<double> map_grid_values(const map_grid& grid, std::span<const int> c
                                     std::span<const int> cells_j, const map_cell_options& options);
 
 /// Whether the energy rules cell (i, j) out without integrating: no start of its energy
-/// (map_start::reachable) or, for a flip map, too little energy to flip (energy_forbids_flip).
+/// (an energy axis asking for less than the potential energy of the cell's angles) or, for a
+/// flip map, too little energy to flip (energy_forbids_flip).
 bool map_cell_forbidden(const map_grid& grid, int i, int j, const map_cell_options& options);
 
 }  // namespace npend
