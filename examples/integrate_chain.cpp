@@ -7,20 +7,19 @@
 // `plot 'trajectory.csv' using 1:4 with lines`), and on stderr the largest relative energy
 // error. Exits 1 if that error exceeds 1e-9: a symplectic method at this step keeps the
 // energy to round-off plus a bounded O(dt^6) oscillation.
-#include <npend/chain.hpp>
-#include <npend/integrators/integrate.hpp>
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <npend/chain.hpp>
+#include <npend/integrators/integrate.hpp>
 #include <string>
 #include <vector>
 
 int main(int argc, char** argv) try {
-  const npend::chain c(npend::chain_parameters::uniform(3));  // m = 1 kg, l = 1 m, g = 9.81
+  const npend::chain c(npend::chain_parameters::uniform(3));    // m = 1 kg, l = 1 m, g = 9.81
   const std::vector<double> x0{1.2, -0.6, 0.9, 0.0, 0.0, 0.0};  // [phi_1..3, p_1..3]
 
   npend::integration_options o;  // gauss6

@@ -5,14 +5,13 @@
 //
 // writes t, phi_2, p_2 of each crossing as CSV; exits 1 unless every crossing lies on the
 // section (|phi_1| below 1e-12 after wrapping) and keeps the start's energy to 1e-9.
-#include <npend/analysis/chaos/poincare_section.hpp>
-#include <npend/chain.hpp>
-
 #include <fmt/format.h>
 
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <npend/analysis/chaos/poincare_section.hpp>
+#include <npend/chain.hpp>
 #include <numbers>
 #include <string>
 #include <vector>

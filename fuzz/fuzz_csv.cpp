@@ -1,14 +1,14 @@
 // libFuzzer target: users' time-series CSV files, from text to the signals the analyses
 // read. Any text is either accepted as uniformly sampled data whose chosen signals are finite,
 // or refused with cli::input_error.
-#include "csv_table.hpp"
-#include "input_parsing.hpp"
-#include "time_series_source.hpp"
-
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <string_view>
+
+#include "csv_table.hpp"
+#include "input_parsing.hpp"
+#include "time_series_source.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

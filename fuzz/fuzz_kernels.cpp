@@ -2,16 +2,16 @@
 // (angles up to 1e6 rad, momenta up to 1e100) and parameters from 1e-3 to 1e3. The kernels
 // must return finite numbers there; an integration must either finish with a finite state
 // or stop with a clear error — never crash, hang, or return NaN silently.
-#include "npend/chain.hpp"
-#include "npend/integrators/integrate.hpp"
-#include "npend/integrators/integration_error.hpp"
-
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
+
+#include "npend/chain.hpp"
+#include "npend/integrators/integrate.hpp"
+#include "npend/integrators/integration_error.hpp"
 
 namespace {
 

@@ -1,11 +1,11 @@
 // libFuzzer target: the strict number-list parser behind every numeric command-line option.
 // Any text either parses into finite numbers or is refused with cli::input_error.
-#include "input_parsing.hpp"
-
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <string_view>
+
+#include "input_parsing.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -1,13 +1,13 @@
 // libFuzzer target: section and event specifications (`phi3=0`, `phi2=phi3`), coordinate
 // names, projections and directions as users type them. Any text is either understood as a
 // valid plane of a chain of 1..6 links or refused with cli::input_error.
-#include "input_parsing.hpp"
-#include "section_spec.hpp"
-
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <string_view>
+
+#include "input_parsing.hpp"
+#include "section_spec.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;

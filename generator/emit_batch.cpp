@@ -153,8 +153,7 @@ class lane_printer {
         p = {lane("c", trig_angle(m_g, nd)), atom};
         break;
     }
-    if (!is_leaf(id) &&
-        (temporary || m_uses[u(id)] > 1 || p.text.size() > max_inline_length)) {
+    if (!is_leaf(id) && (temporary || m_uses[u(id)] > 1 || p.text.size() > max_inline_length)) {
       const std::string name = fmt::format("t{}", m_temporaries++);
       text += fmt::format("    const double {} = {};\n", name, p.text);
       p = {name, atom};
@@ -339,8 +338,7 @@ std::string tangents_body(int n, const emitted_function& rhs) {
       "    }}\n",
       d, reindent(lane_loop(tangents), 2));
   return block_kernel(n, prelude, "x += stride, ws += stride, dxdt += stride, dws += stride",
-                      slots.size(),
-                      lane_loop(values + stores) + per_vector);
+                      slots.size(), lane_loop(values + stores) + per_vector);
 }
 
 const char* batch_signature =
@@ -401,16 +399,16 @@ chain_sources emit_batch(int n, const emitted_function& rhs) {
   out.source = banner + fmt::format("#include \"{}.hpp\"\n\n", stem) +
                fmt::format("namespace npend::generated::{} {{\n\n", stem);
   const lane_program plain = lane_body(n, *rhs.graph, rhs.outputs);
-  out.source += fmt::format("{} {{\n", batch_signature) +
-                block_kernel(n, plain.prelude, "x += stride, dxdt += stride", 0,
-                             lane_loop(plain.body)) +
-                "}\n";
+  out.source +=
+      fmt::format("{} {{\n", batch_signature) +
+      block_kernel(n, plain.prelude, "x += stride, dxdt += stride", 0, lane_loop(plain.body)) +
+      "}\n";
   const lane_program tangent = tangent_lane_body(n, rhs);
-  out.source += fmt::format("\n{} {{\n", tangent_signature) +
-                block_kernel(n, tangent.prelude,
-                             "x += stride, w += stride, dxdt += stride, dwdt += stride", 0,
-                             lane_loop(tangent.body)) +
-                "}\n";
+  out.source +=
+      fmt::format("\n{} {{\n", tangent_signature) +
+      block_kernel(n, tangent.prelude, "x += stride, w += stride, dxdt += stride, dwdt += stride",
+                   0, lane_loop(tangent.body)) +
+      "}\n";
   out.source += fmt::format("\n{} {{\n", tangents_signature) + tangents_body(n, rhs) + "}\n";
   out.source += fmt::format(
       "\nconst batch_kernels kernels = {{\n    .links = links,\n    .width = batch_width,\n"

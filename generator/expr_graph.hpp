@@ -94,7 +94,7 @@ class expr_graph {
     std::vector<GiNaC::numeric> sin_phi, cos_phi, dphi, p, mass, length;
     std::vector<GiNaC::numeric> com, inertia;  ///< of rigid links
     std::vector<GiNaC::numeric> phi, stiffness, rest_angle, damping, drive, torque;  ///< physical
-    std::vector<GiNaC::numeric> local;  ///< the inputs of a loop kernel's step
+    std::vector<GiNaC::numeric> local;    ///< the inputs of a loop kernel's step
     std::vector<GiNaC::numeric> tangent;  ///< w of a Jacobian–vector product
     GiNaC::numeric gravity;
     /// x, ẋ, p_x, M, b_x and F of a chain on a cart.

@@ -1,9 +1,9 @@
 // The derived equations as LaTeX, for people to read and to compare with the paper.
 #pragma once
 
-#include "chain_model.hpp"
-
 #include <iosfwd>
+
+#include "chain_model.hpp"
 
 namespace npend::gen {
 

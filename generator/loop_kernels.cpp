@@ -347,11 +347,11 @@ class vector_step {
       }
     }
     for (std::size_t o = 0; o < outputs.size(); ++o)
-      writes += fmt::format("      {}[j] = {};\n", outputs[o].second,
-                            sums[o].empty() ? "0.0" : sums[o]);
+      writes +=
+          fmt::format("      {}[j] = {};\n", outputs[o].second, sums[o].empty() ? "0.0" : sums[o]);
     if (!reads.empty()) reads = "      " + reads + ";\n";
-    m_loops += fmt::format("    for (int j = {}; j < {}; ++j) {{\n{}{}    }}\n", from, to, reads,
-                           writes);
+    m_loops +=
+        fmt::format("    for (int j = {}; j < {}; ++j) {{\n{}{}    }}\n", from, to, reads, writes);
   }
 
   /// The outputs' direct dependence on one direction: Σ ∂output/∂input · seed over the
@@ -471,8 +471,12 @@ std::string jacobian_forward() {
       out.emplace_back(p.y_next, "dy");
     }
     vs.directions("0", "n", out,
-                  {{in.a, "da"}, {in.gamma, "dgamma"}, {in.r, "dr"}, {in.beta, "dbeta"},
-                   {in.x, "dx"}, {in.y, "dy"}});
+                  {{in.a, "da"},
+                   {in.gamma, "dgamma"},
+                   {in.r, "dr"},
+                   {in.beta, "dbeta"},
+                   {in.x, "dx"},
+                   {in.y, "dy"}});
     vs.directions("n", "dim", out, {{in.a, "da"}, {in.beta, "dbeta"}, {in.x, "dx"}, {in.y, "dy"}});
     if (last) {
       vs.seed("k", out, {{s, c}});
@@ -553,16 +557,17 @@ std::vector<function_text> loop_functions() {
                 "const double* u, double* ju, double* work) noexcept",
                 values_call + "  evaluate(n, x, x + n, params, v);\n" +
                     "  tangent(n, params, v, u, u + n, ju);\n"});
-  fs.push_back({"The Jacobian df/dx, row-major 2n x 2n, in O(n^2): the forward mode along all 2n "
-                "directions at once. Its workspace is jacobian_workspace_size(n) doubles.",
-                "void jacobian(int n, const double* x, const double* params, double* jac, "
-                "double* work) noexcept",
-                values_call + "  evaluate(n, x, x + n, params, v);\n" +
-                    "  const int dim = 2 * n;\n"
-                    "  double* const rows = work + workspace_size(n);\n"
-                    "  double* const dx = rows + 6 * std::ptrdiff_t{n} * n;\n"
-                    "  double* const dy = dx + dim;\n" +
-                    jacobian_backward() + jacobian_forward()});
+  fs.push_back(
+      {"The Jacobian df/dx, row-major 2n x 2n, in O(n^2): the forward mode along all 2n "
+       "directions at once. Its workspace is jacobian_workspace_size(n) doubles.",
+       "void jacobian(int n, const double* x, const double* params, double* jac, "
+       "double* work) noexcept",
+       values_call + "  evaluate(n, x, x + n, params, v);\n" +
+           "  const int dim = 2 * n;\n"
+           "  double* const rows = work + workspace_size(n);\n"
+           "  double* const dx = rows + 6 * std::ptrdiff_t{n} * n;\n"
+           "  double* const dy = dx + dim;\n" +
+           jacobian_backward() + jacobian_forward()});
   fs.push_back({"H = T + V with T = 1/2 sum m_k |v_k|^2 from the elimination.",
                 "double hamiltonian(int n, const double* x, const double* params, double* work) "
                 "noexcept",
@@ -744,8 +749,10 @@ inline constexpr std::size_t jacobian_workspace_size(int n) noexcept {{
 )",
                                     arrays);
   out.source = banner +
-               fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n#include <cstddef>\n#include <npend/batch_math.hpp>\n\n",
-                           loop_stem) +
+               fmt::format(
+                   "#include \"{}.hpp\"\n\n#include <cmath>\n#include <cstddef>\n#include "
+                   "<npend/batch_math.hpp>\n\n",
+                   loop_stem) +
                "namespace npend::generated::chain_loop {\n\nnamespace {\n\n" + passes_struct();
   out.source +=
       "\n// s_k, c_k of every phi_k by SLEEF's vectorised sincos (1 ulp, <npend/batch_math.hpp>), "

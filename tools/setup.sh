@@ -38,6 +38,8 @@ test_packages=(
   python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
   # npend animate encodes MP4 with ffmpeg (GIF with gnuplot)
   ffmpeg
+  # the format check of the hand-written C++ (tools/check_format.sh, a ctest test)
+  clang-format
   # npend map across processes and machines: OpenMPI, and mpirun for its tests
   libopenmpi-dev openmpi-bin
 )

@@ -88,9 +88,12 @@ const char* refusal_reason(model_support support) {
 // The text member of each per-link list of chain_spec, by its key.
 std::string chain_options::*text_of(std::string_view key) {
   static const std::pair<std::string_view, std::string chain_options::*> members[] = {
-      {"masses", &chain_options::masses},       {"lengths", &chain_options::lengths},
-      {"com", &chain_options::com},             {"inertia", &chain_options::inertia},
-      {"stiffness", &chain_options::stiffness}, {"rest_angles", &chain_options::rest_angles},
+      {"masses", &chain_options::masses},
+      {"lengths", &chain_options::lengths},
+      {"com", &chain_options::com},
+      {"inertia", &chain_options::inertia},
+      {"stiffness", &chain_options::stiffness},
+      {"rest_angles", &chain_options::rest_angles},
       {"damping", &chain_options::damping}};
   for (const auto& [k, member] : members)
     if (k == key) return member;
@@ -123,8 +126,9 @@ chain_options chain_options::with_file() const {
     merged.inertia = inertia;
   } else if (file.rods && !no_rods) {
     if (!file.com.empty() || !file.inertia.empty())
-      throw error("\"rods\": true sets the centres of mass and inertias: leave out \"com\" and "
-                  "\"inertia\"");
+      throw error(
+          "\"rods\": true sets the centres of mass and inertias: leave out \"com\" and "
+          "\"inertia\"");
     if (!com.empty() || !inertia.empty())
       throw input_error(fmt::format(
           "{}: the chain file {} has \"rods\": true, which sets the centres of mass and "

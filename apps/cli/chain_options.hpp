@@ -1,7 +1,8 @@
 // The options every command shares: which chain (--links, --masses, --lengths, --g) and the
 // physical chain's options (--com, --inertia, --rods, --stiffness, --rest-angles, --damping,
-// --pivot), the cart's (--cart, --cart-damping), and which chains a command takes. The parsing and checks are the specification
-// library's (npend/spec/chain_spec.hpp), which Python's npend.Chain shares.
+// --pivot), the cart's (--cart, --cart-damping), and which chains a command takes. The parsing and
+// checks are the specification library's (npend/spec/chain_spec.hpp), which Python's npend.Chain
+// shares.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -28,7 +29,7 @@ struct chain_options {
   std::string com, inertia, stiffness, rest_angles, damping, pivot;
   std::string cart, cart_damping;  ///< --cart MASS, --cart-damping B
   bool rods = false;
-  bool no_rods = false;  ///< --no-rods: overrides "rods": true of a --chain file
+  bool no_rods = false;    ///< --no-rods: overrides "rods": true of a --chain file
   std::string chain_file;  ///< --chain FILE.json: the same parameters, under the JSON keys
 
   /// Adds --links (required unless `links_required` is false: for commands that can also

@@ -1,7 +1,5 @@
 #include "csv_table.hpp"
 
-#include "input_parsing.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -9,6 +7,8 @@
 #include <charconv>
 #include <optional>
 #include <stdexcept>
+
+#include "input_parsing.hpp"
 
 namespace npend::cli {
 
@@ -19,8 +19,7 @@ namespace {
 enum class separator { comma, whitespace };
 
 separator separator_of(std::string_view first_line) {
-  return first_line.find(',') == std::string_view::npos ? separator::whitespace
-                                                         : separator::comma;
+  return first_line.find(',') == std::string_view::npos ? separator::whitespace : separator::comma;
 }
 
 std::vector<std::string_view> split_on_whitespace(std::string_view line) {
@@ -166,7 +165,8 @@ std::optional<std::size_t> find_binary_byte(std::string_view text) {
 
 std::string binary_data_message(std::string_view text, std::size_t position,
                                 std::string_view source) {
-  const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(position), '\n');
+  const auto line =
+      1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(position), '\n');
   return fmt::format("{}:{}: binary data (byte 0x{:02x}), not a table of numbers", source, line,
                      static_cast<unsigned char>(text[position]));
 }

@@ -1,10 +1,10 @@
 #include "integrator_options.hpp"
 
-#include "input_parsing.hpp"
-
 #include <fmt/format.h>
 
 #include <stdexcept>
+
+#include "input_parsing.hpp"
 
 namespace npend::cli {
 
@@ -28,11 +28,10 @@ void integrator_options::add_stepper_options(CLI::App& command, std::string_view
       fmt::format("{}Relative error tolerance of the adaptive steppers (default: 1e-10)", note));
 }
 
-void check_step_count(double t_end, double dt, std::string_view options,
-                      std::string_view advice) {
+void check_step_count(double t_end, double dt, std::string_view options, std::string_view advice) {
   if (t_end / dt > integrator_options::max_steps)
-    throw input_error(fmt::format("{}: {:.3g} steps is more than the limit of {:.0e}; {}",
-                                  options, t_end / dt, integrator_options::max_steps, advice));
+    throw input_error(fmt::format("{}: {:.3g} steps is more than the limit of {:.0e}; {}", options,
+                                  t_end / dt, integrator_options::max_steps, advice));
 }
 
 void parse_tolerances(const std::string& abs_text, const std::string& rel_text,
@@ -71,8 +70,7 @@ integration_options integrator_options::make() const {
                    is_adaptive(o.stepper)
                        ? ""
                        : fmt::format("only the adaptive steppers ({}) take tolerances, not {}",
-                                     stepper_names(stepper_use::adaptive),
-                                     stepper_name(o.stepper)),
+                                     stepper_names(stepper_use::adaptive), stepper_name(o.stepper)),
                    o.abs_tol, o.rel_tol);
   return o;
 }

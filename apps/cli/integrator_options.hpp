@@ -2,12 +2,11 @@
 // Shared by every command that integrates.
 #pragma once
 
-#include "npend/integrators/integrate.hpp"
-
 #include <CLI/CLI.hpp>
-
 #include <string>
 #include <string_view>
+
+#include "npend/integrators/integrate.hpp"
 
 namespace npend::cli {
 

@@ -2,14 +2,14 @@
 // everything is written to a temporary file next to the target and renamed into place.
 #pragma once
 
-#include "signal_cleanup.hpp"
-
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+
+#include "signal_cleanup.hpp"
 
 namespace npend::cli {
 

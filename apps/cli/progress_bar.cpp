@@ -1,10 +1,10 @@
 #include "progress_bar.hpp"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <string>
-#include <unistd.h>
 
 namespace npend::cli {
 
@@ -45,8 +45,7 @@ void progress_bar::draw(double fraction, std::chrono::steady_clock::time_point n
   const int filled = static_cast<int>(fraction * width);
   fmt::print(m_stream, "\r[{}{}] {:5.1f}%  ~{:.0f} s left ",
              std::string(static_cast<std::size_t>(filled), '#'),
-             std::string(static_cast<std::size_t>(width - filled), ' '), 100 * fraction,
-             remaining);
+             std::string(static_cast<std::size_t>(width - filled), ' '), 100 * fraction, remaining);
   std::fflush(m_stream);
   m_shown = true;
   m_last_draw = now;

@@ -1,10 +1,11 @@
 #include "signal_cleanup.hpp"
 
+#include <unistd.h>
+
 #include <array>
 #include <atomic>
 #include <csignal>
 #include <cstring>
-#include <unistd.h>
 
 namespace npend::cli {
 
@@ -51,7 +52,7 @@ signal_cleanup::signal_cleanup(const std::filesystem::path& path) noexcept : m_s
     if (in_use[i] != 0) continue;
     std::memcpy(paths[i].data(), name.c_str(), name.size() + 1);
     std::atomic_signal_fence(std::memory_order_release);  // the path is written before ...
-    in_use[i] = 1;  // ... the handler may read it
+    in_use[i] = 1;                                        // ... the handler may read it
     m_slot = i;
     return;
   }

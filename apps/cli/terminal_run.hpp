@@ -1,13 +1,12 @@
 // The command line's run control: a progress bar on stderr, and Ctrl-C as a stop request.
 #pragma once
 
-#include "interrupt_guard.hpp"
-#include "progress_bar.hpp"
-
 #include <npend/run_control.hpp>
-
 #include <stdexcept>
 #include <string>
+
+#include "interrupt_guard.hpp"
+#include "progress_bar.hpp"
 
 namespace npend::cli {
 

@@ -1,9 +1,8 @@
 #include "time_series_source.hpp"
 
-#include "input_file.hpp"
-#include "output_file.hpp"
-
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -15,11 +14,10 @@
 #include <numbers>
 #include <tuple>
 
-#include <fcntl.h>
-#include <unistd.h>
-
+#include "input_file.hpp"
 #include "input_parsing.hpp"
 #include "interrupt_guard.hpp"
+#include "output_file.hpp"
 #include "section_spec.hpp"
 
 namespace npend::cli {
@@ -79,8 +77,8 @@ sampled_signals signals_from_csv(const csv_table& table, std::string_view source
     const auto& t = table.columns[*time_column];
     for (std::size_t j = 0; j < t.size(); ++j)
       if (!std::isfinite(t[j]))
-        throw input_error(fmt::format("{}:{}: time column '{}': {} is not a finite number",
-                                      source, table.lines[j], s.time_name, t[j]));
+        throw input_error(fmt::format("{}:{}: time column '{}': {} is not a finite number", source,
+                                      table.lines[j], s.time_name, t[j]));
     s.dt = uniform_step(t, table.lines, source, s.time_name);
     s.t0 = t.front();
     if (dt_option && std::fabs(*dt_option - s.dt) > 0.01 * s.dt)
@@ -133,9 +131,9 @@ time_series checked_signal(time_series x, std::string_view option) {
           option, x.name, x.source, x.values[j], x.t0 + static_cast<double>(j) * x.dt, j + 1));
   if (!x.values.empty() &&
       std::all_of(x.values.begin(), x.values.end(), [&](double v) { return v == x.values[0]; }))
-    throw input_error(fmt::format(
-        "{}: '{}' of {} is constant ({:g} in every sample): nothing varies to analyse", option,
-        x.name, x.source, x.values[0]));
+    throw input_error(
+        fmt::format("{}: '{}' of {} is constant ({:g} in every sample): nothing varies to analyse",
+                    option, x.name, x.source, x.values[0]));
   return x;
 }
 
@@ -283,8 +281,7 @@ std::optional<simulated_start> series_options::simulation(std::size_t min_sample
     count = default_samples;
     if (!samples.empty()) {
       const double k = parse_number(samples, "--samples");
-      if (!is_whole_number(k, static_cast<double>(min_samples),
-                           static_cast<double>(max_samples)))
+      if (!is_whole_number(k, static_cast<double>(min_samples), static_cast<double>(max_samples)))
         throw input_error(fmt::format("--samples: must be a whole number {}..{}, got {}",
                                       min_samples, max_samples, samples));
       count = static_cast<std::size_t>(k);
@@ -347,7 +344,7 @@ time_series series_options::load_one(std::size_t min_samples) const {
     const sampled_signals signals = simulate_with_progress(*simulation);
     const int links = simulation->pendulum.links();
     if (column.empty()) {
-        x = signal_at(signals, signals.default_signal);
+      x = signal_at(signals, signals.default_signal);
     } else if (auto derived = chain_observable(signals, simulation->pendulum, column)) {
       x = std::move(*derived);
     } else {

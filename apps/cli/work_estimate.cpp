@@ -33,7 +33,8 @@ void require_feasible(const work_estimate& cost, std::string_view what, std::str
   const double memory = physical_memory();
   std::string why;
   if (cost.flops_per_step == 0 && seconds > hour)
-    why = fmt::format("more than an hour at the {:.0e} per second of one core", assumed_flops_per_second);
+    why = fmt::format("more than an hour at the {:.0e} per second of one core",
+                      assumed_flops_per_second);
   else if (step_seconds > longest_step)
     why = fmt::format("{:.2g} of them in each step, which Ctrl-C cannot interrupt",
                       cost.flops_per_step);

@@ -95,13 +95,14 @@ analyze_plan plan_analysis(const analyze_options& o, int n) {
           : cli::parse_projection(o.project, n, "--project");
   plan.section_what =
       fmt::format("{} ({})", o.section, cli::direction_name(options.section_direction));
-  plan.event_what = fmt::format("{} ({})", plan.event, cli::direction_name(options.event_direction));
+  plan.event_what =
+      fmt::format("{} ({})", plan.event, cli::direction_name(options.event_direction));
   return plan;
 }
 
 // The figures of the folder, each with its text.
-void add_figures(figure_folder& folder, const simulated_start& simulation,
-                 const motion_analysis& a, const analyze_plan& plan) {
+void add_figures(figure_folder& folder, const simulated_start& simulation, const motion_analysis& a,
+                 const analyze_plan& plan) {
   const chain& c = simulation.pendulum;
   const int n = c.links();
   const time_series& x = a.series;
@@ -280,9 +281,8 @@ int run_analyze(const analyze_options& o) {
   const analyze_plan plan = plan_analysis(o, simulation->pendulum.links());
   motion_analysis a;
   try {
-    a = cli::on_terminal(*simulation, [&](const simulated_start& run) {
-      return analyze_motion(run, plan.options);
-    });
+    a = cli::on_terminal(
+        *simulation, [&](const simulated_start& run) { return analyze_motion(run, plan.options); });
   } catch (const std::invalid_argument& e) {  // the options were checked: the start is at fault
     throw cli::input_error(e.what());
   }

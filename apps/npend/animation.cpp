@@ -363,9 +363,9 @@ bool render_animation(const chain& c, const sampled_motion& motion, const animat
   }
   // The tools wrote the temporary file by its name, and exit with 0 even when a full disk or
   // the file-size limit cut it short: check it, then commit syncs and renames it.
-  cli::check_written_image(file.temporary_path(), file.path(),
-                           format == video_format::gif ? cli::image_format::gif
-                                                       : cli::image_format::mp4);
+  cli::check_written_image(
+      file.temporary_path(), file.path(),
+      format == video_format::gif ? cli::image_format::gif : cli::image_format::mp4);
   file.commit();
   return true;
 }

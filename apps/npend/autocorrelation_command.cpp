@@ -1,18 +1,17 @@
 // npend autocorrelation: the autocorrelation of a time series, its first zero and minimum
 // (paper §6.6.2, Abb. 6.10).
-#include "command.hpp"
-#include "input_parsing.hpp"
-#include "series_figures.hpp"
-#include "series_output.hpp"
-#include "time_series_source.hpp"
-
-#include "npend/analysis/series/autocorrelation.hpp"
-
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "input_parsing.hpp"
+#include "npend/analysis/series/autocorrelation.hpp"
+#include "series_figures.hpp"
+#include "series_output.hpp"
+#include "time_series_source.hpp"
 
 namespace npend::app {
 
@@ -45,8 +44,8 @@ int run_autocorrelation(const autocorrelation_options& o) {
   }
   const auto estimator = autocorrelation_estimator_from_name(o.estimator);
   if (!estimator)
-    throw cli::input_error(fmt::format(
-        "--estimator: unknown estimator '{}': choose biased or unbiased", o.estimator));
+    throw cli::input_error(
+        fmt::format("--estimator: unknown estimator '{}': choose biased or unbiased", o.estimator));
   const auto c = autocorrelation(x.values, x.dt, lags, *estimator);
 
   if (files.enabled())
@@ -84,8 +83,7 @@ int run_autocorrelation(const autocorrelation_options& o) {
 void add_autocorrelation_command(CLI::App& app, command_list& commands) {
   auto o = std::make_shared<autocorrelation_options>();
   CLI::App* cmd = app.add_subcommand(
-      "autocorrelation",
-      "Autocorrelation C_xx(tau) of a time series, its first zero and minimum");
+      "autocorrelation", "Autocorrelation C_xx(tau) of a time series, its first zero and minimum");
   o->series.add_to(*cmd);
   cmd->add_option("--max-lag", o->max_lag, "Largest lag in s (default: half the series)");
   cmd->add_option("--estimator", o->estimator,
@@ -94,9 +92,8 @@ void add_autocorrelation_command(CLI::App& app, command_list& commands) {
                   "autocor: no taper, noisier at long lags)")
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print JSON");
-  cmd->add_option(
-      "--out", o->out,
-      "Write FILE.csv (tau, C) and the plot FILE.png with its gnuplot script FILE.gp");
+  cmd->add_option("--out", o->out,
+                  "Write FILE.csv (tau, C) and the plot FILE.png with its gnuplot script FILE.gp");
   commands.push_back({cmd, [o] { return run_autocorrelation(*o); }});
 }
 

@@ -53,7 +53,8 @@ backbone_options make_backbone_options(const backbone_command_options& o) {
   backbone_options b;
   if (!o.periods.empty()) b.periods = cli::parse_number(o.periods, "--periods");
   if (!o.steps.empty())
-    b.steps_per_period = static_cast<int>(cli::parse_whole_number(o.steps, "--steps-per-period", 20, 1e6));
+    b.steps_per_period =
+        static_cast<int>(cli::parse_whole_number(o.steps, "--steps-per-period", 20, 1e6));
   if (!(b.periods >= 3 && b.periods <= 1e5))
     throw cli::input_error(fmt::format("--periods: must be in 3..1e5, got {}", b.periods));
   if (!o.thresholds.empty()) {
@@ -282,8 +283,7 @@ void add_backbone_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--amplitudes", o->amplitudes,
                   "Launch amplitudes in rad (the largest start angle): a list a,b,c or a "
                   "range FROM:TO:STEP (default: 0.05:1.5:0.05)");
-  cmd->add_option("--periods", o->periods,
-                  "Linear periods integrated per amplitude (default: 20)");
+  cmd->add_option("--periods", o->periods, "Linear periods integrated per amplitude (default: 20)");
   cmd->add_option("--steps-per-period", o->steps,
                   "Gauss-Legendre steps per linear period (default: 200)");
   cmd->add_option("--thresholds", o->thresholds,

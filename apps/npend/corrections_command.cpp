@@ -127,7 +127,8 @@ int run_corrections(const corrections_command_options& o) {
       throw cli::input_error(fmt::format("--horizon: must be positive, got {}", o.horizon));
   }
   if (!o.samples.empty())
-    options.samples = static_cast<std::size_t>(cli::parse_whole_number(o.samples, "--samples", 2, 1e6));
+    options.samples =
+        static_cast<std::size_t>(cli::parse_whole_number(o.samples, "--samples", 2, 1e6));
   series_output files(o.out);
   correction_study s;
   try {
@@ -208,12 +209,10 @@ void add_corrections_command(CLI::App& app, command_list& commands) {
       "The paper's nonlinear corrections and power series against the true motion (Q)");
   o->chain.add_to(*cmd);
   o->start.add_to(*cmd);
-  cmd->add_option(
-      "--amplitude", o->amplitude,
-      "Default start: phi_i = +-a alternately, dphi_i = a omega_1 (default: 0.3 rad)");
-  cmd->add_option(
-      "--horizon", o->horizon,
-      "Compare over this time in s (default: a quarter of the shortest linear period)");
+  cmd->add_option("--amplitude", o->amplitude,
+                  "Default start: phi_i = +-a alternately, dphi_i = a omega_1 (default: 0.3 rad)");
+  cmd->add_option("--horizon", o->horizon,
+                  "Compare over this time in s (default: a quarter of the shortest linear period)");
   cmd->add_option("--samples", o->samples, "Sample times over the horizon (default: 201)");
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->add_option("--out", o->out,

@@ -1,18 +1,17 @@
 // npend demo: the paper's story for the triple pendulum, end to end (the README's main job).
-#include "command.hpp"
-#include "demo_sections.hpp"
-#include "output_file.hpp"
-
-#include "npend/chain.hpp"
-
-#include <chain_index.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <chain_index.hpp>
 #include <cmath>
 #include <iostream>
 #include <memory>
 #include <string>
+
+#include "command.hpp"
+#include "demo_sections.hpp"
+#include "npend/chain.hpp"
+#include "output_file.hpp"
 
 namespace npend::app {
 

@@ -90,7 +90,6 @@ std::string omegas(const std::vector<spectral_peak>& peaks, std::size_t count) {
   return fmt::format("{}", fmt::join(list, ", "));
 }
 
-
 // At rest, the arms deflected in a zigzag φ = (s, −s, s) with the energy E = ε m g l.
 std::vector<double> zigzag_start(const chain& c, double epsilon) {
   const std::vector<double> zigzag{1.0, -1.0, 1.0};
@@ -103,8 +102,7 @@ std::vector<demo_case> analysed_cases(const chain& c) {
   for (const auto& [key, label, epsilon] :
        {std::tuple{"weak", "(a) weak excitation, ε = 0.01: regular", 0.01},
         std::tuple{"strong", "(b) strong excitation, ε = 1.5: chaotic", 1.5}}) {
-    demo_case k{
-        key, label, epsilon, zigzag_start(c, epsilon), {}};
+    demo_case k{key, label, epsilon, zigzag_start(c, epsilon), {}};
     motion_analysis_options options;
     options.coordinate = 2;                                  // φ₃
     options.section = section_plane::coordinate(3, 0, 0.0);  // φ₁ = 0, upwards

@@ -7,9 +7,9 @@
 #include <cmath>
 
 #include "demo_sections.hpp"
+#include "npend/analysis/chaos/lyapunov.hpp"
 #include "npend/analysis/stability/backbone.hpp"
 #include "npend/analysis/stability/equilibria.hpp"
-#include "npend/analysis/chaos/lyapunov.hpp"
 #include "npend/analysis/stability/normal_modes.hpp"
 #include "npend/excitation.hpp"
 #include "stability_tables.hpp"

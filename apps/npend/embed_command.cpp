@@ -1,19 +1,18 @@
 // npend embed: delay coordinates (paper §6.6.4, Abb. 6.13) — the delay τ and the minimal
 // embedding dimension of a time series, and its delay vectors.
-#include "command.hpp"
-#include "input_parsing.hpp"
-#include "series_figures.hpp"
-#include "series_output.hpp"
-#include "time_series_source.hpp"
-
-#include "npend/analysis/series/delay_embedding.hpp"
-#include "npend/analysis/series/embedding_dimension.hpp"
-
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "input_parsing.hpp"
+#include "npend/analysis/series/delay_embedding.hpp"
+#include "npend/analysis/series/embedding_dimension.hpp"
+#include "series_figures.hpp"
+#include "series_output.hpp"
+#include "time_series_source.hpp"
 
 namespace npend::app {
 
@@ -178,16 +177,15 @@ int run_embed(const embed_options& o) {
         .columns = 1,
         .panels = {delay_plot_panel(files, "", x, tau, v)}};
     if (scanned) {
-      figure.panels.push_back(embedding_dimension_panel(
-          files, "dimension", fnn, cao, found ? std::optional(dimension) : std::nullopt,
-          o.dim_method));
+      figure.panels.push_back(
+          embedding_dimension_panel(files, "dimension", fnn, cao,
+                                    found ? std::optional(dimension) : std::nullopt, o.dim_method));
       figure.description.push_back(
           fmt::format("dimension criteria: {}", files.file_name("dimension")));
     }
     if (has_information) {
       figure.panels.push_back(mutual_information_panel(files, "ami", x, tau.mutual_information));
-      figure.description.push_back(
-          fmt::format("mutual information: {}", files.file_name("ami")));
+      figure.description.push_back(fmt::format("mutual information: {}", files.file_name("ami")));
     }
     figure.columns = static_cast<int>(figure.panels.size());
     figure.width = 650 * figure.columns;
@@ -219,8 +217,8 @@ int run_embed(const embed_options& o) {
           {"minimum_window", ami.window},
           {"tau", ami.lag},
           {"information", ami.information},
-          {"first_minimum", ami.first_minimum ? nlohmann::json(*ami.first_minimum)
-                                              : nlohmann::json()}};
+          {"first_minimum",
+           ami.first_minimum ? nlohmann::json(*ami.first_minimum) : nlohmann::json()}};
     }
     files.add_to(j);
     std::cout << j.dump(2) << "\n";
@@ -231,8 +229,7 @@ int run_embed(const embed_options& o) {
              delay_description(o, tau));
   if (has_information)
     fmt::print("mutual information ({} bins, {} estimator): evaluated on lags up to {:.6g} s{}\n",
-               o.bins, o.mi_estimator,
-               tau.mutual_information.lag.back(),
+               o.bins, o.mi_estimator, tau.mutual_information.lag.back(),
                tau.mutual_information.first_minimum
                    ? fmt::format(", first local minimum at {:.6g} s",
                                  *tau.mutual_information.first_minimum)

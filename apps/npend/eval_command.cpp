@@ -5,8 +5,8 @@
 #include <chain_index.hpp>
 #include <cmath>
 #include <iostream>
-#include <stdexcept>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "chain_options.hpp"
 #include "command.hpp"
@@ -27,11 +27,16 @@ struct eval_options {
 // a result overflows or underflows double precision (the inputs are finite, each alone valid).
 std::string most_extreme_input(const eval_options& o) {
   const cli::chain_options c = o.chain.with_file();  // the values of --chain FILE too
-  const std::pair<const char*, const std::string*> lists[] = {
-      {"--masses", &c.masses},       {"--lengths", &c.lengths},     {"--g", &c.g},
-      {"--com", &c.com},             {"--inertia", &c.inertia},     {"--stiffness", &c.stiffness},
-      {"--rest-angles", &c.rest_angles}, {"--damping", &c.damping}, {"--state", &o.state},
-      {"--time", &o.time}};
+  const std::pair<const char*, const std::string*> lists[] = {{"--masses", &c.masses},
+                                                              {"--lengths", &c.lengths},
+                                                              {"--g", &c.g},
+                                                              {"--com", &c.com},
+                                                              {"--inertia", &c.inertia},
+                                                              {"--stiffness", &c.stiffness},
+                                                              {"--rest-angles", &c.rest_angles},
+                                                              {"--damping", &c.damping},
+                                                              {"--state", &o.state},
+                                                              {"--time", &o.time}};
   std::string name;
   double worst = 0, worst_value = 0;
   const auto consider = [&](const std::string& option, double v) {
@@ -48,8 +53,7 @@ std::string most_extreme_input(const eval_options& o) {
     consider("--pivot", drive.amplitude);
     consider("--pivot", drive.frequency);
   }
-  return name.empty() ? std::string("the inputs")
-                      : fmt::format("{} ({:g})", name, worst_value);
+  return name.empty() ? std::string("the inputs") : fmt::format("{} ({:g})", name, worst_value);
 }
 
 // Every result must be a finite number, and det A > 0 (A is positive definite for every chain
@@ -131,15 +135,13 @@ int run_eval(const eval_options& o) {
     return 0;
   }
   fmt::print("{}-link chain: masses {} kg, lengths {} m, g = {} m/s^2\n", c.links(),
-             c.parameters().masses,
-             c.parameters().lengths, c.parameters().g);
-  fmt::print(fmt::runtime(c.has_cart() ? "q = [x_c, phi] = {} (m, rad)\np   = {} (kg m/s, kg m^2/s)\n"
-                                       : "phi = {} rad\np   = {} kg m^2/s\n"),
-             std::vector<double>(phi.begin(), phi.end()),
-             std::vector<double>(p.begin(), p.end()));
+             c.parameters().masses, c.parameters().lengths, c.parameters().g);
+  fmt::print(
+      fmt::runtime(c.has_cart() ? "q = [x_c, phi] = {} (m, rad)\np   = {} (kg m/s, kg m^2/s)\n"
+                                : "phi = {} rad\np   = {} kg m^2/s\n"),
+      std::vector<double>(phi.begin(), phi.end()), std::vector<double>(p.begin(), p.end()));
   fmt::print("H = {:.17g} J   (T = {:.17g}, V = {:.17g})\n", H, T, V);
-  if (c.is_physical())
-    fmt::print("physical chain: {}; t = {} s\n", describe_chain(c).dump(), time);
+  if (c.is_physical()) fmt::print("physical chain: {}; t = {} s\n", describe_chain(c).dump(), time);
   if (closed_form) fmt::print("H (closed form) = {:.17g} J\n", H_closed);
   fmt::print("dphi/dt = {}\n", dphi);
   fmt::print("dp/dt   = {}\n", std::vector<double>(f.begin() + n, f.end()));

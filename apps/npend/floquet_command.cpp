@@ -100,9 +100,10 @@ int run_single(const chain& c, const floquet_command_options& o, const floquet_o
   const char* verdict = r.verdict == floquet_verdict::stable     ? "stable (linearly)"
                         : r.verdict == floquet_verdict::marginal ? "marginal"
                                                                  : "unstable";
-  fmt::print("{}: max |mu| = {:.10f}, max |mu| - 1 = {:.3g} +- {:.2g} (the change from {} steps "
-             "per period, and the eigenvalues' rounding)\n",
-             verdict, r.max_modulus, r.max_modulus - 1, r.modulus_error, o.steps / 2);
+  fmt::print(
+      "{}: max |mu| = {:.10f}, max |mu| - 1 = {:.3g} +- {:.2g} (the change from {} steps "
+      "per period, and the eigenvalues' rounding)\n",
+      verdict, r.max_modulus, r.max_modulus - 1, r.modulus_error, o.steps / 2);
   if (r.verdict == floquet_verdict::marginal)
     fmt::print(
         "marginal: max |mu| is within its error of 1, so the integration cannot tell a slow "
@@ -127,8 +128,7 @@ void write_scan_files(series_output& files, const floquet_scan_result& scan,
     modulus_error.push_back(p.modulus_error);
   }
   const std::string data = files.write_csv(
-      "",
-      std::vector<std::string>{"omega", "a_omega", "max_modulus", "stable", "modulus_error"},
+      "", std::vector<std::string>{"omega", "a_omega", "max_modulus", "stable", "modulus_error"},
       std::vector{omega, a_omega, modulus, stable_flag, modulus_error});
   cli::plot_panel panel{
       .title = fmt::format("Floquet stability of {} over the drive frequency ({} drive, a = {} m)",

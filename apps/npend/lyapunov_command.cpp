@@ -15,8 +15,8 @@
 #include "csv_table.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
-#include "npend/analysis/series/delay_embedding.hpp"
 #include "npend/analysis/chaos/lyapunov.hpp"
+#include "npend/analysis/series/delay_embedding.hpp"
 #include "npend/analysis/series/series_lyapunov.hpp"
 #include "series_output.hpp"
 #include "start_options.hpp"
@@ -78,7 +78,8 @@ lyapunov_options make_options(const lyapunov_command_options& o) {
       throw cli::input_error(
           fmt::format("--convergence-fraction: must be in (0, 1], got {}", l.convergence_fraction));
   }
-  if (!o.blocks.empty()) l.blocks = static_cast<std::size_t>(cli::parse_whole_number(o.blocks, "--blocks", 2, 1000));
+  if (!o.blocks.empty())
+    l.blocks = static_cast<std::size_t>(cli::parse_whole_number(o.blocks, "--blocks", 2, 1000));
   return l;
 }
 
@@ -186,7 +187,8 @@ int run_equations(const lyapunov_command_options& o) {
       throw cli::input_error(
           "--exponents: not with --ensemble (an ensemble takes the full "
           "spectrum or --maximal)");
-    count = static_cast<int>(cli::parse_whole_number(o.exponents, "--exponents", 1, 2.0 * c.links()));
+    count =
+        static_cast<int>(cli::parse_whole_number(o.exponents, "--exponents", 1, 2.0 * c.links()));
   }
   const bool full = !o.maximal && !count;
   std::optional<lyapunov_ensemble_options> ensemble;
@@ -201,7 +203,8 @@ int run_equations(const lyapunov_command_options& o) {
         throw cli::input_error(
             fmt::format("--ensemble-radius: must be in (0, 0.1] rad, got {}", o.ensemble_radius));
     }
-    if (!o.seed.empty()) ensemble->seed =
+    if (!o.seed.empty())
+      ensemble->seed =
           static_cast<std::uint64_t>(cli::parse_whole_number(o.seed, "--seed", 0, 9.0e15));
   } else {
     for (const char* name : {"--ensemble-radius", "--seed"})
@@ -397,7 +400,8 @@ series_request parse_series_request(const lyapunov_command_options& o) {
       throw cli::input_error(fmt::format("--dt: must be positive, got {}", o.integrator.dt));
   }
   q.selectors = column_list(o.column);
-  if (!o.dim.empty()) q.dimension = static_cast<std::size_t>(cli::parse_whole_number(o.dim, "--dim", 1, 20));
+  if (!o.dim.empty())
+    q.dimension = static_cast<std::size_t>(cli::parse_whole_number(o.dim, "--dim", 1, 20));
   if (!o.fit.empty()) q.fit = fit_range(o.fit);
   if (!o.radii.empty()) {
     q.radii = cli::parse_number_list(o.radii, "--radius");
@@ -458,8 +462,8 @@ std::pair<std::size_t, std::string> series_delay(const std::string& text, const 
   }
   const double samples = std::round(seconds / dt);
   if (!(samples >= 1 && samples < static_cast<double>(x.values.size())))
-    throw cli::input_error(fmt::format(
-        "--tau: {} s is not between dt = {:.6g} s and the series' length", text, dt));
+    throw cli::input_error(
+        fmt::format("--tau: {} s is not between dt = {:.6g} s and the series' length", text, dt));
   return {static_cast<std::size_t>(samples), "given"};
 }
 
@@ -494,9 +498,8 @@ series_lyapunov_options series_options(const lyapunov_command_options& o, const 
 }
 
 // The stretching curves (CSV) and their plot with the fitted line.
-void write_series_files(series_output& files, const time_series& x,
-                        const series_lyapunov_result& r, const std::vector<double>& t,
-                        const stretching_options& s) {
+void write_series_files(series_output& files, const time_series& x, const series_lyapunov_result& r,
+                        const std::vector<double>& t, const stretching_options& s) {
   std::vector<std::string> names{"t"};
   std::vector<std::vector<double>> columns{t};
   for (const auto& c : r.stretching.curves) {
@@ -511,10 +514,9 @@ void write_series_files(series_output& files, const time_series& x,
                            r.maximal_exponent, r.uncertainty, r.fit_from, r.fit_to),
       .xlabel = "Δt (s)",
       .ylabel = "S(Δt) = <ln mean distance>",
-      .commands = {
-          fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2", r.fit_from),
-          fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2", r.fit_to),
-          "set key left top"}};
+      .commands = {fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2", r.fit_from),
+                   fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2", r.fit_to),
+                   "set key left top"}};
   for (std::size_t q = 0; q < r.stretching.curves.size(); ++q) {
     panel.curves.push_back({data, fmt::format("1:{}", q + 2), "lines lw 1.5",
                             fmt::format("ε = {:.3g}", r.stretching.curves[q].radius)});

@@ -1,14 +1,14 @@
 // npend: the command-line front end (see docs/commands.md for every command).
-#include "command.hpp"
-#include "input_parsing.hpp"
-#include "signal_cleanup.hpp"
-#include "terminal_run.hpp"
-
 #include <fmt/format.h>
 
 #include <cstdio>
 #include <exception>
 #include <iostream>
+
+#include "command.hpp"
+#include "input_parsing.hpp"
+#include "signal_cleanup.hpp"
+#include "terminal_run.hpp"
 
 namespace {
 
@@ -40,9 +40,8 @@ void refuse_empty_values(const CLI::App& command) {
     if (option->get_type_size() == 0 || option->count() == 0) continue;
     for (const std::string& value : option->results())
       if (value.find_first_not_of(" \t") == std::string::npos)
-        throw npend::cli::input_error(
-            fmt::format("{}: empty value (give a value or leave the option out)",
-                        option->get_name()));
+        throw npend::cli::input_error(fmt::format(
+            "{}: empty value (give a value or leave the option out)", option->get_name()));
   }
 }
 

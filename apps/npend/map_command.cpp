@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
-#include <future>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -20,6 +19,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <iostream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -100,7 +100,7 @@ std::string bytes_of(const std::vector<double>& values) {
 }
 
 constexpr long max_csv_cells = 65536;  // 256 × 256: beyond that only the .npy
-constexpr int max_drawn_cells = 1024;   // cells a side that map.png draws
+constexpr int max_drawn_cells = 1024;  // cells a side that map.png draws
 
 // The grid as CSV rows x, y, value (y outer, as in the .npy); +inf and NaN as inf and nan.
 void write_csv(const fs::path& path, const axis& ax, const axis& ay,
@@ -203,21 +203,19 @@ map_stepping map_stepping_of(const map_command_options& o, map_quantity quantity
       throw cli::input_error(fmt::format("--stepper: {}", e.what()));
     }
     if (!is_map_stepper(stepping.stepper))
-      throw cli::input_error(fmt::format(
-          "--stepper: a map integrates with one of {}, not {}", stepper_names(stepper_use::map),
-          o.stepper));
+      throw cli::input_error(fmt::format("--stepper: a map integrates with one of {}, not {}",
+                                         stepper_names(stepper_use::map), o.stepper));
   }
   if (!map_takes_stepper(quantity, stepping.stepper))
-    throw cli::input_error(fmt::format(
-        "--stepper: the chaos indicators ({}) integrate with rk4 only; {} takes flip, "
-        "lyapunov and state",
-        map_quantity_name(quantity), o.stepper));
-  cli::parse_tolerances(
-      o.abs_tol, o.rel_tol,
-      stepping.stepper == stepper_kind::dopri5
-          ? ""
-          : "only with --stepper dopri5 (the others take a fixed --dt)",
-      stepping.abs_tol, stepping.rel_tol);
+    throw cli::input_error(
+        fmt::format("--stepper: the chaos indicators ({}) integrate with rk4 only; {} takes flip, "
+                    "lyapunov and state",
+                    map_quantity_name(quantity), o.stepper));
+  cli::parse_tolerances(o.abs_tol, o.rel_tol,
+                        stepping.stepper == stepper_kind::dopri5
+                            ? ""
+                            : "only with --stepper dopri5 (the others take a fixed --dt)",
+                        stepping.abs_tol, stepping.rel_tol);
   return stepping;
 }
 
@@ -248,8 +246,7 @@ std::string axis_message(const map_grid& grid, std::string_view what) {
   if (what.substr(0, both.size()) == both)
     return fmt::format("--x and --y: {}", what.substr(both.size()));
   const auto names = [&](const axis& a) {
-    return what.substr(0, a.name.size()) == a.name &&
-           what.find_first_of(": =") == a.name.size();
+    return what.substr(0, a.name.size()) == a.name && what.find_first_of(": =") == a.name.size();
   };
   if (names(grid.x)) return fmt::format("--x: {}", what);
   if (names(grid.y)) return fmt::format("--y: {}", what);
@@ -287,8 +284,7 @@ map_job prepare_run(const map_command_options& o) {
     throw cli::input_error(
         fmt::format("--t-end and --dt: need 0 < dt <= t-end, got {} and {}", o.dt, o.t_end));
   // Each cell steps dt (dopri5: lays its grid of dt) to t_end, the limit every command keeps.
-  cli::check_step_count(o.t_end, o.dt, "--t-end/--dt",
-                        "use a larger --dt (the limit is per cell)");
+  cli::check_step_count(o.t_end, o.dt, "--t-end/--dt", "use a larger --dt (the limit is per cell)");
   if (o.flip_link < 0 || o.flip_link > n)
     throw cli::input_error(
         fmt::format("--flip-link: 1..{} (or 0: any arm), got {}", n, o.flip_link));
@@ -332,8 +328,7 @@ std::string run_file_text(const map_job& job) {
 // run.json of a folder; input_error naming `option` if it is not readable.
 map_run_record read_run_file(const fs::path& file, std::string_view option) {
   std::optional<map_run_record> record = read_map_run_record(file);
-  if (!record)
-    throw cli::input_error(fmt::format("{}: {} is not readable", option, file.string()));
+  if (!record) throw cli::input_error(fmt::format("{}: {} is not readable", option, file.string()));
   return *record;
 }
 
@@ -616,7 +611,8 @@ nlohmann::json assemble_map(const map_job& job, const nlohmann::json& facts,
   for (const double v : grid)
     if (std::isfinite(v)) low = std::min(low, v), high = std::max(high, v);
   const bool indicator_to_zero = quantity == map_quantity::sali || quantity == map_quantity::gali;
-  if (quantity == map_quantity::flip) {  // dt..t_end on a log scale (a decade when t_end is one step)
+  if (quantity ==
+      map_quantity::flip) {  // dt..t_end on a log scale (a decade when t_end is one step)
     low = o.dt;
     high = o.t_end > o.dt ? o.t_end : 10 * o.dt;
   } else if (indicator_to_zero) {  // a log scale: from 1e-16 (or the least value) up

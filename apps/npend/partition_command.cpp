@@ -153,12 +153,10 @@ int run_partition(const partition_command_options& o) {
       throw cli::input_error(fmt::format(
           "{}: only for the {} rule; this run uses the {} rule{}", name,
           of_trapezoid ? "trapezoid" : "qmc", rule_name,
-          o.rule == "auto" ? " (auto: trapezoid for n <= 3, qmc beyond; choose with --rule)"
-                           : ""));
+          o.rule == "auto" ? " (auto: trapezoid for n <= 3, qmc beyond; choose with --rule)" : ""));
   }
   if (!o.seed.empty()) {
-    options.seed =
-        static_cast<std::uint64_t>(cli::parse_whole_number(o.seed, "--seed", 0, 9.0e15));
+    options.seed = static_cast<std::uint64_t>(cli::parse_whole_number(o.seed, "--seed", 0, 9.0e15));
   }
   options.boltzmann = o.kb;
   series_output files(o.out);
@@ -245,11 +243,13 @@ void add_partition_command(CLI::App& app, command_list& commands) {
                   "The angle integral's rule: trapezoid (periodic, exponentially convergent; "
                   "n <= 3 by default), qmc (randomised Sobol quasi-Monte Carlo) or auto "
                   "(default)");
-  cmd->add_option("--grid", o->grid,
-                  "trapezoid only: points per angle, even (default 256, 128, 64 for 1, 2, 3 links)");
+  cmd->add_option(
+      "--grid", o->grid,
+      "trapezoid only: points per angle, even (default 256, 128, 64 for 1, 2, 3 links)");
   cmd->add_option("--points", o->points, "qmc only: Sobol points per shift (default 65536)");
   cmd->add_option("--replicas", o->replicas, "qmc only: random shifts (default 16)");
-  cmd->add_option("--seed", o->seed, "qmc only: seed of the random shifts, a whole number 0..9e15 (default 1)");
+  cmd->add_option("--seed", o->seed,
+                  "qmc only: seed of the random shifts, a whole number 0..9e15 (default 1)");
   cmd->add_option("--kb", o->kb,
                   "Boltzmann's constant k in J/K (default 1: T in J; 1.380649e-23 for kelvin)");
   cmd->add_option("--out", o->out,

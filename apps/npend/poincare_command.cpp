@@ -13,8 +13,8 @@
 #include "command.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
-#include "npend/analysis/motion/energy_drift.hpp"
 #include "npend/analysis/chaos/poincare_section.hpp"
+#include "npend/analysis/motion/energy_drift.hpp"
 #include "section_spec.hpp"
 #include "series_figures.hpp"
 #include "series_output.hpp"
@@ -156,8 +156,7 @@ int run_poincare(const poincare_options& o) {
       what, n, energy, run.t, stepper_name(options.stepper), options.dt);
   fmt::print("crossings: {}{}\n", crossings.size(),
              max_points != 0 && crossings.size() == max_points ? " (--max-points reached)" : "");
-  if (crossings.empty())
-    fmt::print("largest |H - H0| / H0 over the run: {:.2g}\n", energy_error);
+  if (crossings.empty()) fmt::print("largest |H - H0| / H0 over the run: {:.2g}\n", energy_error);
   if (!crossings.empty()) {
     fmt::print(
         "largest |g(x)| on the section: {:.2g}; largest |H - H0| / H0 (run and crossings): "

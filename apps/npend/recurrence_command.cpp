@@ -1,24 +1,23 @@
 // npend recurrence: recurrence-time statistics (paper §6.6.3, Abb. 6.11 and 6.12) — the
 // intervals between events such as phi3 = 0 or phi2 = phi3, their distribution and spectrum.
-#include "command.hpp"
-#include "input_parsing.hpp"
-#include "section_spec.hpp"
-#include "series_figures.hpp"
-#include "series_output.hpp"
-#include "time_series_source.hpp"
-
-#include "npend/analysis/series/event_times.hpp"
-#include "npend/analysis/chaos/poincare_section.hpp"
-#include "npend/analysis/series/recurrence_times.hpp"
-#include "npend/analysis/series/spectral_peaks.hpp"
-
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <functional>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <numbers>
+
+#include "command.hpp"
+#include "input_parsing.hpp"
+#include "npend/analysis/chaos/poincare_section.hpp"
+#include "npend/analysis/series/event_times.hpp"
+#include "npend/analysis/series/recurrence_times.hpp"
+#include "npend/analysis/series/spectral_peaks.hpp"
+#include "section_spec.hpp"
+#include "series_figures.hpp"
+#include "series_output.hpp"
+#include "time_series_source.hpp"
 
 namespace npend::app {
 
@@ -78,10 +77,9 @@ int run_recurrence(const recurrence_options& o) {
   double dt = 0;
   if (simulation) {
     // Located on the steps (dense output and Hénon's trick), like the Poincaré crossings.
-    crossing_locator locator(simulation->pendulum,
-                             cli::section_from_spec(spec, simulation->pendulum.links(), "--event",
-                                                    angles),
-                             direction);
+    crossing_locator locator(
+        simulation->pendulum,
+        cli::section_from_spec(spec, simulation->pendulum.links(), "--event", angles), direction);
     cli::simulate_with_progress(*simulation, std::ref(locator));
     times = crossing_times(locator.crossings());
     source = simulation->source;
@@ -122,19 +120,19 @@ int run_recurrence(const recurrence_options& o) {
   }
 
   if (o.json) {
-    nlohmann::json j{{"source", source},
-                     {"event", o.event},
-                     {"direction", o.direction},
-                     {"interpolation", simulation                ? "steps"
-                                       : o.interpolation.empty() ? std::string("cubic")
-                                                                 : o.interpolation},
-                     {"angles", simulation ? nlohmann::json(cli::angle_mode_name(angles))
-                                           : nlohmann::json()},
-                     {"count", times.size()},
-                     {"times", times},
-                     {"intervals", stats.intervals},
-                     {"mean", stats.mean},
-                     {"standard_deviation", stats.standard_deviation}};
+    nlohmann::json j{
+        {"source", source},
+        {"event", o.event},
+        {"direction", o.direction},
+        {"interpolation", simulation                ? "steps"
+                          : o.interpolation.empty() ? std::string("cubic")
+                                                    : o.interpolation},
+        {"angles", simulation ? nlohmann::json(cli::angle_mode_name(angles)) : nlohmann::json()},
+        {"count", times.size()},
+        {"times", times},
+        {"intervals", stats.intervals},
+        {"mean", stats.mean},
+        {"standard_deviation", stats.standard_deviation}};
     files.add_to(j);
     std::cout << j.dump(2) << "\n";
     return 0;

@@ -1,12 +1,12 @@
 #include "series_figures.hpp"
 
-#include "section_spec.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <tuple>
+
+#include "section_spec.hpp"
 
 namespace npend::app {
 
@@ -84,8 +84,8 @@ std::string window_label(spectral_window w) {
   return name;
 }
 
-cli::plot_panel spectrum_panel(series_output& files, std::string_view table,
-                               const time_series& x, const power_spectrum_result& spectrum,
+cli::plot_panel spectrum_panel(series_output& files, std::string_view table, const time_series& x,
+                               const power_spectrum_result& spectrum,
                                const std::vector<spectral_peak>& peaks,
                                std::optional<double> omega_max) {
   const std::string data = files.write_csv(table, std::vector<std::string>{"omega", "power"},
@@ -137,9 +137,9 @@ cli::plot_panel mutual_information_panel(series_output& files, std::string_view 
                         .commands = {"set key off"},
                         .curves = {{data, "1:2", "lines lw 1.5 lc rgb '#1f5fa8'", ""}}};
   if (ami.first_minimum)
-    panel.commands.push_back(fmt::format(
-        "set arrow from {0},graph 0 to {0},graph 1 nohead dt 2 lw 1.5 lc rgb '#d62728'",
-        *ami.first_minimum));
+    panel.commands.push_back(
+        fmt::format("set arrow from {0},graph 0 to {0},graph 1 nohead dt 2 lw 1.5 lc rgb '#d62728'",
+                    *ami.first_minimum));
   return panel;
 }
 
@@ -228,9 +228,8 @@ recurrence_panels recurrence_figure(series_output& files, std::string_view table
                    .curves = {{spectrum, "1:2", "lines lw 1.5 lc rgb '#1f5fa8'", ""}}}};
 }
 
-cli::plot_panel delay_plot_panel(series_output& files, std::string_view table,
-                                 const time_series& x, const delay_choice& tau,
-                                 const delay_vectors& v) {
+cli::plot_panel delay_plot_panel(series_output& files, std::string_view table, const time_series& x,
+                                 const delay_choice& tau, const delay_vectors& v) {
   const std::size_t shown = v.dimension;
   std::vector<std::string> names{"t"};
   std::vector<std::vector<double>> columns(shown + 1);
@@ -277,9 +276,9 @@ cli::plot_panel embedding_dimension_panel(series_output& files, std::string_view
 }
 
 std::pair<cli::plot_panel, cli::plot_panel> embedding_figure(
-    series_output& files, std::string_view table, const time_series& x,
-    const delay_choice& tau, const delay_vectors& v, const false_neighbours_result& fnn,
-    const cao_result& cao, std::optional<std::size_t> dimension, std::string_view method) {
+    series_output& files, std::string_view table, const time_series& x, const delay_choice& tau,
+    const delay_vectors& v, const false_neighbours_result& fnn, const cao_result& cao,
+    std::optional<std::size_t> dimension, std::string_view method) {
   return {delay_plot_panel(files, table, x, tau, v),
           embedding_dimension_panel(files, table_name(table, "dimension"), fnn, cao, dimension,
                                     method)};

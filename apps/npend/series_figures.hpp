@@ -4,17 +4,6 @@
 // draw the same panels from the same tables; only the arrangement differs.
 #pragma once
 
-#include "plotting.hpp"
-#include "series_output.hpp"
-
-#include "npend/analysis/series/autocorrelation.hpp"
-#include "npend/analysis/series/delay_embedding.hpp"
-#include "npend/analysis/series/embedding_dimension.hpp"
-#include "npend/analysis/chaos/poincare_section.hpp"
-#include "npend/analysis/series/power_spectrum.hpp"
-#include "npend/analysis/series/recurrence_times.hpp"
-#include "npend/analysis/series/spectral_peaks.hpp"
-
 #include <cstddef>
 #include <optional>
 #include <span>
@@ -22,6 +11,16 @@
 #include <string_view>
 #include <utility>
 #include <vector>
+
+#include "npend/analysis/chaos/poincare_section.hpp"
+#include "npend/analysis/series/autocorrelation.hpp"
+#include "npend/analysis/series/delay_embedding.hpp"
+#include "npend/analysis/series/embedding_dimension.hpp"
+#include "npend/analysis/series/power_spectrum.hpp"
+#include "npend/analysis/series/recurrence_times.hpp"
+#include "npend/analysis/series/spectral_peaks.hpp"
+#include "plotting.hpp"
+#include "series_output.hpp"
 
 namespace npend::app {
 
@@ -34,8 +33,8 @@ std::string window_label(spectral_window w);
 /// The spectral density (log scale) with its peaks marked and the strongest labelled: writes
 /// `table` (omega, power) and its _peaks (omega, power). The frequency axis ends at
 /// `omega_max` or where the density has fallen for good.
-cli::plot_panel spectrum_panel(series_output& files, std::string_view table,
-                               const time_series& x, const power_spectrum_result& spectrum,
+cli::plot_panel spectrum_panel(series_output& files, std::string_view table, const time_series& x,
+                               const power_spectrum_result& spectrum,
                                const std::vector<spectral_peak>& peaks,
                                std::optional<double> omega_max = {});
 
@@ -63,9 +62,8 @@ recurrence_panels recurrence_figure(series_output& files, std::string_view table
                                     const recurrence_statistics& stats);
 
 /// The delay plot x(t) against x(t − τ): writes `table` (t and the delay vectors `v`).
-cli::plot_panel delay_plot_panel(series_output& files, std::string_view table,
-                                 const time_series& x, const delay_choice& tau,
-                                 const delay_vectors& v);
+cli::plot_panel delay_plot_panel(series_output& files, std::string_view table, const time_series& x,
+                                 const delay_choice& tau, const delay_vectors& v);
 
 /// The false-neighbour fraction and Cao's E1, E2 against m (m = 1..the length of
 /// fnn.fraction), the dimension found or given marked: writes `table` (m, fnn, fnn_distance,
@@ -75,14 +73,14 @@ cli::plot_panel embedding_dimension_panel(series_output& files, std::string_view
                                           std::optional<std::size_t> dimension,
                                           std::string_view method);
 
-/// Both of the above: the delay plot x(t) against x(t − τ), and the false-neighbour fraction and Cao's E1, E2
-/// against m (m = 1..the length of fnn.fraction): writes `table` (t and the delay vectors
-/// `v`) and _dimension. `dimension` is the one found or given (none if none was found),
+/// Both of the above: the delay plot x(t) against x(t − τ), and the false-neighbour fraction and
+/// Cao's E1, E2 against m (m = 1..the length of fnn.fraction): writes `table` (t and the delay
+/// vectors `v`) and _dimension. `dimension` is the one found or given (none if none was found),
 /// `method` how ("fnn", "cao" or "given").
 std::pair<cli::plot_panel, cli::plot_panel> embedding_figure(
-    series_output& files, std::string_view table, const time_series& x,
-    const delay_choice& tau, const delay_vectors& v, const false_neighbours_result& fnn,
-    const cao_result& cao, std::optional<std::size_t> dimension, std::string_view method);
+    series_output& files, std::string_view table, const time_series& x, const delay_choice& tau,
+    const delay_vectors& v, const false_neighbours_result& fnn, const cao_result& cao,
+    std::optional<std::size_t> dimension, std::string_view method);
 
 /// The crossings projected onto two coordinates (state indices), as points: writes `table`
 /// (t, phi1..phin, p1..pn, H) of all crossings. `section` names the section in the title.

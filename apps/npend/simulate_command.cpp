@@ -108,8 +108,9 @@ class csv_writer {
 int run_simulate(const simulate_options& o) {
   const chain c = o.chain.make_chain(cli::model_support::any, "npend simulate", true);
   if (o.tensions && c.has_cart())
-    throw cli::input_error("--tensions: rod tensions are those of a chain on a fixed pivot; drop "
-                           "--cart");
+    throw cli::input_error(
+        "--tensions: rod tensions are those of a chain on a fixed pivot; drop "
+        "--cart");
   if (o.tensions && c.is_physical())
     throw cli::input_error(
         "--tensions: rod tensions are those of point masses on massless rods; drop --com, "

@@ -1,20 +1,19 @@
 // npend spectrum: the spectral density of a time series with its lines (paper §6.6.2,
 // Abb. 6.9).
-#include "command.hpp"
-#include "input_parsing.hpp"
-#include "series_figures.hpp"
-#include "series_output.hpp"
-#include "time_series_source.hpp"
-
-#include "npend/analysis/series/power_spectrum.hpp"
-#include "npend/analysis/series/spectral_peaks.hpp"
-
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <numbers>
+
+#include "command.hpp"
+#include "input_parsing.hpp"
+#include "npend/analysis/series/power_spectrum.hpp"
+#include "npend/analysis/series/spectral_peaks.hpp"
+#include "series_figures.hpp"
+#include "series_output.hpp"
+#include "time_series_source.hpp"
 
 namespace npend::app {
 

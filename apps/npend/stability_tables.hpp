@@ -2,10 +2,10 @@
 // `npend modes` and `npend demo`.
 #pragma once
 
+#include <vector>
+
 #include "npend/analysis/stability/equilibria.hpp"
 #include "npend/analysis/stability/normal_modes.hpp"
-
-#include <vector>
 
 namespace npend::app {
 

@@ -55,28 +55,35 @@ settings parse(int argc, char** argv) {
       std::exit(2);
     }
     const double v = std::atof(argv[++i]);
-    if (a == "--count") s.count = static_cast<int>(v);
-    else if (a == "--t-end") s.t_end = v;
-    else if (a == "--rounds") s.rounds = static_cast<int>(v);
-    else if (a == "--lyapunov") s.lyapunov = v != 0;
-    else if (a == "--dopri5") s.dopri5 = v;
-    else if (a == "--gauss6") s.gauss6 = v != 0;
+    if (a == "--count")
+      s.count = static_cast<int>(v);
+    else if (a == "--t-end")
+      s.t_end = v;
+    else if (a == "--rounds")
+      s.rounds = static_cast<int>(v);
+    else if (a == "--lyapunov")
+      s.lyapunov = v != 0;
+    else if (a == "--dopri5")
+      s.dopri5 = v;
+    else if (a == "--gauss6")
+      s.gauss6 = v != 0;
     else {
       std::fprintf(stderr, "npend_bench_flip_map: unknown option %s\n", a.c_str());
       std::exit(2);
     }
   }
   if (s.count < 1 || s.count > 4096 || !(s.t_end > 0) || s.rounds < 1 || !(s.dopri5 >= 0)) {
-    std::fprintf(stderr, "npend_bench_flip_map: need 1 <= count <= 4096, t-end > 0, rounds >= 1, "
-                         "dopri5 >= 0\n");
+    std::fprintf(stderr,
+                 "npend_bench_flip_map: need 1 <= count <= 4096, t-end > 0, rounds >= 1, "
+                 "dopri5 >= 0\n");
     std::exit(2);
   }
   return s;
 }
 
 std::vector<double> start_of(const settings& s, int i, int j) {
-  return {npend::grid_value(-3.14, 3.14, s.count, i), npend::grid_value(-3.14, 3.14, s.count, j),
-          0, 0};
+  return {npend::grid_value(-3.14, 3.14, s.count, i), npend::grid_value(-3.14, 3.14, s.count, j), 0,
+          0};
 }
 
 // The baseline a user without the map's cell functions would write: npend::integrate per
@@ -178,9 +185,8 @@ int lyapunov_maps(const npend::chain& c, const settings& s) {
     return map;
   };
   const auto on_lanes = [&] {
-    return tiled(s, [&](const std::vector<double>& starts) {
-      return npend::map_cells(c, starts, mo);
-    });
+    return tiled(
+        s, [&](const std::vector<double>& starts) { return npend::map_cells(c, starts, mo); });
   };
   std::vector<double> scalar_seconds, lane_seconds, scalar, lanes;
   for (int r = 0; r < s.rounds; ++r) {
@@ -226,17 +232,16 @@ int main(int argc, char** argv) {
     if (std::isfinite(scalar[k]) && std::isfinite(lanes[k]) && scalar[k] > 0)
       largest = std::max(largest, std::fabs(scalar[k] - lanes[k]) / scalar[k]);
   }
-  std::printf(
-      "%s\n",
-      fmt::format("{{\"count\": {}, \"t_end\": {}, \"rounds\": {}, \"stepper\": \"{}\", "
-                  "\"tolerance\": {}, \"isa\": \"{}\", \"lanes\": {}, "
-                  "\"scalar_seconds\": {}, \"lane_seconds\": {}, \"cells_differing\": {}, "
-                  "\"largest_relative_difference\": {}, \"integrate_seconds\": {}, "
-                  "\"integrate_cells_differing\": {}}}",
-                  s.count, s.t_end, s.rounds, npend::stepper_name(o.stepping.stepper), s.dopri5,
-                  npend::batch_isa(), npend::batch_lanes(c), list(scalar_seconds),
-                  list(lane_seconds), differing, largest, list(integrate_seconds),
-                  integrate_differing)
-          .c_str());
+  std::printf("%s\n",
+              fmt::format("{{\"count\": {}, \"t_end\": {}, \"rounds\": {}, \"stepper\": \"{}\", "
+                          "\"tolerance\": {}, \"isa\": \"{}\", \"lanes\": {}, "
+                          "\"scalar_seconds\": {}, \"lane_seconds\": {}, \"cells_differing\": {}, "
+                          "\"largest_relative_difference\": {}, \"integrate_seconds\": {}, "
+                          "\"integrate_cells_differing\": {}}}",
+                          s.count, s.t_end, s.rounds, npend::stepper_name(o.stepping.stepper),
+                          s.dopri5, npend::batch_isa(), npend::batch_lanes(c), list(scalar_seconds),
+                          list(lane_seconds), differing, largest, list(integrate_seconds),
+                          integrate_differing)
+                  .c_str());
   return 0;
 }

@@ -7,10 +7,6 @@
 //   npend_bench_integrators [--quick] [--throughput]
 //     --quick       10^4 steps and 3 rounds, a smoke run
 //     --throughput  the throughput table alone (bench/run puts it beside the kernel timings)
-#include "npend/chain_system.hpp"
-#include "npend/integrators/gauss_legendre.hpp"
-#include "npend/integrators/integrate.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -19,6 +15,10 @@
 #include <fstream>
 #include <string>
 #include <vector>
+
+#include "npend/chain_system.hpp"
+#include "npend/integrators/gauss_legendre.hpp"
+#include "npend/integrators/integrate.hpp"
 
 namespace {
 
@@ -92,8 +92,10 @@ void energy_table(double t_end) {
 
 // Part 2: throughput at n = 2, 3, 6; each round runs every stepper once (side by side).
 void throughput_table(double t_sim, int rounds) {
-  fmt::print("## Integration throughput: all angles 1.5 rad, p = 0, dt = 1e-3, t = 0 ... {:g} s per run\n\n",
-             t_sim);
+  fmt::print(
+      "## Integration throughput: all angles 1.5 rad, p = 0, dt = 1e-3, t = 0 ... {:g} s per "
+      "run\n\n",
+      t_sim);
   fmt::print(
       "Median wall time of {} interleaved rounds (each round runs every stepper once). "
       "Steps/s counts the stepper's own steps (for rkf78 at least one per output step); "

@@ -7,9 +7,7 @@
 // section (docs/benchmarks.md, through bench/run).
 //
 //   npend_bench_lyapunov [--quick]     (--quick: T = 100 s and one run, a smoke run)
-#include "npend/analysis/stability/floquet.hpp"
 #include "npend/analysis/chaos/lyapunov.hpp"
-#include "npend/excitation.hpp"
 
 #include <fmt/format.h>
 
@@ -19,6 +17,9 @@
 #include <numbers>
 #include <string>
 #include <vector>
+
+#include "npend/analysis/stability/floquet.hpp"
+#include "npend/excitation.hpp"
 
 namespace {
 

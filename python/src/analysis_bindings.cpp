@@ -9,14 +9,14 @@
 #include <limits>
 
 #include "bindings.hpp"
-#include "npend/analysis/series/autocorrelation.hpp"
 #include "npend/analysis/chaos/chaos_map.hpp"
 #include "npend/analysis/chaos/map_grid.hpp"
 #include "npend/analysis/chaos/map_run.hpp"
+#include "npend/analysis/series/autocorrelation.hpp"
 #include "npend/analysis/series/delay_embedding.hpp"
+#include "npend/analysis/series/power_spectrum.hpp"
 #include "npend/analysis/stability/equilibria.hpp"
 #include "npend/analysis/stability/normal_modes.hpp"
-#include "npend/analysis/series/power_spectrum.hpp"
 #include "npend/spec/section_spec.hpp"
 #include "npend/spec/thread_count.hpp"
 
@@ -175,8 +175,8 @@ map_axis axis_from(const py::tuple& spec, int links, const char* what) {
 py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
                         const std::string& quantity, double t_end, double dt, int flip_link,
                         int gali_order, const std::string& component, const py::object& x0,
-                        const py::object& velocities, const std::string& stepper,
-                        double abs_tol, double rel_tol, int threads) {
+                        const py::object& velocities, const std::string& stepper, double abs_tol,
+                        double rel_tol, int threads) {
   const auto n = static_cast<std::size_t>(c.links());
   map_grid grid;
   grid.parameters = c.parameters();
@@ -187,8 +187,8 @@ py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple
   grid.angles.assign(base.begin(), base.begin() + static_cast<long>(n));
   grid.momenta.assign(base.begin() + static_cast<long>(n), base.end());
   if (!velocities.is_none()) {
-    if (!x0.is_none() && std::any_of(grid.momenta.begin(), grid.momenta.end(),
-                                     [](double p) { return p != 0; }))
+    if (!x0.is_none() &&
+        std::any_of(grid.momenta.begin(), grid.momenta.end(), [](double p) { return p != 0; }))
       throw std::invalid_argument(
           "velocities: give the start's momenta (in x0) or its velocities, not both");
     grid.momenta = to_vector(velocities, n, "velocities");
@@ -259,9 +259,8 @@ step by its dense output.)");
   m.def("map", &map, py::arg("chain"), py::arg("x"), py::arg("y"), py::kw_only(),
         py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
         py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("component") = "phi1",
-        py::arg("x0") = py::none(), py::arg("velocities") = py::none(),
-        py::arg("stepper") = "rk4", py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10,
-        py::arg("threads") = 0,
+        py::arg("x0") = py::none(), py::arg("velocities") = py::none(), py::arg("stepper") = "rk4",
+        py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10, py::arg("threads") = 0,
         R"(A chaos map over a grid, as `npend map`: x and y are (name, from, to, count), count
 values from `from` to `to` both included, with name a start coordinate (phi1..phin, p1..pn,
 or dphi1..dphin when `velocities` gives the start's velocities), "energy" (the start's

@@ -1,11 +1,10 @@
 // npend.Chain: a chain's parameters and its generated functions, each taking one state or a
 // batch of states as the rows of a 2-D array.
 #include <fmt/format.h>
-
-#include <optional>
 #include <pybind11/stl.h>
 
 #include <functional>
+#include <optional>
 #include <stdexcept>
 
 #include "bindings.hpp"
@@ -141,8 +140,8 @@ pivot ("vertical:A:OMEGA" or "horizontal:A:OMEGA") make it a physical chain.)")
            py::arg("lengths") = py::none(), py::arg("g") = standard_gravity,
            py::arg("com") = py::none(), py::arg("inertia") = py::none(), py::arg("rods") = false,
            py::arg("stiffness") = py::none(), py::arg("rest_angles") = py::none(),
-           py::arg("damping") = py::none(), py::arg("pivot") = "",
-           py::arg("cart") = py::none(), py::arg("cart_damping") = py::none())
+           py::arg("damping") = py::none(), py::arg("pivot") = "", py::arg("cart") = py::none(),
+           py::arg("cart_damping") = py::none())
       .def_property_readonly("links", &chain::links)
       .def_property_readonly("state_size", &chain::state_size)
       .def_property_readonly("is_physical", &chain::is_physical)
@@ -224,7 +223,7 @@ pivot ("vertical:A:OMEGA" or "horizontal:A:OMEGA") make it a physical chain.)")
           "The state [phi, A(phi) dphi] for angles phi and angular velocities dphi.")
       .def("__repr__", [](const chain& c) {
         return fmt::format("npend.Chain({} links, {})", c.links(),
-                           c.has_cart()       ? "on a cart"
+                           c.has_cart()      ? "on a cart"
                            : c.is_physical() ? "physical"
                                              : "point masses");
       });

@@ -52,8 +52,8 @@ py::array_t<double> rows_array(const std::vector<std::vector<double>>& rows, std
 }
 
 py::dict lyapunov(const chain& c, const py::handle& x0_in, double t_end, double dt,
-                  const std::string& stepper, bool maximal, int exponents,
-                  double renormalise_every, double transient, std::size_t blocks) {
+                  const std::string& stepper, bool maximal, int exponents, double renormalise_every,
+                  double transient, std::size_t blocks) {
   const auto x0 = start_state(c, x0_in);
   if (maximal && exponents != 0)
     throw std::invalid_argument("maximal and exponents: ask for the largest exponent or for K");
@@ -93,10 +93,9 @@ py::dict poincare(const chain& c, const py::handle& x0_in, const std::string& se
                   double t_end, double dt, const std::string& stepper, const std::string& direction,
                   std::size_t max_crossings, bool unwrapped, double abs_tol, double rel_tol) {
   const auto x0 = start_state(c, x0_in);
-  const auto section =
-      spec::section_from_spec(spec::parse_section_spec(section_text, "section"), c.links(),
-                              "section",
-                              unwrapped ? spec::angle_mode::unwrapped : spec::angle_mode::circle);
+  const auto section = spec::section_from_spec(
+      spec::parse_section_spec(section_text, "section"), c.links(), "section",
+      unwrapped ? spec::angle_mode::unwrapped : spec::angle_mode::circle);
   auto o = integration_from(t_end, dt, stepper, 0, abs_tol, rel_tol);
   poincare_options po;
   po.direction = spec::parse_direction(direction, "direction");
@@ -161,22 +160,22 @@ py::dict indicators(const chain& c, const py::handle& x0_in, double t_end, doubl
 
 void bind_integration(py::module_& m) {
   // The stepper names come from the one list in stepper_kind.cpp; pybind11 copies the text.
-  const std::string simulate_doc = fmt::format(R"(Integrates Hamilton's equations from x0 (shape (2n,)) on the grid
+  const std::string simulate_doc =
+      fmt::format(R"(Integrates Hamilton's equations from x0 (shape (2n,)) on the grid
 t_k = t_start + k dt up to t_end, as `npend simulate` does.
 
 Returns (t, X): t of shape (N+1,), X of shape (N+1, 2n), row k the state at t_k.
 stepper: one of {} (default gauss6); the adaptive ones ({})
 use abs_tol and rel_tol. Raises ValueError for bad input, RuntimeError when the integration
 cannot go on, KeyboardInterrupt on Ctrl-C.)",
-                                               stepper_names(), stepper_names(stepper_use::adaptive));
+                  stepper_names(), stepper_names(stepper_use::adaptive));
   m.def("simulate", &simulate, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
         py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("t_start") = 0.0,
-        py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10,
-        simulate_doc.c_str());
+        py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10, simulate_doc.c_str());
   m.def("lyapunov", &lyapunov, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
         py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("maximal") = false,
-        py::arg("exponents") = 0, py::arg("renormalise_every") = 0.1,
-        py::arg("transient") = 0.0, py::arg("blocks") = 10,
+        py::arg("exponents") = 0, py::arg("renormalise_every") = 0.1, py::arg("transient") = 0.0,
+        py::arg("blocks") = 10,
         R"(Lyapunov exponents of the trajectory from x0 by Benettin's method, as
 `npend lyapunov` computes them: the full spectrum of 2n exponents (descending), with
 maximal=True the largest alone, or with exponents=K the K largest (`--exponents K`: K

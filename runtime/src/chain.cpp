@@ -43,9 +43,9 @@ const char* chain::equations_latex() const { return m_kernels->equations_latex()
 
 void chain::check_size(std::span<const double> v, int expected, const char* what) const {
   if (v.size() != static_cast<std::size_t>(expected))
-    throw std::invalid_argument(fmt::format("{} has {} entries; the {}-link chain{} needs {}",
-                                            what, v.size(), m_links,
-                                            has_cart() ? " on a cart" : "", expected));
+    throw std::invalid_argument(fmt::format("{} has {} entries; the {}-link chain{} needs {}", what,
+                                            v.size(), m_links, has_cart() ? " on a cart" : "",
+                                            expected));
 }
 
 void chain::check_size(std::span<double> v, int expected, const char* what) const {
@@ -151,8 +151,7 @@ double chain::log_det_mass_matrix(std::span<const double> q) const {
   return m_kernels->log_det_mass_matrix(q.data());
 }
 
-void chain::potential_gradient(std::span<const double> q, std::span<double> grad,
-                               double t) const {
+void chain::potential_gradient(std::span<const double> q, std::span<double> grad, double t) const {
   check_size(q, m_coordinates, "phi");
   check_size(grad, m_coordinates, "gradient");
   m_kernels->potential_gradient(q.data(), t, grad.data());

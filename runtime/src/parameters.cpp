@@ -86,9 +86,10 @@ void check_mass_matrix_regular(const chain_parameters& p) {
     const std::string below =
         link_range(a + 2, b + 1) + (a + 1 == b ? " has no inertia" : " have no inertia");
     const std::string end =
-        !ends_at_rest  ? std::string(" down to the chain's end")
-        : a + 1 == b ? std::string(" and its centre of mass at its lower end (c = l)")
-                     : fmt::format(" and link {} its centre of mass at its lower end (c = l)", b + 1);
+        !ends_at_rest ? std::string(" down to the chain's end")
+        : a + 1 == b
+            ? std::string(" and its centre of mass at its lower end (c = l)")
+            : fmt::format(" and link {} its centre of mass at its lower end (c = l)", b + 1);
     return std::invalid_argument(fmt::format(
         "{} make the mass matrix singular where they line up (phi_{}..phi_{} equal mod pi): "
         "link {} has its centre of mass at its joint (c = 0) and no inertia, {}{}, so they can "
@@ -260,8 +261,8 @@ void chain_parameters::validate() const {
     throw std::invalid_argument(
         fmt::format("cart mass is {}: it must be a positive finite number (kg)", *cart_mass));
   if (!std::isfinite(cart_damping) || cart_damping < 0)
-    throw std::invalid_argument(fmt::format(
-        "cart damping is {}: it must be a finite number >= 0 (N s/m)", cart_damping));
+    throw std::invalid_argument(
+        fmt::format("cart damping is {}: it must be a finite number >= 0 (N s/m)", cart_damping));
   if (cart_damping != 0 && !cart_mass)
     throw std::invalid_argument("cart damping needs a cart: give the cart mass too");
   if (cart_mass && pivot.moves())

@@ -126,8 +126,9 @@ TEST_CASE("npend eval --chain: a list longer than the link count is refused as i
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CHECK(npend::test::is_input_error(
-      r, "\"masses\": expected 3 values (m_1..m_3) or one number for all links, got a longer "
-         "list"));
+      r,
+      "\"masses\": expected 3 values (m_1..m_3) or one number for all links, got a longer "
+      "list"));
   CHECK(seconds < 2.0);
 }
 

@@ -1,16 +1,16 @@
 // `npend backbone` and `npend corrections` as a user runs them: the JSON against the library
 // and the single pendulum's exact frequency, the files and plots, bad input.
-#include "npend/analysis/stability/backbone.hpp"
-#include "npend/analysis/stability/harmonic_corrections.hpp"
-#include "support/test_support.hpp"
-
 #include <doctest/doctest.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <numbers>
+
+#include "npend/analysis/stability/backbone.hpp"
+#include "npend/analysis/stability/harmonic_corrections.hpp"
+#include "support/test_support.hpp"
 
 using npend::test::run_npend;
 

@@ -141,9 +141,10 @@ TEST_CASE("npend map --stepper dopri5: every cell the library's dopri5 value, th
   const fs::path dir(npend::test::temporary_directory("cli-map-dopri5"));
   const npend::chain c(npend::chain_parameters::uniform(2));
   for (const std::string quantity : {"flip", "lyapunov", "state"}) {
-    const auto r = run_npend("map --links 2 --x phi1:-3:3:5 --y phi2:-2:3:4 --t-end 10 --p 0,1 "
-                             "--stepper dopri5 --abs-tol 1e-9 --rel-tol 1e-8 --json --quantity " +
-                             quantity + " --out " + (dir / quantity).string());
+    const auto r = run_npend(
+        "map --links 2 --x phi1:-3:3:5 --y phi2:-2:3:4 --t-end 10 --p 0,1 "
+        "--stepper dopri5 --abs-tol 1e-9 --rel-tol 1e-8 --json --quantity " +
+        quantity + " --out " + (dir / quantity).string());
     REQUIRE(r.exit_code == 0);
     const auto j = nlohmann::json::parse(r.out);
     CHECK(j["stepper"] == "dopri5");
@@ -170,8 +171,10 @@ TEST_CASE("npend map --stepper dopri5: every cell the library's dopri5 value, th
   }
   // The stepper and tolerances are part of the map's identity: an rk4 part is refused in a
   // dopri5 run's folder; the dopri5 parts, merged, give the single run's grid.
-  const std::string parted = "map --links 2 --x phi1:-3:3:5 --y phi2:-2:3:4 --t-end 10 --p 0,1 "
-                             "--tile 2 --out " + (dir / "parted").string();
+  const std::string parted =
+      "map --links 2 --x phi1:-3:3:5 --y phi2:-2:3:4 --t-end 10 --p 0,1 "
+      "--tile 2 --out " +
+      (dir / "parted").string();
   const std::string tolerances = " --stepper dopri5 --abs-tol 1e-9 --rel-tol 1e-8";
   REQUIRE(run_npend(parted + tolerances + " --part 1/2").exit_code == 0);
   const auto rk4_part = run_npend(parted + " --part 2/2");
@@ -187,9 +190,10 @@ TEST_CASE("npend map --stepper gauss6: every cell the library's Gauss-Legendre v
   const fs::path dir(npend::test::temporary_directory("cli-map-gauss"));
   const npend::chain c(npend::chain_parameters::uniform(2));
   for (const std::string quantity : {"flip", "state"}) {
-    const auto r = run_npend("map --links 2 --x phi1:-3:3:6 --y phi2:-2:3:4 --t-end 10 "
-                             "--stepper gauss6 --json --quantity " + quantity + " --out " +
-                             (dir / quantity).string());
+    const auto r = run_npend(
+        "map --links 2 --x phi1:-3:3:6 --y phi2:-2:3:4 --t-end 10 "
+        "--stepper gauss6 --json --quantity " +
+        quantity + " --out " + (dir / quantity).string());
     REQUIRE(r.exit_code == 0);
     CHECK(nlohmann::json::parse(r.out)["stepper"] == "gauss6");
     const npy m = read_npy(dir / quantity / "map.npy");
@@ -210,7 +214,8 @@ TEST_CASE("npend map --stepper gauss6: every cell the library's Gauss-Legendre v
   }
   CHECK(npend::test::is_input_error(
       run_npend("map --links 2 --x phi1:-3:3:6 --y phi2:-2:3:4 --stepper gauss6 --rel-tol 1e-9 "
-                "--out " + (dir / "tol").string()),
+                "--out " +
+                (dir / "tol").string()),
       "--rel-tol: only with --stepper dopri5"));
 }
 
@@ -323,9 +328,10 @@ TEST_CASE("npend map: damping and drive axes give each cell its chain; a drive r
 TEST_CASE("npend map: a map of one step, every cell ruled out, still draws its PNG") {
   // t-end = dt leaves the flip times' colour range dt..t-end empty; gnuplot refuses that.
   const fs::path dir(npend::test::temporary_directory("cli-map-one-step"));
-  const auto r = run_npend("map --links 2 --x phi1:0:0.1:2 --y phi2:0:0.1:2 --t-end 0.01 --json "
-                           "--out " +
-                           (dir / "m").string());
+  const auto r = run_npend(
+      "map --links 2 --x phi1:0:0.1:2 --y phi2:0:0.1:2 --t-end 0.01 --json "
+      "--out " +
+      (dir / "m").string());
   REQUIRE(r.exit_code == 0);
   CHECK(r.err.find("gnuplot failed") == std::string::npos);
   CHECK(nlohmann::json::parse(r.out)["forbidden"] == 4);
@@ -347,8 +353,9 @@ TEST_CASE("npend map: forbidden cells are grey with failed cells red, and withou
   const std::string script = npend::test::read_text((dir / "both" / "map.gp").string());
   CHECK(script.find("forbidden.npy") != std::string::npos);
   CHECK(script.find("set object 1 rectangle") == std::string::npos);
-  const auto lens = run_npend("map --links 2 --x phi1:-3:3:8 --y phi2:-3:3:8 --t-end 10 --json --out " +
-                              (dir / "lens").string());
+  const auto lens =
+      run_npend("map --links 2 --x phi1:-3:3:8 --y phi2:-3:3:8 --t-end 10 --json --out " +
+                (dir / "lens").string());
   REQUIRE(lens.exit_code == 0);
   const auto jl = nlohmann::json::parse(lens.out);
   CHECK(jl["failed"] == 0);
@@ -547,7 +554,8 @@ signalled_run signal_after(const std::string& args, const fs::path& ready, doubl
 
 }  // namespace
 
-TEST_CASE("npend map: SIGTERM abandons the tiles in flight at once, on the lanes and cell by cell") {
+TEST_CASE(
+    "npend map: SIGTERM abandons the tiles in flight at once, on the lanes and cell by cell") {
   const fs::path dir(npend::test::temporary_directory("cli-map-abandon"));
   // One tile of 4 cells, each 1e8 steps (minutes): the run can only end in time by leaving
   // its tile unfinished. --rods goes cell by cell; point masses on the batch lanes.
@@ -575,8 +583,9 @@ TEST_CASE("npend map: SIGTERM abandons the tiles in flight at once, on the lanes
   }
 }
 
-TEST_CASE("npend map: killed in its only tile, the run ends at once and --resume gives one run's "
-          "bytes") {
+TEST_CASE(
+    "npend map: killed in its only tile, the run ends at once and --resume gives one run's "
+    "bytes") {
   const fs::path dir(npend::test::temporary_directory("cli-map-abandon-resume"));
   // Uniform rods go cell by cell: 4 cells of 2e6 rk4 steps, a tile of some 3 s of CPU time
   // (0.33 s at --t-end 2000), so that a run that finished its tile before it ended took
@@ -597,12 +606,13 @@ TEST_CASE("npend map: killed in its only tile, the run ends at once and --resume
         npend::test::read_text((part / "map.npy").string()));
 }
 
-TEST_CASE("npend map: a fresh run refuses a folder holding another run; --force removes only "
-          "npend's files") {
+TEST_CASE(
+    "npend map: a fresh run refuses a folder holding another run; --force removes only "
+    "npend's files") {
   const fs::path dir(npend::test::temporary_directory("cli-map-fresh-folder"));
   REQUIRE(run_npend(grid + " --out " + (dir / "whole").string()).exit_code == 0);
   const fs::path mine = dir / "mine", tiles = mine / "tiles";
-  REQUIRE(run_part(mine, "1/2").exit_code == 0);  // half a job array of this map
+  REQUIRE(run_part(mine, "1/2").exit_code == 0);   // half a job array of this map
   std::ofstream(tiles / "notes.txt") << "mine\n";  // and a file that is not npend's
   const std::vector<std::string> before = file_names(tiles);
   REQUIRE(before.size() == 1 + 1 + 5);  // run.json, notes.txt, tiles 0, 2, 4, 6, 8
@@ -654,13 +664,15 @@ TEST_CASE("npend map merge and --resume: a tile whose data changed fails its che
         npend::test::read_text((parts / "map.npy").string()));
 }
 
-TEST_CASE("npend map merge: Ctrl-C while assembling keeps the tiles, says so, leaves no "
-          "temporary") {
+TEST_CASE(
+    "npend map merge: Ctrl-C while assembling keeps the tiles, says so, leaves no "
+    "temporary") {
   const fs::path dir(npend::test::temporary_directory("cli-map-merge-interrupt"));
   // 1024^2 cells the energy rules out: nothing to integrate, an 8 MB map.npy and a picture
   // of a million cells to make: a second or more.
-  const std::string big = "map --links 2 --x phi1:-0.1:0.1:1024 --y phi2:-0.1:0.1:1024 "
-                          "--t-end 1 --tile 256 --threads 2";
+  const std::string big =
+      "map --links 2 --x phi1:-0.1:0.1:1024 --y phi2:-0.1:0.1:1024 "
+      "--t-end 1 --tile 256 --threads 2";
   REQUIRE(run_npend(big + " --part 1/1 --out " + dir.string()).exit_code == 0);
   const std::vector<std::string> tiles = file_names(dir / "tiles");
   REQUIRE(tiles.size() == 1 + 4 * 4);

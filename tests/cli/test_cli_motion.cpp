@@ -1,27 +1,24 @@
 // npend poincare, npend analyze and npend demo as a user runs them: the crossings' JSON
 // against the library, the files and the index they write, and their input errors.
-#include "csv_table.hpp"
-#include "npend/analysis/motion/rod_tensions.hpp"
-#include "support/test_support.hpp"
-
-#include "npend/analysis/chaos/poincare_section.hpp"
-
 #include <doctest/doctest.h>
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <numbers>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "csv_table.hpp"
+#include "npend/analysis/chaos/poincare_section.hpp"
+#include "npend/analysis/motion/rod_tensions.hpp"
+#include "support/test_support.hpp"
 
 namespace fs = std::filesystem;
 using npend::test::run_npend;
 using npend::test::temporary_directory;
 
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 TEST_CASE("npend poincare: --json points are the library's crossings, each t and the full state") {
   const npend::chain c(npend::chain_parameters::uniform(3));
@@ -67,7 +64,8 @@ TEST_CASE("npend poincare: --out writes the crossings, the script and the projec
       "phi1,phi2 --out " +
       (dir / "pts.csv").string());
   REQUIRE(r.exit_code == 0);
-  CHECK(npend::test::directory_listing(dir) == std::vector<std::string>{"pts.csv", "pts.gp", "pts.png"});
+  CHECK(npend::test::directory_listing(dir) ==
+        std::vector<std::string>{"pts.csv", "pts.gp", "pts.png"});
   const auto table = npend::cli::parse_csv(npend::test::read_text(dir / "pts.csv"), "pts.csv");
   CHECK(table.names == std::vector<std::string>{"t", "phi1", "phi2", "p1", "p2", "H"});
   REQUIRE(!table.columns[0].empty());
@@ -160,13 +158,15 @@ TEST_CASE("npend analyze: writes the data, the plots and an index that shows the
       CHECK(index.find("[" + name + "](" + name + ")") != std::string::npos);
   }
   // The series is the first 8192 samples of phi3 on the grid.
-  const auto series = npend::cli::parse_csv(npend::test::read_text(dir / "series.csv"), "series.csv");
+  const auto series =
+      npend::cli::parse_csv(npend::test::read_text(dir / "series.csv"), "series.csv");
   CHECK(series.names == std::vector<std::string>{"t", "phi1", "phi2", "phi3", "p1", "p2", "p3"});
   CHECK(series.columns[0].size() == 8192);
   CHECK(series.columns[3].front() == 0.72);
   // The tensions on the same samples, the first row the library's at the start (their
   // physics is tested in tests/runtime/motion/test_rod_tensions.cpp).
-  const auto tensions = npend::cli::parse_csv(npend::test::read_text(dir / "tensions.csv"), "tensions.csv");
+  const auto tensions =
+      npend::cli::parse_csv(npend::test::read_text(dir / "tensions.csv"), "tensions.csv");
   CHECK(tensions.names == std::vector<std::string>{"t", "tau_1", "tau_2", "tau_3"});
   CHECK(tensions.columns[0].size() == 8192);
   const std::vector<double> x0{0.72, -0.72, 0.72, 0, 0, 0};
@@ -179,7 +179,8 @@ TEST_CASE("npend analyze: an arm going over the top is a note on the unwrapped a
   const fs::path dir = fs::path(temporary_directory("cli-analyze-flip")) / "run";
   // A start whose arm goes over at t ≈ 5 s, before chaos can amplify the kernels' rounding
   // (from 0.9,-0.6,1.2 the first flip came at 113 s, or never, as the last bits fell).
-  const std::string start = "analyze --links 3 --phi 1.4,-0.6,1.2 --samples 1024 --t-end 200 --json ";
+  const std::string start =
+      "analyze --links 3 --phi 1.4,-0.6,1.2 --samples 1024 --t-end 200 --json ";
   // On the circle (the default) a flip changes nothing about the sections: no note.
   const auto circle = run_npend(start + "--out " + dir.string() + "-circle");
   REQUIRE(circle.exit_code == 0);
@@ -193,8 +194,9 @@ TEST_CASE("npend analyze: an arm going over the top is a note on the unwrapped a
   CHECK(j["angles"] == "unwrapped");
   REQUIRE(!j["notes"].empty());
   CHECK(j["notes"][0].get<std::string>().find("an arm passed the upright position") == 0);
-  CHECK(npend::test::read_text(dir / "index.md").find("> Note: an arm passed the upright position") !=
-        std::string::npos);
+  CHECK(
+      npend::test::read_text(dir / "index.md").find("> Note: an arm passed the upright position") !=
+      std::string::npos);
   CHECK(r.err.find("note: an arm passed the upright position") == 0);
 }
 
@@ -299,7 +301,8 @@ TEST_CASE("npend poincare, analyze and demo: --help names every option") {
 TEST_CASE("npend poincare: sections of angles are on the circle unless --unwrapped") {
   // Above the flip energy the arms turn over: φ₃ = 0 on the circle is passed every turn,
   // while the plane of the unwrapped angle is met only while φ₃ stays near 0.
-  const std::string run = "poincare --links 3 --phi 1.5,1.5,1.5 --t-end 200 --section phi3=0 --json";
+  const std::string run =
+      "poincare --links 3 --phi 1.5,1.5,1.5 --t-end 200 --section phi3=0 --json";
   const auto circle = nlohmann::json::parse(run_npend(run).out);
   const auto plane = nlohmann::json::parse(run_npend(run + " --unwrapped").out);
   CHECK(circle["angles"] == "circle");
@@ -312,8 +315,8 @@ TEST_CASE("npend poincare: sections of angles are on the circle unless --unwrapp
   for (const auto& p : circle["points"]) times.push_back(p["t"].get<double>());
   for (const auto& p : plane["points"]) {
     const double t = p["t"].get<double>();
-    CHECK(std::any_of(times.begin(), times.end(),
-                      [&](double s) { return std::fabs(s - t) < 1e-9; }));
+    CHECK(
+        std::any_of(times.begin(), times.end(), [&](double s) { return std::fabs(s - t) < 1e-9; }));
   }
   // The circle's points are reported with their angles in [-π, π], on the section to rounding.
   for (const auto& p : circle["points"]) {

@@ -161,8 +161,8 @@ TEST_CASE("npend --chain FILE.json: the file's chain, with command-line options 
 TEST_CASE("npend floquet: a slowly unstable damped orbit is unstable, with its error") {
   // Overdamped inverted link: max |mu| - 1 = m g l T / b = 4.93e-7, under the old fixed
   // tolerance of 1e-6 but far above the integration's error.
-  const auto r = run_npend(
-      "floquet --links 1 --lengths 0.2 --pivot vertical:0.01:250 --damping 1e5 --json");
+  const auto r =
+      run_npend("floquet --links 1 --lengths 0.2 --pivot vertical:0.01:250 --damping 1e5 --json");
   REQUIRE(r.exit_code == 0);
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j["verdict"] == "unstable");
@@ -170,8 +170,8 @@ TEST_CASE("npend floquet: a slowly unstable damped orbit is unstable, with its e
   const double excess = j["max_modulus"].get<double>() - 1;
   CHECK(excess == doctest::Approx(1.962e-5 * 2 * 3.141592653589793 / 250).epsilon(1e-2));
   CHECK(j["modulus_error"].get<double>() < 1e-2 * excess);
-  const auto text = run_npend(
-      "floquet --links 1 --lengths 0.2 --pivot vertical:0.01:250 --damping 1e5");
+  const auto text =
+      run_npend("floquet --links 1 --lengths 0.2 --pivot vertical:0.01:250 --damping 1e5");
   REQUIRE(text.exit_code == 0);
   CHECK(text.out.find("unstable: max |mu| = ") != std::string::npos);
 }
@@ -212,9 +212,8 @@ TEST_CASE("npend control: the double inverted pendulum on a cart, pushed at the 
   for (const auto& l : j["closed_loop_eigenvalues"]) CHECK(l[0].get<double>() < 0);
   CHECK(j["open_loop_eigenvalues"][0][0].get<double>() > 0);
 
-  CHECK(npend::test::is_input_error(
-      run_npend("control --links 2 --cart 1 --at pi --actuated 3"),
-      "--actuated: 3 is not a joint 1..2 or cart"));
+  CHECK(npend::test::is_input_error(run_npend("control --links 2 --cart 1 --at pi --actuated 3"),
+                                    "--actuated: 3 is not a joint 1..2 or cart"));
 }
 
 TEST_CASE("npend simulate: the triple pendulum on a cart held upright by LQR") {

@@ -1,25 +1,24 @@
 // The time-series commands on a simulated start (--links N, a start, --samples, --dt,
 // --coordinate, --stepper): their JSON against the library on the same trajectory, and the
 // message of every bad combination of options.
-#include "csv_table.hpp"
-#include "support/test_support.hpp"
-
-#include "npend/analysis/series/autocorrelation.hpp"
-#include "npend/analysis/series/delay_embedding.hpp"
-#include "npend/analysis/series/embedding_dimension.hpp"
-#include "npend/analysis/chaos/poincare_section.hpp"
-#include "npend/analysis/series/power_spectrum.hpp"
-#include "npend/analysis/series/spectral_peaks.hpp"
-#include "npend/excitation.hpp"
-#include "npend/integrators/integrate.hpp"
-
 #include <doctest/doctest.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <numbers>
+
+#include "csv_table.hpp"
+#include "npend/analysis/chaos/poincare_section.hpp"
+#include "npend/analysis/series/autocorrelation.hpp"
+#include "npend/analysis/series/delay_embedding.hpp"
+#include "npend/analysis/series/embedding_dimension.hpp"
+#include "npend/analysis/series/power_spectrum.hpp"
+#include "npend/analysis/series/spectral_peaks.hpp"
+#include "npend/excitation.hpp"
+#include "npend/integrators/integrate.hpp"
+#include "support/test_support.hpp"
 
 using namespace npend;
 using npend::test::run_npend;
@@ -181,7 +180,8 @@ std::vector<double> analysed_series(const std::string& start, const std::string&
 TEST_CASE("npend spectrum/embed: the bounded observables of a rotating chain") {
   // Above the flip energy: φ₃ winds; sin, cos, the wrapped angle and the bob positions stay
   // bounded. Each is checked against the trajectory integrated here and eq. 6.1 written out.
-  const std::string start = "--links 3 --lengths 1,0.5,0.8 --phi 1.5,1.5,1.5 --dt 0.01 --samples 512";
+  const std::string start =
+      "--links 3 --lengths 1,0.5,0.8 --phi 1.5,1.5,1.5 --dt 0.01 --samples 512";
   const chain c(chain_parameters{{1, 1, 1}, {1, 0.5, 0.8}, 9.81});
   const std::vector<double> x0{1.5, 1.5, 1.5, 0, 0, 0};
   std::vector<std::vector<double>> phi;
@@ -195,8 +195,10 @@ TEST_CASE("npend spectrum/embed: the bounded observables of a rotating chain") {
   for (std::size_t j = 1; j < 512; ++j) {
     const std::size_t row = j - 1;  // the first delay vector is at t = dt
     CHECK(x3[row] == doctest::Approx(std::sin(phi[0][j]) + 0.5 * std::sin(phi[1][j]) +
-                                     0.8 * std::sin(phi[2][j])).epsilon(1e-12));
-    CHECK(y2[row] == doctest::Approx(std::cos(phi[0][j]) + 0.5 * std::cos(phi[1][j])).epsilon(1e-12));
+                                     0.8 * std::sin(phi[2][j]))
+                         .epsilon(1e-12));
+    CHECK(y2[row] ==
+          doctest::Approx(std::cos(phi[0][j]) + 0.5 * std::cos(phi[1][j])).epsilon(1e-12));
     CHECK(s3[row] == doctest::Approx(std::sin(phi[2][j])).epsilon(1e-12));
     CHECK(c1[row] == doctest::Approx(std::cos(phi[0][j])).epsilon(1e-12));
     CHECK(std::fabs(w3[row]) <= std::numbers::pi);
@@ -206,14 +208,16 @@ TEST_CASE("npend spectrum/embed: the bounded observables of a rotating chain") {
 }
 
 TEST_CASE("npend spectrum: a winding angle's series is noted on stderr, a bounded one is not") {
-  const std::string rotating = "spectrum --links 3 --phi 1.5,1.5,1.5 --dt 0.01 --samples 4096 --json";
+  const std::string rotating =
+      "spectrum --links 3 --phi 1.5,1.5,1.5 --dt 0.01 --samples 4096 --json";
   const auto winding = run_npend(rotating + " --coordinate phi3");
   REQUIRE(winding.exit_code == 0);
   CHECK(winding.err.find("note: phi3 runs from") == 0);
   CHECK(std::count(winding.err.begin(), winding.err.end(), '\n') == 1);
   CHECK(run_npend(rotating + " --coordinate x3").err.empty());
   // The weak start swings without turning over: nothing to note.
-  CHECK(run_npend("spectrum --links 3 --phi 0.1,-0.1,0.1 --dt 0.01 --samples 1024 --json").err.empty());
+  CHECK(run_npend("spectrum --links 3 --phi 0.1,-0.1,0.1 --dt 0.01 --samples 1024 --json")
+            .err.empty());
 }
 
 TEST_CASE("npend spectrum: Ctrl-C during the simulation stops it, analyses nothing, exits 130") {

@@ -1,12 +1,12 @@
 // npend equilibria / modes / toda-brumer as a user runs them.
+#include <doctest/doctest.h>
+
+#include <nlohmann/json.hpp>
+#include <numbers>
+
 #include "npend/analysis/stability/equilibria.hpp"
 #include "npend/analysis/stability/normal_modes.hpp"
 #include "support/test_support.hpp"
-
-#include <doctest/doctest.h>
-#include <nlohmann/json.hpp>
-
-#include <numbers>
 
 using npend::test::run_npend;
 
@@ -34,10 +34,12 @@ TEST_CASE("npend modes: --json frequencies ascending, shapes, and the --at equil
   const auto lin = npend::normal_modes(npend::chain(npend::chain_parameters::uniform(3)),
                                        std::vector<double>{0, 0, 0});
   REQUIRE(j["frequencies"].size() == 3);
-  for (std::size_t k = 0; k < 3; ++k) CHECK(j["frequencies"][k].get<double>() == lin.modes[k].frequency);
+  for (std::size_t k = 0; k < 3; ++k)
+    CHECK(j["frequencies"][k].get<double>() == lin.modes[k].frequency);
   CHECK(j["shapes"].size() == 3);
   // The standing double pendulum has no oscillating mode: two growth rates.
-  const auto top = nlohmann::json::parse(run_npend("modes --links 2 --at 3.141592653589793,3.141592653589793 --json").out);
+  const auto top = nlohmann::json::parse(
+      run_npend("modes --links 2 --at 3.141592653589793,3.141592653589793 --json").out);
   CHECK(top["frequencies"].empty());
   CHECK(top["growth_rates"].size() == 2);
   const auto bad = run_npend("modes --links 2 --at 0,1");
@@ -46,7 +48,8 @@ TEST_CASE("npend modes: --json frequencies ascending, shapes, and the --at equil
 }
 
 TEST_CASE("npend toda-brumer: the paper's critical energy and the unstable region") {
-  const auto r = run_npend("toda-brumer --links 3 --masses 1,1,2 --lengths 1,1,0.5 --fixed 1,2 --phi 0,0,2 --json");
+  const auto r = run_npend(
+      "toda-brumer --links 3 --masses 1,1,2 --lengths 1,1,0.5 --fixed 1,2 --phi 0,0,2 --json");
   REQUIRE(r.exit_code == 0);
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j["critical_energy"].get<double>() == doctest::Approx(2 * 9.81 * 0.5).epsilon(1e-14));

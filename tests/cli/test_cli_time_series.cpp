@@ -1,29 +1,28 @@
 // npend spectrum / autocorrelation / recurrence / embed on CSV files, as a user runs them:
 // the JSON against the library on the same data, the files --out writes, every input error's
 // message and exit status, and that a failure leaves no file behind.
-#include "csv_table.hpp"
-#include "support/test_signals.hpp"
-#include "support/test_support.hpp"
-#include "time_series_source.hpp"
+#include <doctest/doctest.h>
+#include <fmt/format.h>
 
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <optional>
+#include <sstream>
+
+#include "csv_table.hpp"
 #include "npend/analysis/series/autocorrelation.hpp"
 #include "npend/analysis/series/delay_embedding.hpp"
 #include "npend/analysis/series/embedding_dimension.hpp"
 #include "npend/analysis/series/event_times.hpp"
 #include "npend/analysis/series/power_spectrum.hpp"
 #include "npend/analysis/series/spectral_peaks.hpp"
-
-#include <doctest/doctest.h>
-#include <fmt/format.h>
-#include <nlohmann/json.hpp>
-
-#include <algorithm>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <numbers>
-#include <optional>
-#include <sstream>
+#include "support/test_signals.hpp"
+#include "support/test_support.hpp"
+#include "time_series_source.hpp"
 
 namespace fs = std::filesystem;
 using npend::test::run_npend;
@@ -158,8 +157,9 @@ TEST_CASE("npend recurrence: --out writes the intervals, histogram, spectrum and
   const auto r = run_npend("recurrence --input " + file + " --event x=0 --bins 12 --out " +
                            (dir / "r.csv").string());
   REQUIRE(r.exit_code == 0);
-  CHECK(npend::test::directory_listing(dir) == std::vector<std::string>{"r.csv", "r.gp", "r.png", "r_histogram.csv",
-                                                 "r_spectrum.csv", "sines.csv"});
+  CHECK(npend::test::directory_listing(dir) ==
+        std::vector<std::string>{"r.csv", "r.gp", "r.png", "r_histogram.csv", "r_spectrum.csv",
+                                 "sines.csv"});
 }
 
 TEST_CASE("npend embed: --json tau and dimension of a sine") {
@@ -280,7 +280,8 @@ TEST_CASE("npend spectrum: without gnuplot the data and script are written, with
   CHECK(j["files"].size() == 3);  // s.csv, s_peaks.csv, s.gp
   CHECK(j["notes"][0].get<std::string>().find("gnuplot is not installed") == 0);
   CHECK(r.err.find("note: gnuplot is not installed") == 0);
-  CHECK(npend::test::directory_listing(dir) == std::vector<std::string>{"s.csv", "s.gp", "s_peaks.csv", "sines.csv"});
+  CHECK(npend::test::directory_listing(dir) ==
+        std::vector<std::string>{"s.csv", "s.gp", "s_peaks.csv", "sines.csv"});
 }
 
 TEST_CASE("npend time series: --help names every option") {
@@ -338,7 +339,8 @@ TEST_CASE("npend embed: the mutual information curve, its bins and its first loc
   const fs::path dir = temporary_directory("cli-embed-ami");
   const auto r = run_npend(
       "embed --links 3 --phi 1.5,1.5,1.5 --coordinate phi3 --samples 65536 --dt 0.01 "
-      "--tau ami --dim 2 --json --out " + (dir / "e.csv").string());
+      "--tau ami --dim 2 --json --out " +
+      (dir / "e.csv").string());
   REQUIRE(r.exit_code == 0);
   const auto j = nlohmann::json::parse(r.out);
   const auto& ami = j["mutual_information"];
@@ -502,10 +504,11 @@ TEST_CASE("npend embed: the mutual-information delay of the weak triple pendulum
   CHECK(first <= 0.42);
   CHECK(j["tau"].get<double>() == doctest::Approx(first));
   // The averaged shifted histograms smooth that dip away and take a later minimum.
-  const auto averaged = nlohmann::json::parse(
-      run_npend("embed --input " + file + " --column x_3 --tau ami --dim 2 --mi-estimator "
-                "averaged --json")
-          .out);
+  const auto averaged =
+      nlohmann::json::parse(run_npend("embed --input " + file +
+                                      " --column x_3 --tau ami --dim 2 --mi-estimator "
+                                      "averaged --json")
+                                .out);
   CHECK(averaged["mutual_information"]["estimator"] == "averaged");
   CHECK(averaged["mutual_information"]["first_minimum"].get<double>() > 0.42);
 }

@@ -1,7 +1,5 @@
 // docs/commands.md against the program: every command `npend --help` lists has a section,
 // and every option its `--help` prints is documented there.
-#include "support/test_support.hpp"
-
 #include <doctest/doctest.h>
 
 #include <fstream>
@@ -9,6 +7,8 @@
 #include <set>
 #include <sstream>
 #include <string>
+
+#include "support/test_support.hpp"
 
 namespace {
 

@@ -1,8 +1,4 @@
 // parse_csv, signals_from_csv and select_signal: the reading of users' time series.
-#include "csv_table.hpp"
-#include "input_parsing.hpp"
-#include "time_series_source.hpp"
-
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -11,6 +7,10 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+
+#include "csv_table.hpp"
+#include "input_parsing.hpp"
+#include "time_series_source.hpp"
 
 using npend::cli::input_error;
 using npend::cli::parse_csv;
@@ -50,8 +50,8 @@ TEST_CASE("parse_csv: whitespace-separated files read as their comma-separated t
   // TISEAN's and most data loggers' format: runs of spaces and tabs, with or without a
   // header, comments allowed.
   const auto comma = parse_csv("t,x,y\n0,1.5,-2\n0.1,-2e-3,4\n0.2,3,5\n", "c.csv");
-  const auto spaced = parse_csv("# logger v2\n t   x \t y\n0 1.5  -2\n0.1\t-2e-3\t4\n  0.2 3 5  \r\n",
-                                "w.dat");
+  const auto spaced =
+      parse_csv("# logger v2\n t   x \t y\n0 1.5  -2\n0.1\t-2e-3\t4\n  0.2 3 5  \r\n", "w.dat");
   CHECK(spaced.names == comma.names);
   CHECK(spaced.columns == comma.columns);
   const auto bare = parse_csv("0 1.5 -2\n0.1 -2e-3 4\n0.2 3 5\n", "b.dat");
@@ -181,8 +181,8 @@ TEST_CASE("parse_csv: NaN and infinities are kept; the column analysed must be f
           signals_from_csv(parse_csv("t,x\n0,1\nnan,2\n", "d.csv"), "d.csv", std::nullopt, 2);
         }) == "d.csv:3: time column 't': nan is not a finite number");
   // A constant column has nothing to analyse.
-  const auto c = signals_from_csv(parse_csv("t,x,y\n0,1,5\n1,2,5\n", "c.csv"), "c.csv",
-                                  std::nullopt, 2);
+  const auto c =
+      signals_from_csv(parse_csv("t,x,y\n0,1,5\n1,2,5\n", "c.csv"), "c.csv", std::nullopt, 2);
   CHECK(error_of([&] { select_signal(c, "y", "--column"); }) ==
         "--column: 'y' of c.csv is constant (5 in every sample): nothing varies to analyse");
   CHECK(error_of([] {
@@ -220,10 +220,12 @@ TEST_CASE("read_text_file: a directory, more than the cap, binary data at once")
   }
   CHECK(npend::cli::read_text_file(big, "--input").size() == std::filesystem::file_size(big));
   CHECK(error_of([&] { npend::cli::read_text_file(big, "--input", 1000); }) ==
-        "--input: '" + big + "' holds more than 1000 bytes, the most npend reads as a table of "
-        "numbers");
+        "--input: '" + big +
+            "' holds more than 1000 bytes, the most npend reads as a table of "
+            "numbers");
   // An endless device of random bytes: refused at its first binary byte, not read on.
-  const std::string urandom = error_of([] { npend::cli::read_text_file("/dev/urandom", "--input"); });
+  const std::string urandom =
+      error_of([] { npend::cli::read_text_file("/dev/urandom", "--input"); });
   CHECK(urandom.starts_with("/dev/urandom:"));
   CHECK(urandom.find(": binary data (byte 0x") != std::string::npos);
   std::filesystem::remove_all(dir);

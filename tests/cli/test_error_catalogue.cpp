@@ -1,13 +1,13 @@
 // docs/errors.md, the catalogue of bad input, run row by row: each row's command gives the
 // row's exit status and exactly the row's one-line message, and leaves no file behind.
-#include "support/test_support.hpp"
-
 #include <doctest/doctest.h>
 
 #include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "support/test_support.hpp"
 
 namespace fs = std::filesystem;
 
@@ -30,7 +30,8 @@ std::vector<std::string> table_cells(const std::string& line) {
   std::string inner = line.substr(2, line.size() - 4);  // without the outer "| " and " |"
   for (std::size_t start = 0;;) {
     const std::size_t bar = inner.find(" | ", start);
-    cells.push_back(inner.substr(start, bar == std::string::npos ? std::string::npos : bar - start));
+    cells.push_back(
+        inner.substr(start, bar == std::string::npos ? std::string::npos : bar - start));
     if (bar == std::string::npos) break;
     start = bar + 3;
   }
@@ -50,8 +51,7 @@ std::vector<catalogue_row> read_catalogue(const std::string& text) {
     if (cells.size() != 4) continue;
     const std::string command = code_span(cells[1]);
     if (command.rfind("npend ", 0) != 0) continue;
-    rows.push_back({number, cells[0], command.substr(6), code_span(cells[3]),
-                    std::stoi(cells[2])});
+    rows.push_back({number, cells[0], command.substr(6), code_span(cells[3]), std::stoi(cells[2])});
   }
   return rows;
 }
@@ -62,7 +62,8 @@ bool matches(const std::string& text, const std::string& pattern) {
   std::vector<std::string> pieces;
   for (std::size_t start = 0;;) {
     const std::size_t at = pattern.find(ellipsis, start);
-    pieces.push_back(pattern.substr(start, at == std::string::npos ? std::string::npos : at - start));
+    pieces.push_back(
+        pattern.substr(start, at == std::string::npos ? std::string::npos : at - start));
     if (at == std::string::npos) break;
     start = at + ellipsis.size();
   }
@@ -101,7 +102,8 @@ TEST_CASE("error catalogue: every row of docs/errors.md") {
     CAPTURE(row.line);
     CAPTURE(row.what);
     CAPTURE(row.args);
-    const std::string dir = npend::test::temporary_directory("catalogue-" + std::to_string(index++));
+    const std::string dir =
+        npend::test::temporary_directory("catalogue-" + std::to_string(index++));
     for (const auto& e : fs::directory_iterator(fixtures))
       fs::copy_file(e.path(), fs::path(dir) / e.path().filename());
     const auto before = npend::test::directory_listing(dir);
@@ -109,8 +111,8 @@ TEST_CASE("error catalogue: every row of docs/errors.md") {
     const auto r = npend::test::run_shell("cd '" + dir + "' && " + NPEND_CLI_PATH + " " + row.args);
     CHECK(r.exit_code == row.exit_code);
     CHECK(r.out.empty());
-    const bool one_line = !r.err.empty() && r.err.back() == '\n' &&
-                          r.err.find('\n') == r.err.size() - 1;
+    const bool one_line =
+        !r.err.empty() && r.err.back() == '\n' && r.err.find('\n') == r.err.size() - 1;
     CHECK_MESSAGE(one_line, r.err);
     const std::string message = one_line ? r.err.substr(0, r.err.size() - 1) : r.err;
     CHECK_MESSAGE(matches(message, row.message), message);

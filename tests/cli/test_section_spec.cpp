@@ -1,15 +1,14 @@
 // The strict parser of sections and events (`phi3=0`, `phi2=phi3`, `p1=0.5`), coordinate
 // names and projections: what it accepts, the one-line message of everything it refuses, and
 // that arbitrary text only ever gives such a message.
-#include "section_spec.hpp"
-
-#include "input_parsing.hpp"
-
 #include <doctest/doctest.h>
 
 #include <random>
 #include <string>
 #include <vector>
+
+#include "input_parsing.hpp"
+#include "section_spec.hpp"
 
 using npend::cli::input_error;
 using npend::cli::parse_coordinate;

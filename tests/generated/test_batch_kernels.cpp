@@ -181,8 +181,8 @@ TEST_CASE("tangent_batch: f as rhs_batch, and J w as the scalar Jacobian times w
           }
           const auto at = static_cast<std::size_t>(i * lanes + l);
           if (scale > 0) worst_jw = std::max(worst_jw, std::fabs(dw[at] - want) / scale);
-          worst_f = std::max(worst_f, std::fabs(dx[at] - f_batch[at]) /
-                                          std::max(1.0, std::fabs(f_batch[at])));
+          worst_f = std::max(
+              worst_f, std::fabs(dx[at] - f_batch[at]) / std::max(1.0, std::fabs(f_batch[at])));
         }
       }
     }
@@ -206,8 +206,8 @@ TEST_CASE("tangents_batch: k vectors at once, each bit for bit tangent_batch's, 
     long compared = 0, differing = 0;
     for (int gi = 0; gi < 50; ++gi) {
       const int count = 1 + gi % (2 * n);  // 1 .. 2n vectors, as GALI_k takes
-      std::vector<double> x(block), ws(block * static_cast<std::size_t>(count)),
-          dws(ws.size()), dx(block), dx_one(block), dw_one(block);
+      std::vector<double> x(block), ws(block * static_cast<std::size_t>(count)), dws(ws.size()),
+          dx(block), dx_one(block), dw_one(block);
       for (int l = 0; l < lanes; ++l)
         for (int i = 0; i < 2 * n; ++i)
           x[static_cast<std::size_t>(i * lanes + l)] =
@@ -231,7 +231,8 @@ TEST_CASE("tangents_batch: k vectors at once, each bit for bit tangent_batch's, 
   }
 }
 
-TEST_CASE("batch kernels: several blocks at a stride in one call, each the bits of the block alone") {
+TEST_CASE(
+    "batch kernels: several blocks at a stride in one call, each the bits of the block alone") {
   // One call for all the blocks computes what depends on the parameters once; each block's
   // arithmetic must stay that of a call on it alone, and the gaps between blocks untouched.
   std::mt19937_64 rng(23);

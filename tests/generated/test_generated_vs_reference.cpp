@@ -1,10 +1,10 @@
 // Generated kernels against the independent hand-written dense implementation
 // (tests/reference/include/reference/dense_chain.hpp) for n = 1 … 6, unequal masses and lengths.
+#include <doctest/doctest.h>
+
 #include "npend/chain.hpp"
 #include "reference/dense_chain.hpp"
 #include "support/test_support.hpp"
-
-#include <doctest/doctest.h>
 
 using npend::chain;
 using npend::test::relative_error;
@@ -28,8 +28,8 @@ TEST_CASE("rhs: generated equations match the hand-written dense implementation,
       worst_f = std::max(worst_f, relative_error(to_eigen(c.rhs(x)), ref.rhs(xe)));
       worst_h = std::max(worst_h, std::fabs(c.hamiltonian(x) - ref.hamiltonian(xe)) /
                                       std::fabs(ref.hamiltonian(xe)));
-      worst_j = std::max(worst_j, relative_error(to_eigen(c.jacobian(x), 2 * n, 2 * n),
-                                                 ref.jacobian(xe)));
+      worst_j = std::max(worst_j,
+                         relative_error(to_eigen(c.jacobian(x), 2 * n, 2 * n), ref.jacobian(xe)));
     }
     INFO("n = ", n, ": worst relative error f ", worst_f, ", H ", worst_h, ", J ", worst_j);
     CHECK(worst_f < tolerance);
@@ -60,7 +60,8 @@ TEST_CASE("mass_matrix: generated A, det A, T, V and positions match the dense f
       for (std::size_t i = 0; i < nn; ++i) dphi[i] = x[nn + i];  // any velocities will do
       CHECK(c.kinetic_energy(phi, dphi) ==
             doctest::Approx(ref.kinetic_energy(phie, to_eigen(dphi))).epsilon(tolerance));
-      CHECK(c.potential_energy(phi) == doctest::Approx(ref.potential_energy(phie)).epsilon(tolerance));
+      CHECK(c.potential_energy(phi) ==
+            doctest::Approx(ref.potential_energy(phie)).epsilon(tolerance));
     }
   }
 }
@@ -80,10 +81,12 @@ TEST_CASE("potential_gradient: gradient and Hessian of V match g mu_i l_i sin/co
     c.potential_hessian(phi, hess);
     for (int i = 0; i < n; ++i) {
       const double k = params.g * ref.mu(i) * ref.l(i);
-      CHECK(grad[static_cast<std::size_t>(i)] == doctest::Approx(k * std::sin(x[static_cast<std::size_t>(i)])).epsilon(tolerance));
+      CHECK(grad[static_cast<std::size_t>(i)] ==
+            doctest::Approx(k * std::sin(x[static_cast<std::size_t>(i)])).epsilon(tolerance));
       for (int j = 0; j < n; ++j) {
         const double want = i == j ? k * std::cos(x[static_cast<std::size_t>(i)]) : 0.0;
-        CHECK(hess[static_cast<std::size_t>(i * n + j)] == doctest::Approx(want).epsilon(tolerance));
+        CHECK(hess[static_cast<std::size_t>(i * n + j)] ==
+              doctest::Approx(want).epsilon(tolerance));
       }
     }
   }

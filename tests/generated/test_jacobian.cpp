@@ -1,12 +1,12 @@
 // Structural properties of the generated Jacobian: it is the derivative of the generated
 // right-hand side, traceless (phase-space volume is conserved), and Hamiltonian (ΩJ is the
 // symmetric Hessian of H).
-#include "npend/chain.hpp"
-#include "support/test_support.hpp"
-
 #include <doctest/doctest.h>
 
 #include <cmath>
+
+#include "npend/chain.hpp"
+#include "support/test_support.hpp"
 
 using npend::chain;
 

@@ -1,5 +1,6 @@
 // Componentwise accuracy of the generated kernels at extreme mass and length ratios, against
-// a binary128 evaluation of the dense formulas (tests/reference/include/reference/precise_chain.hpp).
+// a binary128 evaluation of the dense formulas
+// (tests/reference/include/reference/precise_chain.hpp).
 //
 // Every output y must satisfy |ŷ − y| ≤ c u Σ_j |∂y/∂x_j| |x_j| (u = 2⁻⁵³), the bound that
 // relative errors of u in each datum x = (sin φ, cos φ, p, m, l, g) would cause to first
@@ -10,16 +11,16 @@
 // derivative along an angle through the whole elimination), so c = 8 for the values and 32
 // for the Jacobian. The inverse-mass formulation they replaced missed this by factors of up
 // to 1e7 (5e10 at the mass ratio 1e12 of the issue's second example).
-#include "reference/precise_chain.hpp"
-
-#include <chain_index.hpp>
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <chain_index.hpp>
 #include <cmath>
 #include <random>
 #include <string>
 #include <vector>
+
+#include "reference/precise_chain.hpp"
 
 namespace {
 
@@ -107,15 +108,25 @@ std::vector<chain_case> extreme_cases(int n, double spread, std::mt19937_64& rng
       const double near_one = 1 + 0.3 * unit(rng);
       double m = near_one, l = 1 + 0.3 * unit(rng);
       switch (pattern) {
-        case 0: m = std::pow(10.0, decades * along); break;   // heavy tip
-        case 1: m = std::pow(10.0, -decades * along); break;  // heavy pivot link
-        case 2: l = std::pow(10.0, decades * along); break;   // long tip
-        case 3: l = std::pow(10.0, -decades * along); break;  // long pivot link
-        case 4:                                               // both scattered
+        case 0:
+          m = std::pow(10.0, decades * along);
+          break;  // heavy tip
+        case 1:
+          m = std::pow(10.0, -decades * along);
+          break;  // heavy pivot link
+        case 2:
+          l = std::pow(10.0, decades * along);
+          break;  // long tip
+        case 3:
+          l = std::pow(10.0, -decades * along);
+          break;  // long pivot link
+        case 4:   // both scattered
           m = std::pow(10.0, decades / 2 * unit(rng));
           l = std::pow(10.0, decades / 2 * unit(rng));
           break;
-        default: m = unit(rng) > 0 ? spread : 1.0; break;    // two mass levels
+        default:
+          m = unit(rng) > 0 ? spread : 1.0;
+          break;  // two mass levels
       }
       c.masses.push_back(m * near_one);
       c.lengths.push_back(l);
@@ -230,7 +241,8 @@ TEST_CASE("jacobian: accurate to the condition number at masses 1e-6, 1e6, 1 (n 
       scale += magnitude(static_cast<quad>(A[i * 3 + j]) * dphi[j]);
     }
     INFO("row ", i + 1, ": |A dphi - p| = ", static_cast<double>(magnitude(residual)));
-    CHECK(static_cast<double>(magnitude(residual)) <= allowed * unit_roundoff * static_cast<double>(scale));
+    CHECK(static_cast<double>(magnitude(residual)) <=
+          allowed * unit_roundoff * static_cast<double>(scale));
   }
 }
 

@@ -1,11 +1,11 @@
 // Generated equations against the paper's own formulas (docs/paper.md §6.3.2), typed in
 // by hand, with the paper's typos corrected where docs/paper.md lists them.
-#include "npend/chain.hpp"
-#include "support/test_support.hpp"
-
 #include <doctest/doctest.h>
 
 #include <cmath>
+
+#include "npend/chain.hpp"
+#include "support/test_support.hpp"
 
 using npend::chain;
 using npend::chain_parameters;
@@ -87,13 +87,18 @@ struct triple_pendulum_paper {
   std::vector<double> dphi(const std::vector<double>& x) const {
     const auto b = coefficients(x);
     const double n = N(x), p1 = x[3], p2 = x[4], p3 = x[5];
-    const double d1 = b.b11 * p1 / (l1 * l1) + 0.5 * b.b12 * p2 / (l1 * l2) + 0.5 * b.b13 * p3 / (l1 * l3);
-    const double d2 = b.b22 * p2 / (l2 * l2) + 0.5 * b.b12 * p1 / (l1 * l2) + 0.5 * b.b23 * p3 / (l2 * l3);
-    const double d3 = b.b33 * p3 / (l3 * l3) + 0.5 * b.b13 * p1 / (l1 * l3) + 0.5 * b.b23 * p2 / (l2 * l3);
+    const double d1 =
+        b.b11 * p1 / (l1 * l1) + 0.5 * b.b12 * p2 / (l1 * l2) + 0.5 * b.b13 * p3 / (l1 * l3);
+    const double d2 =
+        b.b22 * p2 / (l2 * l2) + 0.5 * b.b12 * p1 / (l1 * l2) + 0.5 * b.b23 * p3 / (l2 * l3);
+    const double d3 =
+        b.b33 * p3 / (l3 * l3) + 0.5 * b.b13 * p1 / (l1 * l3) + 0.5 * b.b23 * p2 / (l2 * l3);
     return {d1 / n, d2 / n, d3 / n};
   }
   // det A = m₃ l₁² l₂² l₃² N (the paper omits m₃).
-  double det_A(const std::vector<double>& x) const { return m3 * l1 * l1 * l2 * l2 * l3 * l3 * N(x); }
+  double det_A(const std::vector<double>& x) const {
+    return m3 * l1 * l1 * l2 * l2 * l3 * l3 * N(x);
+  }
 };
 
 }  // namespace
@@ -111,7 +116,8 @@ TEST_CASE("rhs: double pendulum matches the paper's Hamilton equations (6.18)") 
     worst_h = std::max(worst_h, std::fabs(h - h_paper) / std::fabs(h_paper));
     worst_f = std::max(worst_f, npend::test::relative_error(c.rhs(x), paper.f(x)));
     // The closed form emitted for n ≤ 3 agrees too.
-    worst_h = std::max(worst_h, std::fabs(c.hamiltonian_closed_form(x) - h_paper) / std::fabs(h_paper));
+    worst_h =
+        std::max(worst_h, std::fabs(c.hamiltonian_closed_form(x) - h_paper) / std::fabs(h_paper));
   }
   INFO("worst relative error: H ", worst_h, ", f ", worst_f);
   CHECK(worst_h < tolerance);
@@ -130,7 +136,8 @@ TEST_CASE("hamiltonian: triple pendulum matches the paper's H with its typos cor
     const auto x = npend::test::random_state(3, rng);
     const double h_paper = paper.H(x);
     worst_h = std::max(worst_h, std::fabs(c.hamiltonian(x) - h_paper) / std::fabs(h_paper));
-    worst_h = std::max(worst_h, std::fabs(c.hamiltonian_closed_form(x) - h_paper) / std::fabs(h_paper));
+    worst_h =
+        std::max(worst_h, std::fabs(c.hamiltonian_closed_form(x) - h_paper) / std::fabs(h_paper));
     const auto f = c.rhs(x);
     worst_dphi = std::max(worst_dphi, npend::test::relative_error(
                                           std::span<const double>(f.data(), 3), paper.dphi(x)));
@@ -150,7 +157,8 @@ TEST_CASE("hamiltonian: the paper's uncorrected p1 p2 sign (error 1) is really w
   triple_pendulum_paper paper{1, 1, 1, 1, 1, 1, 9.81};
   auto b = paper.coefficients(x);
   const double mu3 = 1, f1 = x[0], f2 = x[1], f3 = x[2];
-  const double printed_b12 = -((2 * 2 - mu3) * std::cos(f1 - f2) + mu3 * std::cos(f1 + f2 - 2 * f3));
+  const double printed_b12 =
+      -((2 * 2 - mu3) * std::cos(f1 - f2) + mu3 * std::cos(f1 + f2 - 2 * f3));
   const double delta = (printed_b12 - b.b12) * x[3] * x[4] / (2 * paper.N(x));
   CHECK(std::fabs(delta) > 1e-3);
   CHECK(c.hamiltonian(x) == doctest::Approx(paper.H(x)).epsilon(1e-13));

@@ -66,8 +66,8 @@ TEST_CASE("emit_batch: what reads only parameters is computed once, before the b
   expr_graph& g = *f.graph;
   const sx rate =
       g.input(input_kind::p, 0) / (g.input(input_kind::mass, 0) * g.input(input_kind::length, 0));
-  const sx force =
-      -(g.input(input_kind::gravity) * g.input(input_kind::length, 1)) * sin(g.input(input_kind::phi, 0));
+  const sx force = -(g.input(input_kind::gravity) * g.input(input_kind::length, 1)) *
+                   sin(g.input(input_kind::phi, 0));
   f.outputs = {rate, force, g.input(input_kind::p, 1), g.constant(0)};
   const std::string src = emit_batch(2, f).source;
   for (const char* kernel : {"void rhs_batch(", "void tangent_batch(", "void tangents_batch("}) {

@@ -1,9 +1,8 @@
 // Uses the installed package: a chain, its energy and the raw generated kernels.
 #include <chain_index.hpp>
-#include <npend/chain.hpp>
-
 #include <cmath>
 #include <cstdio>
+#include <npend/chain.hpp>
 
 int main() {
   const npend::chain c(npend::chain_parameters::uniform(2));

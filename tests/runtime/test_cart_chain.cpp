@@ -58,7 +58,8 @@ TEST_CASE("chain on a cart: layout of the state, mass matrix and positions") {
   CHECK(xy[1] == 0.0);
   CHECK(xy[2] == doctest::Approx(0.4 + l[0] * std::sin(0.3)).epsilon(1e-14));
   CHECK(xy[3] == doctest::Approx(l[0] * std::cos(0.3)).epsilon(1e-14));
-  CHECK(xy[4] == doctest::Approx(0.4 + l[0] * std::sin(0.3) + l[1] * std::sin(-0.2)).epsilon(1e-14));
+  CHECK(xy[4] ==
+        doctest::Approx(0.4 + l[0] * std::sin(0.3) + l[1] * std::sin(-0.2)).epsilon(1e-14));
   CHECK(xy[5] == doctest::Approx(l[0] * std::cos(0.3) + l[1] * std::cos(-0.2)).epsilon(1e-14));
   // A_xx is the whole mass that moves with the cart.
   c.mass_matrix(q, A);
@@ -112,7 +113,8 @@ TEST_CASE("lqr: the cart-pole pushed at the cart against the textbook model") {
   const Eigen::RowVector4d K = Eigen::Map<const Eigen::RowVector4d>(d.gain.data());
   const Eigen::Vector4cd textbook = (At - Bt * K * T).eigenvalues();
   // The open loop: λ² (λ² − g(M + m)/(M l)).
-  CHECK(d.open_loop.front().real() == doctest::Approx(std::sqrt(g * (M + m) / (M * l))).epsilon(1e-12));
+  CHECK(d.open_loop.front().real() ==
+        doctest::Approx(std::sqrt(g * (M + m) / (M * l))).epsilon(1e-12));
   for (const auto& s : d.closed_loop) {
     double nearest = 1e300;
     for (Eigen::Index i = 0; i < 4; ++i) nearest = std::min(nearest, std::abs(textbook(i) - s));

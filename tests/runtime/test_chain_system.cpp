@@ -1,12 +1,12 @@
 // The chain as an odeint system, and the stepper names.
-#include "npend/chain_system.hpp"
-#include "npend/integrators/stepper_kind.hpp"
-#include "support/test_support.hpp"
-
 #include <doctest/doctest.h>
 
 #include <numbers>
 #include <span>
+
+#include "npend/chain_system.hpp"
+#include "npend/integrators/stepper_kind.hpp"
+#include "support/test_support.hpp"
 
 using npend::chain;
 

@@ -1,12 +1,12 @@
 // Start states of a requested energy: deflections and kicks.
-#include "npend/excitation.hpp"
-#include "reference/dense_chain.hpp"
-#include "support/test_support.hpp"
-
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <numbers>
+
+#include "npend/excitation.hpp"
+#include "reference/dense_chain.hpp"
+#include "support/test_support.hpp"
 
 using npend::chain;
 

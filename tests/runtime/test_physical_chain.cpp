@@ -329,7 +329,8 @@ double smallest_det_ratio(const chain_parameters& p, int steps) {
   std::vector<int> k(static_cast<std::size_t>(n), 0);
   for (;;) {
     Eigen::VectorXd phi(n);
-    for (int i = 0; i < n; ++i) phi(i) = 2 * std::numbers::pi * k[static_cast<std::size_t>(i)] / steps;
+    for (int i = 0; i < n; ++i)
+      phi(i) = 2 * std::numbers::pi * k[static_cast<std::size_t>(i)] / steps;
     const Eigen::MatrixXd A = ref.mass_matrix(phi);
     // A zero on the diagonal of this positive semidefinite A makes it singular.
     const double scale = A.diagonal().prod();
@@ -380,13 +381,13 @@ TEST_CASE("physical chain: refused exactly when the dense mass matrix is singula
         ++accepted;
         smallest_accepted = std::min(smallest_accepted, ratio);
       }
-      INFO("n = ", n, ", c = ", p.com[0], ",", p.com[1], ",", p.com.back(), ", J = ",
-           p.inertia[0], ",", p.inertia[1], ",", p.inertia.back(), ", min ratio = ", ratio);
+      INFO("n = ", n, ", c = ", p.com[0], ",", p.com[1], ",", p.com.back(), ", J = ", p.inertia[0],
+           ",", p.inertia[1], ",", p.inertia.back(), ", min ratio = ", ratio);
       CHECK((throws ? ratio < 1e-13 : ratio > 1e-4));
     }
   }
-  MESSAGE("refused ", refused, " chains (largest ratio ", largest_refused, "), accepted ",
-          accepted, " (smallest ratio ", smallest_accepted, ")");
+  MESSAGE("refused ", refused, " chains (largest ratio ", largest_refused, "), accepted ", accepted,
+          " (smallest ratio ", smallest_accepted, ")");
   CHECK(refused > 100);
   CHECK(accepted > 100);
 }

@@ -1,22 +1,22 @@
 // integrate_with (any odeint stepper by its category) against the stepper_kind factory, and
 // the run control every long computation accepts: progress that reaches its total, and a
 // stop request that ends the computation early with what it has, flagged.
-#include "npend/analysis/stability/backbone.hpp"
-#include "npend/analysis/chaos/lyapunov.hpp"
-#include "npend/analysis/chaos/poincare_section.hpp"
-#include "npend/chain_system.hpp"
-#include "npend/integrators/integrate.hpp"
-#include "npend/integrators/integrate_system.hpp"
-#include "support/test_support.hpp"
+#include <doctest/doctest.h>
 
 #include <boost/numeric/odeint/stepper/generation.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_cash_karp54.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_dopri5.hpp>
-#include <doctest/doctest.h>
-
 #include <cmath>
 #include <vector>
+
+#include "npend/analysis/chaos/lyapunov.hpp"
+#include "npend/analysis/chaos/poincare_section.hpp"
+#include "npend/analysis/stability/backbone.hpp"
+#include "npend/chain_system.hpp"
+#include "npend/integrators/integrate.hpp"
+#include "npend/integrators/integrate_system.hpp"
+#include "support/test_support.hpp"
 
 using npend::chain;
 using npend::integration_options;
@@ -50,7 +50,6 @@ integration_options grid(double t_end, double dt) {
   return o;
 }
 
-
 }  // namespace
 
 TEST_CASE("integrate_with: the factory's steppers give the factory's results, bit for bit") {
@@ -76,8 +75,7 @@ TEST_CASE("integrate_with: the factory's steppers give the factory's results, bi
 TEST_CASE("integrate_with: an odeint stepper npend does not name (Cash-Karp, controlled)") {
   const auto system = npend::make_implicit_system(triple);
   integration_options o = grid(2, 0.01);
-  auto cash_karp =
-      odeint::make_controlled(1e-12, 1e-12, odeint::runge_kutta_cash_karp54<state>());
+  auto cash_karp = odeint::make_controlled(1e-12, 1e-12, odeint::runge_kutta_cash_karp54<state>());
   const npend::integration_result r = npend::integrate_with(cash_karp, system.first, start, o);
   CHECK(r.outputs == 201);
   CHECK(r.steps > 0);
@@ -160,7 +158,8 @@ TEST_CASE("run control: a backbone curve stops between amplitudes") {
   npend::backbone_options o;
   o.control = &control;
   const std::vector<double> amplitudes{0.1, 0.2, 0.3};
-  const auto r = npend::backbone_curve(chain(npend::chain_parameters::uniform(2)), 1, amplitudes, o);
+  const auto r =
+      npend::backbone_curve(chain(npend::chain_parameters::uniform(2)), 1, amplitudes, o);
   CHECK(r.stopped);
   CHECK(r.points.size() == 1);
   CHECK(r.thresholds.empty());

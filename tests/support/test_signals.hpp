@@ -2,10 +2,10 @@
 // Lorenz system, and a chain trajectory (classic RK4 until the runtime's integrators land).
 #pragma once
 
-#include "npend/chain.hpp"
-
 #include <cstddef>
 #include <vector>
+
+#include "npend/chain.hpp"
 
 namespace npend::test {
 

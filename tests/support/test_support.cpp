@@ -1,5 +1,8 @@
 #include "test_support.hpp"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -9,8 +12,6 @@
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace npend::test {
 
@@ -101,7 +102,8 @@ command_result run_shell(const std::string& command_line) {
   std::string out;
   std::array<char, 4096> buffer{};
   std::size_t got = 0;
-  while ((got = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) out.append(buffer.data(), got);
+  while ((got = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    out.append(buffer.data(), got);
   const int status = ::pclose(pipe);
   std::ifstream in(err_file);
   std::stringstream err;

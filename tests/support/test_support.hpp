@@ -2,14 +2,13 @@
 // running the command-line tool.
 #pragma once
 
-#include "npend/chain.hpp"
-
 #include <Eigen/Dense>
-
 #include <random>
 #include <span>
 #include <string>
 #include <vector>
+
+#include "npend/chain.hpp"
 
 namespace npend::test {
 

@@ -32,8 +32,8 @@ struct batch_kernels {
   /// tangent_batch for `count` tangent vectors: ws_soa and dws_soa hold them one after
   /// another (vector j at [j*2n*width] in a block); f(x) and what the vectors share is
   /// computed once, and each dws is bit for bit tangent_batch's dwdt for that vector.
-  void (*tangents_batch)(const double* x_soa, const double* ws_soa, int count,
-                         const double* params, double* dxdt_soa, double* dws_soa, int blocks,
+  void (*tangents_batch)(const double* x_soa, const double* ws_soa, int count, const double* params,
+                         double* dxdt_soa, double* dws_soa, int blocks,
                          std::size_t stride) noexcept;
 };
 

@@ -109,8 +109,7 @@ class chain {
   double hamiltonian_closed_form(std::span<const double> x) const;
 
   /// q̇ = A⁻¹ p (q, p, dq: dim coordinates()).
-  void velocities(std::span<const double> q, std::span<const double> p,
-                  std::span<double> dq) const;
+  void velocities(std::span<const double> q, std::span<const double> p, std::span<double> dq) const;
   /// p = A q̇ = ∂L/∂q̇ (dim coordinates()).
   void momenta(std::span<const double> q, std::span<const double> dq, std::span<double> p) const;
   /// L(q, q̇, t) = T − V.

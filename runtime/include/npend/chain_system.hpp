@@ -25,9 +25,9 @@ inline void check_system_size(std::size_t got, int expected, const char* what) {
 }  // namespace detail
 
 /// Hamilton's equations of a chain as odeint's System concept: `sys(x, dxdt, t)` sets
-/// dxdt = f(x, t) (both dim 2n; x = [φ_1..φ_n, p_1..p_n], or on a cart dim 2(n + 1)); t matters only where the pivot
-/// moves. It works with any contiguous state type that has `size()` and `operator[]`
-/// (std::vector<double>, std::span<double>, Eigen vectors).
+/// dxdt = f(x, t) (both dim 2n; x = [φ_1..φ_n, p_1..p_n], or on a cart dim 2(n + 1)); t matters
+/// only where the pivot moves. It works with any contiguous state type that has `size()` and
+/// `operator[]` (std::vector<double>, std::span<double>, Eigen vectors).
 ///
 /// A chain_system refers to the chain it was made from (its kernel set), so the chain must
 /// outlive it; copying it is cheap, as odeint expects.

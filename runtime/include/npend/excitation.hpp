@@ -1,11 +1,11 @@
 // Start states of a requested energy: the paper's analysis parameter (section 6.6).
 #pragma once
 
-#include "npend/chain.hpp"
-
 #include <span>
 #include <string_view>
 #include <vector>
+
+#include "npend/chain.hpp"
 
 namespace npend {
 

@@ -91,8 +91,7 @@ class kernel_set {
   virtual const char* equations_latex() const = 0;
 
  protected:
-  kernel_set(int links, std::vector<double> packed)
-      : m_links(links), m_packed(std::move(packed)) {}
+  kernel_set(int links, std::vector<double> packed) : m_links(links), m_packed(std::move(packed)) {}
   /// The index in w of the first actuator.
   virtual int first_actuator() const noexcept = 0;
 

@@ -1,8 +1,7 @@
 #include "batch_lanes.hpp"
 
-#include <batch_index.hpp>
-
 #include <algorithm>
+#include <batch_index.hpp>
 #include <cmath>
 #include <limits>
 
@@ -69,8 +68,7 @@ void lane_rk4::step(int blocks) {
   for (std::size_t i = 0; i < size; ++i) tmp[i] = x[i] + zero * k1[i] + half * k2[i];
   rhs(blocks, tmp, k3);
 #pragma omp simd
-  for (std::size_t i = 0; i < size; ++i)
-    tmp[i] = x[i] + zero * k1[i] + zero * k2[i] + full * k3[i];
+  for (std::size_t i = 0; i < size; ++i) tmp[i] = x[i] + zero * k1[i] + zero * k2[i] + full * k3[i];
   rhs(blocks, tmp, k4);
   // The new state into the other buffer, which then becomes state(): the old one stays.
   double* next = m_before.data();
@@ -104,8 +102,33 @@ namespace {
 // stage rows b_ij, the fifth-order weights c_i and the error weights dc_i (fifth minus
 // fourth order). A lane's coefficient j is its step h times tableau[j].
 enum coefficient : int {
-  b21, b31, b32, b41, b42, b43, b51, b52, b53, b54, b61, b62, b63, b64, b65,
-  c1, c3, c4, c5, c6, dc1, dc3, dc4, dc5, dc6, dc7, coefficient_count
+  b21,
+  b31,
+  b32,
+  b41,
+  b42,
+  b43,
+  b51,
+  b52,
+  b53,
+  b54,
+  b61,
+  b62,
+  b63,
+  b64,
+  b65,
+  c1,
+  c3,
+  c4,
+  c5,
+  c6,
+  dc1,
+  dc3,
+  dc4,
+  dc5,
+  dc6,
+  dc7,
+  coefficient_count
 };
 
 constexpr double ratio(double a, double b) { return a / b; }
@@ -262,7 +285,8 @@ void lane_dopri5::step(int blocks) {
         const double err = e1[l] * f[a] + e3[l] * k3[a] + e4[l] * k4[a] + e5[l] * k5[a] +
                            e6[l] * k6[a] + e7[l] * f_out[a];
         const double scaled =
-            std::fabs(err) / (abs_tol + rel_tol * (std::fabs(x[a]) + std::fabs(h[l]) * std::fabs(f[a])));
+            std::fabs(err) /
+            (abs_tol + rel_tol * (std::fabs(x[a]) + std::fabs(h[l]) * std::fabs(f[a])));
         // A non-finite entry makes the norm +inf (npend's rejecting_range_algebra), so that a
         // trial step that overflowed is rejected and shrunk rather than accepted.
         error[l] = scaled == scaled && error[l] < scaled ? scaled : error[l];
@@ -329,8 +353,8 @@ void lane_dopri5::state_at(std::size_t l, double t, std::size_t first, std::size
   const double w7 = h * (B + C * X7);
   for (std::size_t i = first; i < first + count; ++i) {
     const std::size_t a = at(i, l);
-    out[i - first] = m_x_old[a] + w1 * m_f_old[a] + w3 * m_k3[a] + w4 * m_k4[a] +
-                     w5 * m_k5[a] + w6 * m_k6[a] + w7 * m_f[a];
+    out[i - first] = m_x_old[a] + w1 * m_f_old[a] + w3 * m_k3[a] + w4 * m_k4[a] + w5 * m_k5[a] +
+                     w6 * m_k6[a] + w7 * m_f[a];
   }
 }
 
@@ -456,8 +480,8 @@ void lane_gauss<Stages>::step(int blocks) {
       } else if (norm[l] == 0) {
         done = true;
       } else if (iteration >= 2) {
-        done = stage_iteration_done(norm[l] / m_last_norm[l], norm[l], scale[l], tolerance,
-                                    round_off);
+        done =
+            stage_iteration_done(norm[l] / m_last_norm[l], norm[l], scale[l], tolerance, round_off);
       }
       if (!done && !failed && iteration >= max_iterations) failed = true;
       m_last_norm[l] = norm[l];
@@ -479,7 +503,8 @@ void lane_gauss<Stages>::step(int blocks) {
   double* xs = m_x.data();
   double* next = m_before.data();
   std::array<const double*, Stages> zs;
-  for (int i = 0; i < s; ++i) zs[static_cast<std::size_t>(i)] = m_z[static_cast<std::size_t>(i)].data();
+  for (int i = 0; i < s; ++i)
+    zs[static_cast<std::size_t>(i)] = m_z[static_cast<std::size_t>(i)].data();
   each([&](std::size_t o, std::size_t) {
 #pragma omp simd
     for (std::size_t l = 0; l < W; ++l) {

@@ -29,9 +29,9 @@ const batch_kernels* lane_kernels(const chain& c);
 constexpr int lane_blocks = batch_blocks;
 
 // What the lanes integrate, one block of W lanes at a time (W = batch_width): the chain's
-// state alone (rhs_batch), or with tangent vectors (tangent_batch, tangents_batch). A block holds the
-// `coordinates` of its W lanes in the kernels' structure-of-arrays layout, coordinate i of
-// the block's lane l at [i*W + l]: the state's 2n coordinates first, then
+// state alone (rhs_batch), or with tangent vectors (tangent_batch, tangents_batch). A block holds
+// the `coordinates` of its W lanes in the kernels' structure-of-arrays layout, coordinate i of the
+// block's lane l at [i*W + l]: the state's 2n coordinates first, then
 //   tangent = 1: one tangent vector (2n), the Lyapunov map's;
 //   tangent = k ≥ 2 with `indicators`: k deviation vectors (2n each), then the time t
 //   (dt/dt = 1, so that each lane knows its own t) and MEGNO's integrals y and z, as
@@ -86,9 +86,7 @@ class lane_layout {
   std::size_t coordinates() const { return m_system.coordinates(); }
 
   /// Where coordinate i of lane l lives in state().
-  std::size_t at(std::size_t i, std::size_t l) const {
-    return (l / W) * m_block + i * W + l % W;
-  }
+  std::size_t at(std::size_t i, std::size_t l) const { return (l / W) * m_block + i * W + l % W; }
 
   /// The system's dxdt at lane l's coordinates in x (laid out as state()): coordinates
   /// first .. first + count - 1 into out. One block's rhs on copies of the lane, so the same
@@ -143,12 +141,12 @@ class lane_rk4 : public lane_layout {
   double m_half, m_zero, m_full, m_sixth, m_third;
 };
 
-// Dormand–Prince 5(4) on the lanes, each lane with its own time and step size: what npend::integrate runs for
-// stepper_kind::dopri5 (odeint's make_dense_output of runge_kutta_dopri5), step for step.
-// A step() is one attempt per lane — odeint's try_step with its error norm
-// max_i |err_i| / (abs_tol + rel_tol (|x_i| + |h| |f_i|)) and its step adjustment — so a lane
-// either advances (accepted) or keeps its state with a shorter step; state_at is the
-// stepper's own dense output over the lane's last accepted step.
+// Dormand–Prince 5(4) on the lanes, each lane with its own time and step size: what
+// npend::integrate runs for stepper_kind::dopri5 (odeint's make_dense_output of
+// runge_kutta_dopri5), step for step. A step() is one attempt per lane — odeint's try_step with its
+// error norm max_i |err_i| / (abs_tol + rel_tol (|x_i| + |h| |f_i|)) and its step adjustment — so a
+// lane either advances (accepted) or keeps its state with a shorter step; state_at is the stepper's
+// own dense output over the lane's last accepted step.
 class lane_dopri5 : public lane_layout {
  public:
   /// odeint gives up a step after this many tries (its failed_step_checker).
@@ -174,8 +172,7 @@ class lane_dopri5 : public lane_layout {
 
   /// The dense output of lane l's last accepted step at time t within it: coordinates
   /// first .. first + count - 1 into out.
-  void state_at(std::size_t l, double t, std::size_t first, std::size_t count,
-                double* out) const;
+  void state_at(std::size_t l, double t, std::size_t first, std::size_t count, double* out) const;
 
   /// Lane `to` takes lane `from`'s state, derivative, time and step.
   void copy_lane(std::size_t to, std::size_t from);
@@ -197,8 +194,8 @@ class lane_dopri5 : public lane_layout {
   // Per lane, for the vector loops: the step it tries, its error norm, 1 where its last
   // attempt was accepted.
   std::array<double, lanes> m_h{}, m_error{}, m_accept{};
-  std::vector<double> m_f, m_x_old, m_f_old, m_k2, m_k3, m_k4, m_k5, m_k6, m_tmp, m_out,
-      m_f_out, m_coefficient;
+  std::vector<double> m_f, m_x_old, m_f_old, m_k2, m_k3, m_k4, m_k5, m_k6, m_tmp, m_out, m_f_out,
+      m_coefficient;
 };
 
 // Gauss–Legendre with `Stages` stages (2: gauss4, 3: gauss6) at the fixed step dt on the
@@ -254,15 +251,15 @@ class lane_gauss : public lane_layout {
 
 // What a lane carries besides its coordinates.
 struct lane_slot {
-  std::size_t cell = 0;  // index of its start in the queue's `starts`
-  long long steps = 0;   // steps (dopri5: attempts) taken from the start
-  long long reached = 0; // dopri5 Lyapunov lanes: the steps of dt whose end the lane passed
-  double sum = 0;        // Σ ln of the (first) tangent vector's growth
-  double peak = 0;       // the indicators' FLI: the running maximum of `sum`
+  std::size_t cell = 0;   // index of its start in the queue's `starts`
+  long long steps = 0;    // steps (dopri5: attempts) taken from the start
+  long long reached = 0;  // dopri5 Lyapunov lanes: the steps of dt whose end the lane passed
+  double sum = 0;         // Σ ln of the (first) tangent vector's growth
+  double peak = 0;        // the indicators' FLI: the running maximum of `sum`
 };
 
-// Runs the cells `queue` on the lanes of rk (a lane_rk4, lane_dopri5 or lane_gauss): start(x, l, cell)
-// writes cell's start into lane l of x = rk.state() (read again after every step: a stepper
+// Runs the cells `queue` on the lanes of rk (a lane_rk4, lane_dopri5 or lane_gauss): start(x, l,
+// cell) writes cell's start into lane l of x = rk.state() (read again after every step: a stepper
 // may keep the state before the step in a second buffer); after every step, done(x, l, slot) —
 // slot.steps (the steps, or the attempts, taken) already counted —
 // returns the cell's value once it is finished, std::nullopt otherwise; the value goes to

@@ -1,14 +1,14 @@
 #include "npend/integrators/integrate.hpp"
 
-#include "npend/chain_system.hpp"
-#include "npend/integrators/integrate_system.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "npend/chain_system.hpp"
+#include "npend/integrators/integrate_system.hpp"
 
 namespace npend {
 

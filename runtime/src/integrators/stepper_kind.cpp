@@ -17,12 +17,11 @@ struct stepper_info {
 };
 
 constexpr std::array<stepper_info, 7> infos{{
-    {stepper_kind::rk4, "rk4", "classic Runge-Kutta 4, fixed step (the paper's method)", false, true,
-     true},
+    {stepper_kind::rk4, "rk4", "classic Runge-Kutta 4, fixed step (the paper's method)", false,
+     true, true},
     {stepper_kind::dopri5, "dopri5", "Dormand-Prince 5(4), adaptive, dense output", true, true,
      true},
-    {stepper_kind::rkf78, "rkf78", "Runge-Kutta-Fehlberg 7(8), adaptive", true, false,
-     true},
+    {stepper_kind::rkf78, "rkf78", "Runge-Kutta-Fehlberg 7(8), adaptive", true, false, true},
     {stepper_kind::bulirsch_stoer, "bs", "Bulirsch-Stoer extrapolation, adaptive, dense output",
      true, false, true},
     {stepper_kind::rosenbrock4, "rosenbrock4",
@@ -62,10 +61,14 @@ bool is_gauss_legendre(stepper_kind kind) {
 bool serves(stepper_kind kind, stepper_use use) {
   const auto& i = info(kind);
   switch (use) {
-    case stepper_use::any: return true;
-    case stepper_use::adaptive: return i.adaptive;
-    case stepper_use::map: return i.in_map_lanes;
-    case stepper_use::variational: return i.variational;
+    case stepper_use::any:
+      return true;
+    case stepper_use::adaptive:
+      return i.adaptive;
+    case stepper_use::map:
+      return i.in_map_lanes;
+    case stepper_use::variational:
+      return i.variational;
   }
   return false;
 }

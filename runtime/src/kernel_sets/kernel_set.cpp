@@ -74,12 +74,12 @@ std::shared_ptr<const kernel_set> make_kernel_set(const chain_parameters& params
     if (params.is_physical()) throw std::invalid_argument(not_built_message(n, "physical chain"));
     return detail::make_loop_kernel_set(params);
   }
-  detail::check_generated_sizes(n, point->state_size, point->param_size, chain_layout::input_size(n),
-                        chain_layout::state_size(n), chain_layout::param_size(n),
-                        chain_layout::input_size(n));
+  detail::check_generated_sizes(n, point->state_size, point->param_size,
+                                chain_layout::input_size(n), chain_layout::state_size(n),
+                                chain_layout::param_size(n), chain_layout::input_size(n));
   detail::check_generated_sizes(n, physical->state_size, physical->param_size, physical->input_size,
-                        chain_layout::state_size(n), chain_layout::physical_param_size(n),
-                        chain_layout::input_size(n));
+                                chain_layout::state_size(n), chain_layout::physical_param_size(n),
+                                chain_layout::input_size(n));
   if (params.is_physical()) return detail::make_physical_kernel_set(params, *physical);
   return detail::make_point_mass_kernel_set(params, *point, *physical);
 }

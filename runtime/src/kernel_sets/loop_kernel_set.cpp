@@ -27,8 +27,7 @@ class loop_kernel_set final : public kernel_set {
   void jacobian(const double* x, double /*t*/, double* jac) const noexcept override {
     m_k->jacobian(links(), x, packed().data(), jac, workspace(true));
   }
-  void jacobian_vector(const double* x, const double* u, double /*t*/,
-                       double* ju) const override {
+  void jacobian_vector(const double* x, const double* u, double /*t*/, double* ju) const override {
     m_k->jacobian_vector(links(), x, packed().data(), u, ju, workspace());
   }
   void actuated_rhs(const double*, double, const double*, double*) const override {

@@ -45,8 +45,8 @@ class point_mass_kernel_set final : public kernel_set {
 
   double hamiltonian_closed_form(const double* x) const override {
     if (m_point->hamiltonian_closed_form == nullptr)
-      throw std::invalid_argument(fmt::format(
-          "the closed-form Hamiltonian is emitted for up to 3 links, not {}", links()));
+      throw std::invalid_argument(
+          fmt::format("the closed-form Hamiltonian is emitted for up to 3 links, not {}", links()));
     return m_point->hamiltonian_closed_form(x, packed().data());
   }
   void velocities(const double* q, const double* p, double* dq) const noexcept override {

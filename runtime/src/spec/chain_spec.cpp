@@ -3,8 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cmath>
 #include <array>
+#include <cmath>
 
 #include "npend/spec/number_parsing.hpp"
 
@@ -34,20 +34,21 @@ const per_link_key* find_per_link_key(std::string_view key) {
   return nullptr;
 }
 
-std::vector<double> per_link_values(std::vector<double> values, std::string_view option,
-                                    int links, std::string_view symbol) {
+std::vector<double> per_link_values(std::vector<double> values, std::string_view option, int links,
+                                    std::string_view symbol) {
   if (values.size() == 1) return std::vector<double>(static_cast<std::size_t>(links), values[0]);
   if (values.size() != static_cast<std::size_t>(links))
-    throw input_error(fmt::format("{}: expected {} values ({}_1..{}_{}) or one for all links, got {}",
-                                  option, links, symbol, symbol, links, values.size()));
+    throw input_error(
+        fmt::format("{}: expected {} values ({}_1..{}_{}) or one for all links, got {}", option,
+                    links, symbol, symbol, links, values.size()));
   return values;
 }
 
 pivot_motion parse_pivot(std::string_view text, std::string_view option) {
   const std::vector<std::string_view> parts = split_list(text, ':');
   if (parts.size() != 3 || (parts[0] != "vertical" && parts[0] != "horizontal"))
-    throw input_error(fmt::format(
-        "{}: expected vertical:A:OMEGA or horizontal:A:OMEGA, got '{}'", option, text));
+    throw input_error(
+        fmt::format("{}: expected vertical:A:OMEGA or horizontal:A:OMEGA, got '{}'", option, text));
   const double a = parse_number(parts[1], fmt::format("{} (amplitude)", option));
   const double w = parse_number(parts[2], fmt::format("{} (angular frequency)", option));
   return parts[0] == "vertical" ? pivot_motion::vertical(a, w) : pivot_motion::horizontal(a, w);
@@ -72,15 +73,15 @@ void set_cart(const chain_spec& spec, const Name& name, chain_parameters& params
     throw input_error(fmt::format("{} and {} exclude each other: the chain hangs from the cart",
                                   name("cart"), name("pivot")));
   if (!(*spec.cart > 0) || !std::isfinite(*spec.cart))
-    throw input_error(fmt::format(
-        "{}: the cart's mass must be a positive finite number (kg), got {}", name("cart"),
-        *spec.cart));
+    throw input_error(
+        fmt::format("{}: the cart's mass must be a positive finite number (kg), got {}",
+                    name("cart"), *spec.cart));
   params.cart_mass = *spec.cart;
   if (!spec.cart_damping) return;
   if (!(*spec.cart_damping >= 0) || !std::isfinite(*spec.cart_damping))
-    throw input_error(fmt::format(
-        "{}: the cart's damping must be a finite number >= 0 (N s/m), got {}",
-        name("cart_damping"), *spec.cart_damping));
+    throw input_error(
+        fmt::format("{}: the cart's damping must be a finite number >= 0 (N s/m), got {}",
+                    name("cart_damping"), *spec.cart_damping));
   params.cart_damping = *spec.cart_damping;
 }
 
@@ -109,8 +110,8 @@ chain_parameters make_parameters(const chain_spec& spec, naming names) {
     params.rest_angles = per_link(spec.rest_angles, "rest_angles", "theta");
   if (!spec.damping.empty()) params.damping = per_link(spec.damping, "damping", "b");
   // A rest angle only shifts a spring's zero: without any spring it would be ignored.
-  if (!spec.rest_angles.empty() &&
-      std::none_of(params.stiffness.begin(), params.stiffness.end(), [](double k) { return k > 0; }))
+  if (!spec.rest_angles.empty() && std::none_of(params.stiffness.begin(), params.stiffness.end(),
+                                                [](double k) { return k > 0; }))
     throw input_error(fmt::format(
         "{}: the rest angles of the joint springs need springs: give {} (without it they change "
         "nothing)",

@@ -41,8 +41,11 @@ std::string excerpt(std::string_view text, std::size_t limit) {
     if (characters == limit) return out + "...";
     const auto b = static_cast<unsigned char>(text[k]);
     // The length of a UTF-8 sequence starting with b, 0 for a byte that starts none.
-    const std::size_t length = b < 0x80 ? 1 : (b & 0xe0) == 0xc0 ? 2 : (b & 0xf0) == 0xe0 ? 3
-                                            : (b & 0xf8) == 0xf0 ? 4 : 0;
+    const std::size_t length = b < 0x80             ? 1
+                               : (b & 0xe0) == 0xc0 ? 2
+                               : (b & 0xf0) == 0xe0 ? 3
+                               : (b & 0xf8) == 0xf0 ? 4
+                                                    : 0;
     bool valid = length > 0 && k + length <= text.size();
     for (std::size_t c = 1; valid && c < length; ++c)
       valid = (static_cast<unsigned char>(text[k + c]) & 0xc0) == 0x80;
@@ -118,8 +121,7 @@ bool is_whole_number(double value, double low, double high) {
   return value == std::floor(value) && value >= low && value <= high;
 }
 
-double parse_whole_number(std::string_view text, std::string_view option, double low,
-                          double high) {
+double parse_whole_number(std::string_view text, std::string_view option, double low, double high) {
   const double value = parse_number(text, option);
   if (!is_whole_number(value, low, high))
     throw input_error(

@@ -21,8 +21,9 @@ std::vector<double> start_spec::make_state(const chain& c) const {
     if (!phi.empty() || !p.empty() || !dphi.empty())
       throw input_error("--energy: give either --energy or --phi (with --p or --dphi), not both");
     if (c.has_cart())
-      throw input_error("--energy: the excitations are those of a chain on a fixed pivot; on a "
-                        "cart give --phi (with --p or --dphi)");
+      throw input_error(
+          "--energy: the excitations are those of a chain on a fixed pivot; on a "
+          "cart give --phi (with --p or --dphi)");
     const double e = parse_number(energy, "--energy");
     excitation how = excitation::deflection;
     if (!style.empty()) {
@@ -45,8 +46,7 @@ std::vector<double> start_spec::make_state(const chain& c) const {
   if (!p.empty() && !dphi.empty())
     throw input_error("--p and --dphi exclude each other: give momenta or angular velocities");
   // One value for all links, as for the masses: a 1000-link rope cannot be typed out.
-  std::vector<double> angles =
-      per_link_values(parse_number_list(phi, "--phi"), "--phi", n, "phi");
+  std::vector<double> angles = per_link_values(parse_number_list(phi, "--phi"), "--phi", n, "phi");
   // On a cart the angles follow its position x_c = 0, and the momenta its p_x = 0 (with
   // --dphi: the cart at rest).
   if (c.has_cart()) angles.insert(angles.begin(), 0.0);

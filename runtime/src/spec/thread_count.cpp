@@ -13,9 +13,9 @@ int max_threads() {
 
 void check_thread_count(int threads, std::string_view option) {
   if (threads < 0 || threads > max_threads())
-    throw input_error(fmt::format(
-        "{}: 0 (every core) or 1..{} (4 x the {} hardware threads), got {}", option,
-        max_threads(), max_threads() / 4, threads));
+    throw input_error(
+        fmt::format("{}: 0 (every core) or 1..{} (4 x the {} hardware threads), got {}", option,
+                    max_threads(), max_threads() / 4, threads));
 }
 
 }  // namespace npend::spec

@@ -150,7 +150,8 @@ TEST_CASE("chaos map: the energy bound holds with springs and damping, and not u
   // flip to within a step).
   const std::vector<double> x{2.0, 2.5, 0, 0};
   const npend::flip_options o{30.0, 0.01, 0};
-  const double free_flip = npend::flip_time(npend::chain(npend::chain_parameters::uniform(2)), x, o);
+  const double free_flip =
+      npend::flip_time(npend::chain(npend::chain_parameters::uniform(2)), x, o);
   REQUIRE(std::isfinite(free_flip));
   npend::chain_parameters still = npend::chain_parameters::uniform(2);
   still.pivot = npend::pivot_motion::vertical(0.0, 30);
@@ -166,9 +167,9 @@ TEST_CASE("flip_time: located inside the step, within 1e-5 s of a fine integrati
   // (2, 2.5) flips at 4.015 s, rk4 2.4e-4 s late, gauss6 2e-8 s early), not the
   // interpolant's, so (2, 2.5) is a cell that does not flip by t_end here.
   const npend::chain c(npend::chain_parameters::uniform(2));
-  const std::vector<std::vector<double>> starts{
-      {2.0, 2.5, 0, 0},  {3.0, 3.0, 0, 0},   {-2.8, 1.0, 0, 0},
-      {1.5, -3.0, 0, 0}, {-2.5, -2.9, 0, 0}, {2.6, 0.7, 0, 0}};
+  const std::vector<std::vector<double>> starts{{2.0, 2.5, 0, 0},   {3.0, 3.0, 0, 0},
+                                                {-2.8, 1.0, 0, 0},  {1.5, -3.0, 0, 0},
+                                                {-2.5, -2.9, 0, 0}, {2.6, 0.7, 0, 0}};
   const double t_end = 2.5;
   std::vector<double> flat;
   for (const auto& x : starts) flat.insert(flat.end(), x.begin(), x.end());
@@ -183,8 +184,8 @@ TEST_CASE("flip_time: located inside the step, within 1e-5 s of a fine integrati
     for (std::size_t i = 0; i < starts.size(); ++i) {
       const double want = fine_flip_time(c, starts[i], t_end);
       const double library = npend::flip_time(c, starts[i], o);
-      INFO("start (" << starts[i][0] << ", " << starts[i][1] << "): fine " << want
-                     << " s, library " << library << " s, lanes " << lanes[i] << " s");
+      INFO("start (" << starts[i][0] << ", " << starts[i][1] << "): fine " << want << " s, library "
+                     << library << " s, lanes " << lanes[i] << " s");
       if (!std::isfinite(want)) {
         CHECK(std::isinf(library));
         continue;

@@ -2,16 +2,16 @@
 // properties every spectrum of the chain must have (sum 0, ± pairs, two zeros), the bounded
 // growth of small oscillations, chaos at the paper's strong excitation, and the maximal
 // exponent against the spectrum.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <stdexcept>
+
 #include "npend/analysis/chaos/lyapunov.hpp"
 #include "npend/chain_system.hpp"
 #include "npend/excitation.hpp"
 #include "npend/integrators/gauss_legendre.hpp"
 #include "support/test_support.hpp"
-
-#include <doctest/doctest.h>
-
-#include <cmath>
-#include <stdexcept>
 
 using npend::chain;
 using npend::chain_parameters;
@@ -335,8 +335,8 @@ TEST_CASE("lyapunov_spectrum: the blocks split the averaging time, their standar
 TEST_CASE("energy_surface_neighbours: x0 first, the others nearby at exactly its energy") {
   std::mt19937_64 rng(47);
   const chain c(npend::test::random_parameters(3, rng));
-  for (const auto& x0 : {zigzag(chain(chain_parameters::uniform(3)), 1.5),
-                         npend::test::random_state(3, rng, 1.0)}) {
+  for (const auto& x0 :
+       {zigzag(chain(chain_parameters::uniform(3)), 1.5), npend::test::random_state(3, rng, 1.0)}) {
     const chain& model = x0[3] == 0 ? chain(chain_parameters::uniform(3)) : c;
     const auto starts = npend::energy_surface_neighbours(model, x0, 5, 1e-4, 7);
     REQUIRE(starts.size() == 5);
@@ -352,9 +352,9 @@ TEST_CASE("energy_surface_neighbours: x0 first, the others nearby at exactly its
     }
   }
   const std::vector<double> hanging(6, 0.0);
-  CHECK_THROWS_WITH_AS(npend::energy_surface_neighbours(chain(chain_parameters::uniform(3)),
-                                                        hanging, 3, 1e-6),
-                       doctest::Contains("equilibrium"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(
+      npend::energy_surface_neighbours(chain(chain_parameters::uniform(3)), hanging, 3, 1e-6),
+      doctest::Contains("equilibrium"), std::invalid_argument);
 }
 
 TEST_CASE("lyapunov_ensemble: its standard error covers the exponents of runs at two dt") {
@@ -366,7 +366,8 @@ TEST_CASE("lyapunov_ensemble: its standard error covers the exponents of runs at
   npend::lyapunov_ensemble_options e;
   e.members = 6;
   e.maximal = true;
-  const auto coarse = npend::lyapunov_ensemble(c, x0, short_run(200, stepper_kind::gauss6, 0.01), e);
+  const auto coarse =
+      npend::lyapunov_ensemble(c, x0, short_run(200, stepper_kind::gauss6, 0.01), e);
   const auto fine = npend::lyapunov_ensemble(c, x0, short_run(200, stepper_kind::gauss6, 0.005), e);
   REQUIRE(coarse.runs.size() == 6);
   REQUIRE(fine.mean.size() == 1);
@@ -381,8 +382,7 @@ TEST_CASE("lyapunov_ensemble: its standard error covers the exponents of runs at
   // The members scatter (the finite-time values are not one number), and the standard error
   // is the standard deviation / sqrt(K).
   CHECK(coarse.standard_deviation[0] > 0.005);
-  CHECK(coarse.standard_error[0] ==
-        doctest::Approx(coarse.standard_deviation[0] / std::sqrt(6.0)));
+  CHECK(coarse.standard_error[0] == doctest::Approx(coarse.standard_deviation[0] / std::sqrt(6.0)));
   e.members = 1;
   CHECK_THROWS_WITH_AS(npend::lyapunov_ensemble(c, x0, short_run(10), e),
                        doctest::Contains("members"), std::invalid_argument);

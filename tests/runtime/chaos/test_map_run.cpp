@@ -83,7 +83,6 @@ class stop_after final : public npend::run_control {
   std::atomic<int> m_left;
 };
 
-
 TEST_CASE("map_run: the tiles, computed in parallel and assembled, are map_cell's values") {
   const fs::path dir(npend::test::temporary_directory("map-run-whole"));
   const npend::map_run_description d = flip_map(3);

@@ -1,21 +1,20 @@
 // Poincaré sections (paper §6.6.1): crossings of integrable cases on their known curves, a
 // chaotic case against a brute-force fine-step reference, points on the section to rounding
 // with the energy kept for every stepper, directions, stopping, and the tangential fallback.
-#include "npend/analysis/chaos/poincare_section.hpp"
-
-#include "npend/analysis/series/event_times.hpp"
-#include "npend/analysis/stability/backbone.hpp"
-#include "npend/analysis/stability/normal_modes.hpp"
-#include "reference/reference_trajectory.hpp"
-#include "support/test_signals.hpp"
-#include "support/test_support.hpp"
-
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+
+#include "npend/analysis/chaos/poincare_section.hpp"
+#include "npend/analysis/series/event_times.hpp"
+#include "npend/analysis/stability/backbone.hpp"
+#include "npend/analysis/stability/normal_modes.hpp"
+#include "reference/reference_trajectory.hpp"
+#include "support/test_signals.hpp"
+#include "support/test_support.hpp"
 
 using namespace npend;
 using std::numbers::pi;
@@ -299,9 +298,9 @@ TEST_CASE("poincare_section: a rotating pendulum crosses phi = 0 on the circle o
         CHECK(k.t - circle.crossings[j - 1].t == doctest::Approx(revolution).epsilon(1e-10));
     }
     // None the other way round, and on the unwrapped angle none at all after the start.
-    const auto other = poincare_section(c, x0, section_plane::coordinate(1, 0, 0.0), run_for(20),
-                                        {.direction = p0 > 0 ? crossing_direction::down
-                                                             : crossing_direction::up});
+    const auto other =
+        poincare_section(c, x0, section_plane::coordinate(1, 0, 0.0), run_for(20),
+                         {.direction = p0 > 0 ? crossing_direction::down : crossing_direction::up});
     CHECK(other.crossings.empty());
     section_plane unwrapped = section_plane::coordinate(1, 0, 0.0);
     unwrapped.circular = false;

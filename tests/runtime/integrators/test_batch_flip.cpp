@@ -10,8 +10,8 @@
 #include <limits>
 #include <numbers>
 #include <random>
-#include <stdexcept>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "npend/analysis/chaos/chaos_map.hpp"
@@ -129,8 +129,8 @@ TEST_CASE("flip_times: within a step of the scalar flip_time, mostly the same va
     near += close_times(got[i], want) ? 1 : 0;
     finite += std::isfinite(want) ? 1 : 0;
   }
-  MESSAGE(equal << " of " << got.size() << " cells the same value, " << near
-                << " within 1e-9 s (" << finite << " flip)");
+  MESSAGE(equal << " of " << got.size() << " cells the same value, " << near << " within 1e-9 s ("
+                << finite << " flip)");
   CHECK(finite > 50);
   CHECK(near >= static_cast<int>(got.size()) - 2);
 }
@@ -163,9 +163,8 @@ TEST_CASE("flip_times: the first flip of one chosen link, as the scalar flip_tim
       near += close_times(got[i], want) ? 1 : 0;
       later_than_any += got[i] > any[i] ? 1 : 0;
     }
-    MESSAGE(equal << " of " << got.size() << " cells the same value, " << near
-                  << " within 1e-9 s; " << later_than_any
-                  << " flip later than the first flip of any link");
+    MESSAGE(equal << " of " << got.size() << " cells the same value, " << near << " within 1e-9 s; "
+                  << later_than_any << " flip later than the first flip of any link");
     CHECK(near >= static_cast<int>(got.size()) - 2);
     CHECK(later_than_any > 0);
   }

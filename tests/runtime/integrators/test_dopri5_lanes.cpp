@@ -22,9 +22,7 @@ namespace {
 
 bool same_bits(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
 
-npend::map_stepping dopri5_at(double tol) {
-  return {npend::stepper_kind::dopri5, tol, tol};
-}
+npend::map_stepping dopri5_at(double tol) { return {npend::stepper_kind::dopri5, tol, tol}; }
 
 // Random starts of the n-link chain: angles in ±3 rad (a third of them small), momenta ±2.
 std::vector<double> random_chain_starts(int n, int count, unsigned seed) {
@@ -41,8 +39,8 @@ std::vector<double> random_chain_starts(int n, int count, unsigned seed) {
 // The state at t_end by npend::integrate's dopri5 (first trial step dt), read from its dense
 // output in the step that reaches t_end: written here from the public API, independently of
 // the map's code.
-std::vector<double> integrate_dopri5_to(const npend::chain& c, std::span<const double> x0, double t_end,
-                                 double dt, double tol) {
+std::vector<double> integrate_dopri5_to(const npend::chain& c, std::span<const double> x0,
+                                        double t_end, double dt, double tol) {
   npend::integration_options io;
   io.stepper = npend::stepper_kind::dopri5;
   io.dt = dt;
@@ -153,7 +151,7 @@ TEST_CASE("dopri5 maps: a lane's value does not depend on its neighbours' steps"
   for (int k = 0; k < count; ++k) {
     CAPTURE(k);
     CHECK(same_bits(forward[static_cast<std::size_t>(k)],
-               backward[static_cast<std::size_t>(count - 1 - k)]));
+                    backward[static_cast<std::size_t>(count - 1 - k)]));
   }
   CHECK(same_bits(npend::map_cell(c, std::span(starts).subspan(0, 6), mo), forward[0]));
 }
@@ -170,15 +168,15 @@ TEST_CASE("dopri5 maps: final-state cells agree with integrate's dense output at
   double worst = 0;
   std::vector<std::vector<double>> want;
   for (int k = 0; k < count; ++k)
-    want.push_back(integrate_dopri5_to(c, std::span(starts).subspan(6 * static_cast<std::size_t>(k), 6),
-                                mo.t_end, mo.dt, 1e-10));
+    want.push_back(integrate_dopri5_to(
+        c, std::span(starts).subspan(6 * static_cast<std::size_t>(k), 6), mo.t_end, mo.dt, 1e-10));
   for (int component = 0; component < 6; ++component) {
     mo.component = component;
     const std::vector<double> lanes = npend::map_cells(c, starts, mo);
     for (int k = 0; k < count; ++k)
-      worst = std::max(worst, std::fabs(lanes[static_cast<std::size_t>(k)] -
-                                        want[static_cast<std::size_t>(k)]
-                                            [static_cast<std::size_t>(component)]));
+      worst = std::max(
+          worst, std::fabs(lanes[static_cast<std::size_t>(k)] -
+                           want[static_cast<std::size_t>(k)][static_cast<std::size_t>(component)]));
   }
   MESSAGE("worst difference " << worst);
   CHECK(worst <= 1e-10);
@@ -191,7 +189,8 @@ TEST_CASE("dopri5 maps: final-state cells agree with integrate's dense output at
   const std::vector<double> x0{1.0, -0.5, 0.2, 0.1};
   mo.component = 1;
   CHECK(npend::map_cell(rod_chain, x0, mo) ==
-        doctest::Approx(integrate_dopri5_to(rod_chain, x0, mo.t_end, mo.dt, 1e-10)[1]).epsilon(1e-13));
+        doctest::Approx(integrate_dopri5_to(rod_chain, x0, mo.t_end, mo.dt, 1e-10)[1])
+            .epsilon(1e-13));
 
   // A state that leaves the doubles is NaN.
   const std::vector<double> blown{0.5, 0.5, 0.5, 1e200, -1e200, 1e200};
@@ -217,9 +216,9 @@ TEST_CASE("dopri5 maps: Lyapunov cells agree with maximal_lyapunov_exponent's do
   lo.integration.abs_tol = lo.integration.rel_tol = 1e-10;
   double worst = 0, largest = 0;
   for (int k = 0; k < count; ++k) {
-    const double want =
-        npend::maximal_lyapunov_exponent(c, std::span(starts).subspan(6 * static_cast<std::size_t>(k), 6), lo)
-            .exponents.front();
+    const double want = npend::maximal_lyapunov_exponent(
+                            c, std::span(starts).subspan(6 * static_cast<std::size_t>(k), 6), lo)
+                            .exponents.front();
     CAPTURE(k);
     CHECK(std::isfinite(lanes[static_cast<std::size_t>(k)]));
     worst = std::max(worst, std::fabs(lanes[static_cast<std::size_t>(k)] - want));
@@ -240,9 +239,10 @@ TEST_CASE("dopri5 maps: what a map refuses") {
   npend::map_cell_options mo;
   mo.t_end = 1;
   mo.stepping.stepper = npend::stepper_kind::rosenbrock4;
-  CHECK_THROWS_WITH_AS(npend::map_cell(c, x0, mo),
-                       "flip: maps integrate with one of rk4, dopri5, gauss4, gauss6, not rosenbrock4",
-                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(
+      npend::map_cell(c, x0, mo),
+      "flip: maps integrate with one of rk4, dopri5, gauss4, gauss6, not rosenbrock4",
+      std::invalid_argument);
   mo.stepping = dopri5_at(0);
   CHECK_THROWS_WITH_AS(npend::map_cell(c, x0, mo),
                        "flip: abs_tol and rel_tol are both 0; at least one must be positive",

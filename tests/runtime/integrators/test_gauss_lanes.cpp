@@ -26,8 +26,8 @@ npend::map_stepping gauss_stepping(int stages) {
 
 // The state at t_end by the library's stepper: steps of dt, a last shorter one onto t_end.
 template <class Stepper>
-std::vector<double> library_state(const npend::chain& c, std::span<const double> x0,
-                                  double t_end, double dt) {
+std::vector<double> library_state(const npend::chain& c, std::span<const double> x0, double t_end,
+                                  double dt) {
   Stepper stepper;
   const auto system = npend::make_implicit_system(c);
   std::vector<double> x(x0.begin(), x0.end());
@@ -106,7 +106,8 @@ TEST_CASE("Gauss-Legendre maps: the energy stays bounded where rk4's drifts") {
     double worst = 0;
     for (std::size_t k = 0; k < ends.size(); ++k) {
       const double h0 = c.hamiltonian(std::span(starts).subspan(6 * k, 6));
-      worst = std::max(worst, std::fabs(c.hamiltonian(ends[k]) - h0) / std::max(1.0, std::fabs(h0)));
+      worst =
+          std::max(worst, std::fabs(c.hamiltonian(ends[k]) - h0) / std::max(1.0, std::fabs(h0)));
     }
     return worst;
   };
@@ -150,8 +151,8 @@ TEST_CASE("Gauss-Legendre maps: flip times on the lanes are flip_time's") {
 
 // Which of the starts a Gauss–Legendre lane gives up within t_end at step dt (the lanes'
 // own stepper, driven directly: white-box).
-std::vector<bool> lanes_give_up(const npend::chain& c, const std::vector<double>& starts,
-                                double dt, double t_end) {
+std::vector<bool> lanes_give_up(const npend::chain& c, const std::vector<double>& starts, double dt,
+                                double t_end) {
   const npend::batch_kernels& k = *npend::detail::lane_kernels(c);
   const auto m = static_cast<std::size_t>(c.state_size());
   std::vector<bool> out;
@@ -162,7 +163,8 @@ std::vector<bool> lanes_give_up(const npend::chain& c, const std::vector<double>
       for (std::size_t i = 0; i < m; ++i) rk.state()[rk.at(i, l)] = starts[cell * m + i];
       rk.restart(l);
     }
-    for (double t = 0; t < t_end - 1e-9 && !rk.failed(0); t += dt) rk.step(npend::detail::lane_blocks);
+    for (double t = 0; t < t_end - 1e-9 && !rk.failed(0); t += dt)
+      rk.step(npend::detail::lane_blocks);
     out.push_back(rk.failed(0));
   }
   return out;
@@ -178,8 +180,8 @@ TEST_CASE("Gauss-Legendre maps: long steps the fixed point cannot take go to the
     starts.insert(starts.end(), {0.1 * i - 2, 0.07 * i - 1.4, 0.2 * i - 4, 3 - 0.15 * i});
   const auto library = [&](std::size_t i, double t_end, double dt) {
     try {
-      return library_state<npend::gauss_legendre6>(c, std::span(starts).subspan(4 * i, 4),
-                                                   t_end, dt)[0];
+      return library_state<npend::gauss_legendre6>(c, std::span(starts).subspan(4 * i, 4), t_end,
+                                                   dt)[0];
     } catch (const npend::integration_error&) {
       return std::numeric_limits<double>::quiet_NaN();
     }

@@ -1,18 +1,18 @@
 // The Gauss–Legendre stepper: its tableaux, its order, energy behaviour, reversibility,
 // symplecticity, Newton convergence, failure reports, and odeint's integrate functions.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <boost/numeric/odeint/integrate/integrate_const.hpp>
+#include <boost/numeric/odeint/integrate/integrate_n_steps.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
+#include <cmath>
+#include <functional>
+
 #include "npend/chain_system.hpp"
 #include "npend/integrators/gauss_legendre.hpp"
 #include "reference/reference_trajectory.hpp"
 #include "support/test_support.hpp"
-
-#include <boost/numeric/odeint/integrate/integrate_const.hpp>
-#include <boost/numeric/odeint/integrate/integrate_n_steps.hpp>
-#include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
-#include <doctest/doctest.h>
-
-#include <algorithm>
-#include <cmath>
-#include <functional>
 
 using npend::chain;
 using npend::gauss_legendre4;

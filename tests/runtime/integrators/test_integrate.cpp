@@ -1,18 +1,18 @@
 // npend::integrate with every stepper: against an independent tight-tolerance reference,
 // against the linear normal-mode solution for small oscillations, its output grid, the
 // observer, its guards, and integrate_system on a system that is not a chain.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+#include <map>
+
 #include "npend/integrators/detail/rejecting_range_algebra.hpp"
 #include "npend/integrators/integrate.hpp"
 #include "npend/integrators/integrate_system.hpp"
 #include "npend/integrators/integration_error.hpp"
 #include "reference/reference_trajectory.hpp"
 #include "support/test_support.hpp"
-
-#include <doctest/doctest.h>
-
-#include <cmath>
-#include <limits>
-#include <map>
 
 using npend::chain;
 using npend::integration_options;

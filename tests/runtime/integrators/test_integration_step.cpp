@@ -1,14 +1,14 @@
 // The step observer of npend::integrate: the steps it sees cover the run without gaps, come
 // before the grid points they reach, can stop the run, and interpolate the solution
 // (integration_step::state_at) — the dense output the Poincaré sections are located on.
-#include "npend/integrators/integrate.hpp"
-#include "reference/reference_trajectory.hpp"
-#include "support/test_support.hpp"
-
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <stdexcept>
+
+#include "npend/integrators/integrate.hpp"
+#include "reference/reference_trajectory.hpp"
+#include "support/test_support.hpp"
 
 using npend::chain;
 using npend::integration_options;

@@ -71,8 +71,8 @@ TEST_CASE("energy_balance: H minus the friction's work stays H(0) along a damped
   o.dt = 1e-3;
   o.t_end = 20;
   npend::energy_balance books(c);
-  npend::integrate_system(npend::make_implicit_system(c), c.state_from_velocities(angles, rest),
-                          o, [&](double t, std::span<const double> x) {
+  npend::integrate_system(npend::make_implicit_system(c), c.state_from_velocities(angles, rest), o,
+                          [&](double t, std::span<const double> x) {
                             books.add(t, x);
                             return npend::observer_action::proceed;
                           });

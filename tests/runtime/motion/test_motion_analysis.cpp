@@ -8,8 +8,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "npend/analysis/motion/energy_drift.hpp"
 #include "npend/analysis/chaos/lyapunov.hpp"
+#include "npend/analysis/motion/energy_drift.hpp"
 #include "npend/analysis/motion/motion_analysis.hpp"
 #include "npend/analysis/series/sampled_signals.hpp"
 #include "npend/integrators/integrate.hpp"

@@ -1,14 +1,13 @@
 // autocorrelation: the Wiener–Khinchin route against direct sums and a sine's cosine.
-#include "support/test_signals.hpp"
-
-#include "npend/analysis/series/autocorrelation.hpp"
-
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <numbers>
 #include <random>
 #include <stdexcept>
+
+#include "npend/analysis/series/autocorrelation.hpp"
+#include "support/test_signals.hpp"
 
 using namespace npend;
 

@@ -1,11 +1,5 @@
 // delay_embedding, average_mutual_information, choose_delay, false_nearest_neighbours and
 // cao_embedding on systems whose dimension is known.
-#include "support/test_signals.hpp"
-
-#include "npend/analysis/series/delay_embedding.hpp"
-#include "npend/analysis/series/embedding_dimension.hpp"
-#include "npend/analysis/series/mutual_information.hpp"
-
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -13,6 +7,11 @@
 #include <numbers>
 #include <random>
 #include <stdexcept>
+
+#include "npend/analysis/series/delay_embedding.hpp"
+#include "npend/analysis/series/embedding_dimension.hpp"
+#include "npend/analysis/series/mutual_information.hpp"
+#include "support/test_signals.hpp"
 
 using namespace npend;
 using std::numbers::pi;
@@ -44,7 +43,8 @@ TEST_CASE("average_mutual_information: I(0) is the entropy of the binned series"
   std::vector<double> x(5000);
   for (auto& v : x) v = normal(rng);
   const std::size_t bins = 12;
-  const auto ami = average_mutual_information(x, 0.1, 5, {.bins = bins, .estimator = mutual_information_estimator::tisean});
+  const auto ami = average_mutual_information(
+      x, 0.1, 5, {.bins = bins, .estimator = mutual_information_estimator::tisean});
   const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
   std::vector<double> p(bins);
   for (const double v : x)
@@ -62,13 +62,16 @@ TEST_CASE("average_mutual_information: independent samples share almost no infor
   std::uniform_real_distribution<double> u(0, 1);
   std::vector<double> x(20000);
   for (auto& v : x) v = u(rng);
-  const auto ami = average_mutual_information(x, 1.0, 5, {.bins = 16, .estimator = mutual_information_estimator::tisean});
+  const auto ami = average_mutual_information(
+      x, 1.0, 5, {.bins = 16, .estimator = mutual_information_estimator::tisean});
   CHECK(ami.information[0] == doctest::Approx(4).epsilon(0.005));  // log₂ 16, uniform
   // The histogram bias is about (B−1)²/(2 N ln 2) ≈ 0.008 bit.
   for (std::size_t k = 1; k <= 5; ++k) CHECK(ami.information[k] < 0.02);
 }
 
-TEST_CASE("average_mutual_information: the averaged estimate's first minimum of a sine is near a quarter period") {
+TEST_CASE(
+    "average_mutual_information: the averaged estimate's first minimum of a sine is near a quarter "
+    "period") {
   // A sine's pairs lie on a curve, and a single histogram's I(tau) zigzags from lag to lag by
   // more than it falls (TISEAN's estimate, the default, finds its first dip at 0.107 s here):
   // the averaged shifted histograms smooth that out.

@@ -1,16 +1,15 @@
 // The paper's setting (§6.6.2, Abb. 6.9): the triple pendulum with equal masses and lengths,
 // φ₃(t) sampled 2¹⁴ times at dt = 0.001 s. Weak excitation: three sharp lines at the normal-mode
 // frequencies; strong excitation: a broad spectrum.
-#include "support/test_signals.hpp"
-
-#include "npend/analysis/stability/normal_modes.hpp"
-#include "npend/analysis/series/power_spectrum.hpp"
-#include "npend/analysis/series/spectral_peaks.hpp"
-#include "npend/chain.hpp"
-
 #include <doctest/doctest.h>
 
 #include <cmath>
+
+#include "npend/analysis/series/power_spectrum.hpp"
+#include "npend/analysis/series/spectral_peaks.hpp"
+#include "npend/analysis/stability/normal_modes.hpp"
+#include "npend/chain.hpp"
+#include "support/test_signals.hpp"
 
 using namespace npend;
 

@@ -1,9 +1,4 @@
 // power_spectrum and find_spectral_peaks on signals whose spectra are known.
-#include "support/test_signals.hpp"
-
-#include "npend/analysis/series/power_spectrum.hpp"
-#include "npend/analysis/series/spectral_peaks.hpp"
-
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -12,6 +7,10 @@
 #include <numbers>
 #include <random>
 #include <stdexcept>
+
+#include "npend/analysis/series/power_spectrum.hpp"
+#include "npend/analysis/series/spectral_peaks.hpp"
+#include "support/test_signals.hpp"
 
 using namespace npend;
 using npend::test::sum_of_sines;
@@ -175,8 +174,8 @@ TEST_CASE("find_spectral_peaks: no refined density above the bins next to the em
   std::vector<double> ramp(n);
   for (std::size_t j = 0; j < n; ++j) ramp[j] = 0.37 + 0.1 * static_cast<double>(j);
   const auto s = power_spectrum(ramp, 1.0, {.window = spectral_window::none});
-  const double ratio = std::pow(std::sin(2 * std::numbers::pi / n) /
-                                std::sin(std::numbers::pi / n), 2);
+  const double ratio =
+      std::pow(std::sin(2 * std::numbers::pi / n) / std::sin(std::numbers::pi / n), 2);
   CHECK(s.power[1] / s.power[2] == doctest::Approx(ratio).epsilon(1e-10));
   const double largest = *std::max_element(s.power.begin(), s.power.end());
   const auto peaks = find_spectral_peaks(s, {.max_peaks = 2});

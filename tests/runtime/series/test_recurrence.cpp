@@ -1,10 +1,4 @@
 // event_times, recurrence_times and probability_histogram on events with known times.
-#include "support/test_signals.hpp"
-
-#include "npend/analysis/series/event_times.hpp"
-#include "npend/analysis/series/histogram.hpp"
-#include "npend/analysis/series/recurrence_times.hpp"
-
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -12,6 +6,11 @@
 #include <numbers>
 #include <random>
 #include <stdexcept>
+
+#include "npend/analysis/series/event_times.hpp"
+#include "npend/analysis/series/histogram.hpp"
+#include "npend/analysis/series/recurrence_times.hpp"
+#include "support/test_signals.hpp"
 
 using namespace npend;
 using std::numbers::pi;

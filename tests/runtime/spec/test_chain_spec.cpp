@@ -1,13 +1,13 @@
 // The chain specification both front ends fill (npend/spec/chain_spec.hpp): the parameters
 // it gives, the defaults it leaves, the messages of what it refuses in the spelling of each
 // front end, and chain files.
-#include "npend/spec/chain_spec.hpp"
-
 #include <doctest/doctest.h>
 
 #include <numbers>
 #include <sstream>
 #include <string>
+
+#include "npend/spec/chain_spec.hpp"
 
 using npend::chain_parameters;
 using npend::spec::chain_spec;
@@ -167,8 +167,7 @@ TEST_CASE("read_chain_file: each problem of the file is one message naming it an
   CHECK(message(R"({"masss": 1})", 1) ==
         "--chain c.json: unknown key \"masss\" (known: links, masses, lengths, g, com, inertia, "
         "rods, stiffness, rest_angles, damping, pivot)");
-  CHECK(message(R"({"masses": 1, "masses": 2})", 2) ==
-        "--chain c.json: \"masses\" is given twice");
+  CHECK(message(R"({"masses": 1, "masses": 2})", 2) == "--chain c.json: \"masses\" is given twice");
   CHECK(message(R"({"com": [0.5]})", 2) ==
         "--chain c.json: \"com\": expected 2 values (c_1..c_2) or one number for all links, got "
         "a list of 1");

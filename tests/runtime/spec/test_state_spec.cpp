@@ -78,9 +78,11 @@ TEST_CASE("parse_whole_number: whole numbers in the range, each other number ref
 }
 
 TEST_CASE("parse_state: 2n numbers, phi then p") {
-  CHECK(npend::spec::parse_state("1,2,3,4", npend::chain(npend::chain_parameters::uniform(2))) == std::vector<double>{1, 2, 3, 4});
-  CHECK(state_spec_message([] { npend::spec::parse_state("1,2,3", npend::chain(npend::chain_parameters::uniform(2))); }) ==
-        "--state: expected 4 values (phi_1..phi_2, p_1..p_2), got 3");
+  CHECK(npend::spec::parse_state("1,2,3,4", npend::chain(npend::chain_parameters::uniform(2))) ==
+        std::vector<double>{1, 2, 3, 4});
+  CHECK(state_spec_message([] {
+          npend::spec::parse_state("1,2,3", npend::chain(npend::chain_parameters::uniform(2)));
+        }) == "--state: expected 4 values (phi_1..phi_2, p_1..p_2), got 3");
 }
 
 TEST_CASE("start_spec: angles with momenta or with angular velocities, p = m l^2 dphi") {

@@ -1,15 +1,15 @@
 // Validity of the harmonic approximation (paper §6.4): backbone curves of the normal modes.
 // The single pendulum's frequency is known exactly (ω = π ω₀ / (2 K(sin(θ₀/2))), K the
 // complete elliptic integral of the first kind); the chains' backbones start quadratically.
-#include "npend/analysis/stability/backbone.hpp"
-#include "npend/analysis/stability/normal_modes.hpp"
-#include "support/test_support.hpp"
-
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+
+#include "npend/analysis/stability/backbone.hpp"
+#include "npend/analysis/stability/normal_modes.hpp"
+#include "support/test_support.hpp"
 
 using npend::chain;
 using npend::chain_parameters;
@@ -137,9 +137,8 @@ TEST_CASE("pendulum_period: 2 pi sqrt(l/g) for small swings, and the amplitude s
   for (const double a : {0.1, 0.3}) {
     CAPTURE(a);
     const double a2 = a * a;
-    const double series =
-        small * (1 + a2 / 16 + 11 * a2 * a2 / 3072 + 173 * a2 * a2 * a2 / 737280 +
-                 22931 * a2 * a2 * a2 * a2 / 1321205760);
+    const double series = small * (1 + a2 / 16 + 11 * a2 * a2 / 3072 + 173 * a2 * a2 * a2 / 737280 +
+                                   22931 * a2 * a2 * a2 * a2 / 1321205760);
     CHECK(npend::pendulum_period(a, l, g) == doctest::Approx(series).epsilon(1e-11));
     // The frequency ratio is T₀ / T.
     CHECK(pendulum_frequency_ratio(a) == doctest::Approx(small / series).epsilon(1e-11));

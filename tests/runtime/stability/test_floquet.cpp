@@ -236,7 +236,8 @@ TEST_CASE("floquet: the error estimate bounds the change to a run with many more
   CHECK(b.modulus_error < a.modulus_error);
 }
 
-TEST_CASE("floquet_frequency_scan: Kapitza's stable window starts where a^2 Omega^2 / (2 g l) = 1") {
+TEST_CASE(
+    "floquet_frequency_scan: Kapitza's stable window starts where a^2 Omega^2 / (2 g l) = 1") {
   // a/l = 0.01: the averaged potential's criterion holds to far better than the 1 % grid
   // (3e-5, the test of Acheson's pendulums above), and no grid point lies that close to it.
   const double a = 0.002, l = 0.2, g = 9.81, critical = std::sqrt(2 * g * l) / a;  // 990 rad/s

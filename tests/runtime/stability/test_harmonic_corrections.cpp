@@ -2,17 +2,17 @@
 // printed double- and triple-pendulum equations, their power-series solution, the correction
 // function Q, and the orders in the amplitude that show they are not a consistent cubic
 // correction.
+#include <doctest/doctest.h>
+
+#include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
 #include "npend/analysis/stability/harmonic_corrections.hpp"
 #include "npend/analysis/stability/normal_modes.hpp"
 #include "npend/integrators/integrate.hpp"
 #include "support/test_support.hpp"
-
-#include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
-#include <doctest/doctest.h>
-
-#include <cmath>
-#include <numbers>
-#include <stdexcept>
 
 using npend::chain;
 using npend::chain_parameters;
@@ -44,7 +44,6 @@ double relative_residual(const std::vector<std::vector<double>>& equations) {
 }
 
 double slope(double error_big, double error_small) { return std::log2(error_big / error_small); }
-
 
 }  // namespace
 

@@ -1,16 +1,16 @@
 // Equilibria, normal modes and the Toda–Brumer criterion against the paper's closed forms
 // (docs/paper.md §6.4, §6.5, with error 3 corrected) and against Eigen's eigenvalues of the
 // generated Jacobian.
-#include "npend/analysis/stability/equilibria.hpp"
-#include "npend/analysis/stability/normal_modes.hpp"
-#include "npend/analysis/chaos/toda_brumer.hpp"
-#include "support/test_support.hpp"
-
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+
+#include "npend/analysis/chaos/toda_brumer.hpp"
+#include "npend/analysis/stability/equilibria.hpp"
+#include "npend/analysis/stability/normal_modes.hpp"
+#include "support/test_support.hpp"
 
 using npend::chain;
 using npend::chain_parameters;
@@ -104,8 +104,7 @@ TEST_CASE("find_equilibria: eigenvalues are Eigen's eigenvalues of the generated
         return a.real() != b.real() ? a.real() > b.real() : a.imag() > b.imag();
       };
       // Round away the ±1e-16 real parts of imaginary pairs before sorting.
-      for (auto& z : got)
-        z = {std::fabs(z.real()) < 1e-9 * std::abs(z) ? 0.0 : z.real(), z.imag()};
+      for (auto& z : got) z = {std::fabs(z.real()) < 1e-9 * std::abs(z) ? 0.0 : z.real(), z.imag()};
       std::sort(got.begin(), got.end(), by_value);
       for (std::size_t k = 0; k < got.size(); ++k)
         CHECK(std::abs(got[k] - e.eigenvalues[k]) <= 1e-9 * (1 + std::abs(e.eigenvalues[k])));
@@ -116,7 +115,8 @@ TEST_CASE("find_equilibria: eigenvalues are Eigen's eigenvalues of the generated
   }
 }
 
-TEST_CASE("normal_modes: triple pendulum frequencies are the roots of the paper's harmonic equations") {
+TEST_CASE(
+    "normal_modes: triple pendulum frequencies are the roots of the paper's harmonic equations") {
   // Paper §6.4.2: M₀ = [[μ₁l₁², μ₂l₁l₂, m₃l₁l₃], [μ₂l₁l₂, μ₂l₂², m₃l₂l₃], [l₁l₃, l₂l₃, l₃²]]
   // (third equation divided by m₃), K₀ = diag(μ₁gl₁, μ₂gl₂, gl₃). det(K₀ − λM₀) is a cubic
   // in λ = ω², expanded here by Sarrus' rule and solved in closed form (three real roots).
@@ -141,7 +141,8 @@ TEST_CASE("normal_modes: triple pendulum frequencies are the roots of the paper'
     poly det(4, 0.0);
     const int perms[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {1, 0, 2}, {2, 1, 0}};
     for (int k = 0; k < 6; ++k) {
-      const poly term = mul(mul(entry(0, perms[k][0]), entry(1, perms[k][1])), entry(2, perms[k][2]));
+      const poly term =
+          mul(mul(entry(0, perms[k][0]), entry(1, perms[k][1])), entry(2, perms[k][2]));
       for (std::size_t i = 0; i < 4; ++i) det[i] += (k < 3 ? 1 : -1) * term[i];
     }
     // Roots of det[3] λ³ + det[2] λ² + det[1] λ + det[0] by the trigonometric method.
@@ -196,7 +197,8 @@ TEST_CASE("toda_brumer_eigenvalues: Lambda_k = -g l_k mu_k cos phi_k (eq. 6.20)"
     double mu = 0;
     for (int k = n - 1; k >= 0; --k) {
       mu += p.masses[static_cast<std::size_t>(k)];
-      want.push_back(-p.g * p.lengths[static_cast<std::size_t>(k)] * mu * std::cos(phi[static_cast<std::size_t>(k)]));
+      want.push_back(-p.g * p.lengths[static_cast<std::size_t>(k)] * mu *
+                     std::cos(phi[static_cast<std::size_t>(k)]));
     }
     std::sort(want.begin(), want.end());
     const auto got = npend::toda_brumer_eigenvalues(c, phi);
@@ -209,13 +211,18 @@ TEST_CASE("toda_brumer_critical_energy: the paper's example E_c = m3 g l3, and m
   const chain_parameters p{{1.2, 0.7, 0.9}, {0.8, 1.1, 1.3}, 9.81};
   const chain c(p);
   const std::vector<int> fixed12{1, 2};
-  CHECK(npend::toda_brumer_critical_energy(c, fixed12) == doctest::Approx(0.9 * 9.81 * 1.3).epsilon(1e-14));
+  CHECK(npend::toda_brumer_critical_energy(c, fixed12) ==
+        doctest::Approx(0.9 * 9.81 * 1.3).epsilon(1e-14));
   const double mu[3] = {2.8, 1.6, 0.9};
   double threshold = 1e300;
-  for (int k = 0; k < 3; ++k) threshold = std::min(threshold, mu[k] * 9.81 * p.lengths[static_cast<std::size_t>(k)]);
-  CHECK(npend::toda_brumer_critical_energy(c, std::vector<int>{}) == doctest::Approx(threshold).epsilon(1e-14));
-  CHECK_THROWS_AS(npend::toda_brumer_critical_energy(c, std::vector<int>{1, 2, 3}), std::invalid_argument);
-  CHECK_THROWS_AS(npend::toda_brumer_critical_energy(c, std::vector<int>{4}), std::invalid_argument);
+  for (int k = 0; k < 3; ++k)
+    threshold = std::min(threshold, mu[k] * 9.81 * p.lengths[static_cast<std::size_t>(k)]);
+  CHECK(npend::toda_brumer_critical_energy(c, std::vector<int>{}) ==
+        doctest::Approx(threshold).epsilon(1e-14));
+  CHECK_THROWS_AS(npend::toda_brumer_critical_energy(c, std::vector<int>{1, 2, 3}),
+                  std::invalid_argument);
+  CHECK_THROWS_AS(npend::toda_brumer_critical_energy(c, std::vector<int>{4}),
+                  std::invalid_argument);
 }
 
 TEST_CASE("toda_brumer_links: O(n) for a long chain, g mu_k l_k per link") {

@@ -213,8 +213,7 @@ TEST_CASE("partition function: continuous where the rule's box leaves the circle
   // sides of the switch, and well below it, the Bessel closed form holds.
   const double m = 1.3, l = 0.8, g = 9.81, a = m * g * l, switch_t = a / 25;
   const npend::chain c(pendulum(m, l, g));
-  const std::vector<double> temperatures{switch_t * (1 + 1e-9), switch_t * (1 - 1e-9),
-                                         0.05, 0.02};
+  const std::vector<double> temperatures{switch_t * (1 + 1e-9), switch_t * (1 - 1e-9), 0.05, 0.02};
   const auto r = npend::canonical_ensemble(c, temperatures);
   for (std::size_t i = 0; i < temperatures.size(); ++i) {
     const closed_form e = single_pendulum(m, l, g, temperatures[i]);

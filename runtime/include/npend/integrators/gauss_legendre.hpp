@@ -222,9 +222,9 @@ class gauss_legendre {
   // 24 links and more) a factorisation is worth 50 and more iterations: there an old matrix
   // is kept while it contracts at all well (θ ≤ 0.25) and a fresh one before full Newton
   // (θ ≤ 0.5), which keeps a step O(d²) but for the rare renewals — at 100 links 4 times
-  // faster than renewing every step (tests/runtime/integrators/test_gauss_legendre.cpp counts them).
-  // Shorter chains keep the classic thresholds (Hairer & Wanner's RADAU5: reuse only at
-  // θ ≤ 1e-3), where factoring is cheap and fewer iterations win.
+  // faster than renewing every step (tests/runtime/integrators/test_gauss_legendre.cpp counts
+  // them). Shorter chains keep the classic thresholds (Hairer & Wanner's RADAU5: reuse only at θ ≤
+  // 1e-3), where factoring is cheap and fewer iterations win.
   bool factoring_dominates() const { return m_dim >= 48; }
   double reuse_limit() const { return factoring_dominates() ? 0.25 : 1e-3; }
   double stale_limit() const { return factoring_dominates() ? 0.25 : 1e-2; }
@@ -360,8 +360,7 @@ class gauss_legendre {
       if (iteration >= 2) {
         theta = norm / previous_norm;
         if (norm > 100 * round_off_level() * scale) contraction = std::max(contraction, theta);
-        if (detail::stage_iteration_done(theta, norm, scale, m_tolerance, round_off_level()))
-          break;
+        if (detail::stage_iteration_done(theta, norm, scale, m_tolerance, round_off_level())) break;
         if (norm <= round_off_level() * scale) {
           // At round-off and still shrinking: iterate on with the matrix as it is.
         } else if (m_matrix == matrix_state::stale && theta > stale_limit()) {

@@ -1,16 +1,16 @@
 // One way to integrate a chain with any stepper, onto a fixed output grid.
 #pragma once
 
-#include "npend/chain.hpp"
-#include "npend/run_control.hpp"
-#include "npend/integrators/stepper_kind.hpp"
-
 #include <concepts>
 #include <cstddef>
 #include <functional>
 #include <span>
 #include <type_traits>
 #include <vector>
+
+#include "npend/chain.hpp"
+#include "npend/integrators/stepper_kind.hpp"
+#include "npend/run_control.hpp"
 
 namespace npend {
 

@@ -141,13 +141,10 @@ using checked_dopri5 =
     boost::numeric::odeint::runge_kutta_dopri5<std::vector<double>, double, std::vector<double>,
                                                double, rejecting_range_algebra>;
 using checked_fehlberg78 =
-    boost::numeric::odeint::runge_kutta_fehlberg78<std::vector<double>, double,
-                                                   std::vector<double>, double,
-                                                   rejecting_range_algebra>;
-using checked_bulirsch_stoer =
-    boost::numeric::odeint::bulirsch_stoer_dense_out<std::vector<double>, double,
-                                                     std::vector<double>, double,
-                                                     rejecting_range_algebra>;
+    boost::numeric::odeint::runge_kutta_fehlberg78<std::vector<double>, double, std::vector<double>,
+                                                   double, rejecting_range_algebra>;
+using checked_bulirsch_stoer = boost::numeric::odeint::bulirsch_stoer_dense_out<
+    std::vector<double>, double, std::vector<double>, double, rejecting_range_algebra>;
 
 /// The cubic Hermite interpolant of a step through the states at its ends with the
 /// derivatives f there (evaluated on the first request): the dense output of the steppers

@@ -29,19 +29,19 @@ std::string argument_name(std::string_view key, naming names);
 /// is empty (left out), one value for every link (a long chain cannot be typed out link by
 /// link) or one value per link.
 struct chain_spec {
-  int links = 0;                        ///< n ≥ 1
-  std::vector<double> masses;           ///< m_i in kg (default 1)
-  std::vector<double> lengths;          ///< l_i in m (default 1)
-  std::optional<double> g;              ///< m/s² (default standard_gravity)
-  std::vector<double> com;              ///< c_i in m down link i (default l_i)
-  std::vector<double> inertia;          ///< J_i in kg m² about the centre of mass (default 0)
-  bool rods = false;                    ///< uniform rods: c = l/2, J = m l²/12
-  std::vector<double> stiffness;        ///< k_j in N m/rad at joint j (default 0)
-  std::vector<double> rest_angles;      ///< θ_j⁰ in rad of the joint springs (default 0)
-  std::vector<double> damping;          ///< b_j in N m s/rad at joint j (default 0)
-  std::string pivot;                    ///< "" (fixed), vertical:A:OMEGA or horizontal:A:OMEGA
-  std::optional<double> cart;           ///< M in kg: the chain hangs from a cart on the x axis
-  std::optional<double> cart_damping;   ///< b_x in N s/m, the cart's viscous damping (default 0)
+  int links = 0;                       ///< n ≥ 1
+  std::vector<double> masses;          ///< m_i in kg (default 1)
+  std::vector<double> lengths;         ///< l_i in m (default 1)
+  std::optional<double> g;             ///< m/s² (default standard_gravity)
+  std::vector<double> com;             ///< c_i in m down link i (default l_i)
+  std::vector<double> inertia;         ///< J_i in kg m² about the centre of mass (default 0)
+  bool rods = false;                   ///< uniform rods: c = l/2, J = m l²/12
+  std::vector<double> stiffness;       ///< k_j in N m/rad at joint j (default 0)
+  std::vector<double> rest_angles;     ///< θ_j⁰ in rad of the joint springs (default 0)
+  std::vector<double> damping;         ///< b_j in N m s/rad at joint j (default 0)
+  std::string pivot;                   ///< "" (fixed), vertical:A:OMEGA or horizontal:A:OMEGA
+  std::optional<double> cart;          ///< M in kg: the chain hangs from a cart on the x axis
+  std::optional<double> cart_damping;  ///< b_x in N s/m, the cart's viscous damping (default 0)
 };
 
 /// A per-link list of chain_spec: its key (a chain file's key, Python's keyword) and the
@@ -61,8 +61,8 @@ const per_link_key* find_per_link_key(std::string_view key);
 
 /// A per-link parameter (symbol m, l, c, J, k, theta, b) given as n values, or as one value
 /// for every link: the n values. Throws input_error naming `option` for any other count.
-std::vector<double> per_link_values(std::vector<double> values, std::string_view option,
-                                    int links, std::string_view symbol);
+std::vector<double> per_link_values(std::vector<double> values, std::string_view option, int links,
+                                    std::string_view symbol);
 
 /// "vertical:A:OMEGA" or "horizontal:A:OMEGA" (amplitude A in m, angular frequency OMEGA in
 /// rad/s); `option` names it in messages. Throws input_error otherwise.
@@ -75,8 +75,8 @@ void check_links(int links, naming names);
 /// a fixed pivot unless given. Throws input_error naming the parameter as `names` spells it:
 /// a link count below 1, a list of another count, rods with centres of mass or inertias,
 /// rest angles without any spring, a pivot that is not a drive, a cart's mass that is not
-/// positive and finite, its damping below 0 or without a cart, a cart with a moving pivot. The values themselves are
-/// checked by chain_parameters::validate (in the chain's constructor).
+/// positive and finite, its damping below 0 or without a cart, a cart with a moving pivot. The
+/// values themselves are checked by chain_parameters::validate (in the chain's constructor).
 chain_parameters make_parameters(const chain_spec& spec, naming names);
 
 /// chain(make_parameters(spec, names)), the chain's refusal of its parameters (a link count

@@ -46,7 +46,6 @@ bool is_whole_number(double value, double low, double high);
 /// A whole number in [low, high] typed for `option`: throws input_error "OPTION: must be a
 /// whole number LOW..HIGH, got TEXT" for any other number, and parse_number's error for text
 /// that is no number.
-double parse_whole_number(std::string_view text, std::string_view option, double low,
-                          double high);
+double parse_whole_number(std::string_view text, std::string_view option, double low, double high);
 
 }  // namespace npend::spec

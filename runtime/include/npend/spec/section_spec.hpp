@@ -9,8 +9,8 @@
 #include <string_view>
 #include <utility>
 
-#include "npend/analysis/series/event_times.hpp"
 #include "npend/analysis/chaos/poincare_section.hpp"
+#include "npend/analysis/series/event_times.hpp"
 #include "npend/analysis/series/sampled_signals.hpp"
 #include "npend/spec/input_error.hpp"
 

@@ -98,8 +98,7 @@ std::vector<double> chaos_indicator_start(std::size_t d, std::size_t k) {
 }
 
 chaos_indicator_sample chaos_indicator_sample_of(double t, double fli, double y, double z,
-                                                 std::span<const double> vectors,
-                                                 std::size_t d) {
+                                                 std::span<const double> vectors, std::size_t d) {
   chaos_indicator_sample out;
   out.t = t;
   out.fli = fli;

@@ -10,8 +10,8 @@
 #include <numbers>
 #include <numeric>
 #include <optional>
-#include <utility>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "analysis/detail/argument_checks.hpp"
@@ -199,8 +199,8 @@ bool flip_energy_holds(const chain& c, double h0, std::span<const double> x1, do
 // integration_error where flip_energy_holds does not.
 template <class System>
 double located_flip(const chain& c, const System& system, double h0,
-                    const std::vector<double>& before, const std::vector<double>& after,
-                    double t0, double h, const flip_options& o) {
+                    const std::vector<double>& before, const std::vector<double>& after, double t0,
+                    double h, const flip_options& o) {
   const std::size_t n = before.size() / 2;
   if (!flip_energy_holds(c, h0, after, t0 + h)) throw_untrusted_flip(t0 + h);
   std::vector<double> f0(before.size()), f1(before.size());
@@ -299,9 +299,9 @@ bool is_map_stepper(stepper_kind stepper) { return serves(stepper, stepper_use::
 
 void map_stepping::validate(std::string_view what) const {
   if (!is_map_stepper(stepper))
-    throw std::invalid_argument(
-        fmt::format("{}: maps integrate with one of {}, not {}", what,
-                    stepper_names(stepper_use::map), stepper_name(stepper)));
+    throw std::invalid_argument(fmt::format("{}: maps integrate with one of {}, not {}", what,
+                                            stepper_names(stepper_use::map),
+                                            stepper_name(stepper)));
   if (stepper != stepper_kind::dopri5) return;
   const auto check = [&](double tol, std::string_view name) {
     if (!(tol >= 0) || !std::isfinite(tol))
@@ -356,8 +356,8 @@ namespace {
 // and where `control` asked to stop before the cell began.
 template <class Cell>
 void by_library(std::span<const double> starts, std::size_t m,
-                const std::vector<std::size_t>& cells, const Cell& cell,
-                std::vector<double>& out, run_control* control = nullptr) {
+                const std::vector<std::size_t>& cells, const Cell& cell, std::vector<double>& out,
+                run_control* control = nullptr) {
   for (const std::size_t i : cells) try {
       out[i] = stop_requested(control) ? std::numeric_limits<double>::quiet_NaN()
                                        : cell(starts.subspan(i * m, m));
@@ -455,8 +455,8 @@ void divide_lane(const Stepper& rk, double* x, std::size_t first, std::size_t d,
 // Newton iteration).
 template <class Make>
 void flip_on_lanes(const chain& c, std::span<const double> starts,
-                   const std::vector<std::size_t>& queue, const flip_options& o,
-                   const Make& make, std::vector<double>& out) {
+                   const std::vector<std::size_t>& queue, const flip_options& o, const Make& make,
+                   std::vector<double>& out) {
   const auto n = static_cast<std::size_t>(c.links());
   const std::size_t m = 2 * n;
   auto rk = make(o.dt);
@@ -511,14 +511,14 @@ void flip_on_lanes(const chain& c, std::span<const double> starts,
     return look;
   };
   run_on_lanes(o.control, rk, queue, start, done, out, watch);
-  by_library(starts, m, to_library,
-             [&](std::span<const double> x0) { return flip_time(c, x0, o); }, out);
+  by_library(
+      starts, m, to_library, [&](std::span<const double> x0) { return flip_time(c, x0, o); }, out);
 }
 
 // Where a dopri5 lane's step has gone wrong, as npend::integrate finds it: too many tries,
 // a non-finite state (its first `checked` coordinates), a collapsed step size.
-bool dopri5_lane_failed(const lane_dopri5& rk, const double* x, std::size_t l,
-                        std::size_t checked, double min_step) {
+bool dopri5_lane_failed(const lane_dopri5& rk, const double* x, std::size_t l, std::size_t checked,
+                        double min_step) {
   if (rk.tries(l) >= lane_dopri5::max_tries) return true;
   if (!rk.accepted(l)) return false;
   for (std::size_t i = 0; i < checked; ++i)
@@ -545,8 +545,7 @@ void run_dopri5_cells(const batch_kernels& k, const chain& c, std::span<const do
   };
   const auto done = [&](const double* x, std::size_t l,
                         const lane_slot& s) -> std::optional<double> {
-    if (dopri5_lane_failed(rk, x, l, m, min_step))
-      return std::numeric_limits<double>::quiet_NaN();
+    if (dopri5_lane_failed(rk, x, l, m, min_step)) return std::numeric_limits<double>::quiet_NaN();
     if (!rk.accepted(l)) return std::nullopt;
     return settle(rk, x, l, s.cell);
   };
@@ -594,8 +593,7 @@ void lyapunov_on_lanes(const batch_kernels& k, const chain& c, std::span<const d
   const double dt = lo.integration.dt;
   lane_rk4 rk(lane_system(k, c.packed_parameters().data(), c.links(), 1, false), dt);
   const auto total = static_cast<long long>(output_steps(lo.integration));
-  const long long chunk =
-      std::max<long long>(1, std::llround(lo.renormalisation_interval / dt));
+  const long long chunk = std::max<long long>(1, std::llround(lo.renormalisation_interval / dt));
   const double t_total = static_cast<double>(total) * dt;
   const double w0 = 1.0 / std::sqrt(static_cast<double>(m));
   const auto start = [&](double* x, std::size_t l, std::size_t cell) {
@@ -622,16 +620,14 @@ void lyapunov_on_lanes(const batch_kernels& k, const chain& c, std::span<const d
 // the stepper restarted with the trial step dt, the state and tangent taken from its dense
 // output at the interval's end, then the tangent renormalised.
 void lyapunov_on_dopri5_lanes(const batch_kernels& k, const chain& c,
-                              std::span<const double> starts,
-                              const std::vector<std::size_t>& queue, const lyapunov_options& lo,
-                              std::vector<double>& out) {
+                              std::span<const double> starts, const std::vector<std::size_t>& queue,
+                              const lyapunov_options& lo, std::vector<double>& out) {
   const auto m = static_cast<std::size_t>(c.state_size());
   const double dt = lo.integration.dt;
   lane_dopri5 rk(lane_system(k, c.packed_parameters().data(), c.links(), 1, false),
                  lo.integration.abs_tol, lo.integration.rel_tol);
   const auto total = static_cast<long long>(output_steps(lo.integration));
-  const long long chunk =
-      std::max<long long>(1, std::llround(lo.renormalisation_interval / dt));
+  const long long chunk = std::max<long long>(1, std::llround(lo.renormalisation_interval / dt));
   const double t_total = static_cast<double>(total) * dt;
   const double min_step = lo.integration.min_step_ratio * dt;
   const double w0 = 1.0 / std::sqrt(static_cast<double>(m));
@@ -648,8 +644,7 @@ void lyapunov_on_dopri5_lanes(const batch_kernels& k, const chain& c,
       return std::numeric_limits<double>::quiet_NaN();
     if (!rk.accepted(l)) return std::nullopt;
     const long long steps = std::min(chunk, total - s.reached);
-    const double target =
-        static_cast<double>(s.reached) * dt + static_cast<double>(steps) * dt;
+    const double target = static_cast<double>(s.reached) * dt + static_cast<double>(steps) * dt;
     if (rk.time(l) < target) return std::nullopt;
     rk.state_at(l, target, 0, 2 * m, y.data());
     for (std::size_t i = 0; i < 2 * m; ++i) {
@@ -678,9 +673,8 @@ void indicators_on_lanes(const batch_kernels& k, const chain& c, std::span<const
                          std::size_t vectors, run_control* control, const Pick& pick,
                          std::vector<double>& out) {
   const auto d = static_cast<std::size_t>(c.state_size());
-  lane_rk4 rk(lane_system(k, c.packed_parameters().data(), c.links(),
-                          static_cast<int>(vectors), true),
-              dt);
+  lane_rk4 rk(
+      lane_system(k, c.packed_parameters().data(), c.links(), static_cast<int>(vectors), true), dt);
   const lane_system& sys = rk.system();
   const std::vector<double> w0 = chaos_indicator_start(d, vectors);
   const auto total = whole_steps(t_end, dt);
@@ -818,18 +812,16 @@ std::vector<double> flip_times(const chain& c, std::span<const double> starts,
   if (o.stepping.stepper == stepper_kind::dopri5)
     flip_on_dopri5_lanes(*k, c, starts, queue, o, out);
   else
-    with_fixed_step_lanes(*k, c, o.stepping.stepper, [&](const auto& make) {
-      flip_on_lanes(c, starts, queue, o, make, out);
-    });
+    with_fixed_step_lanes(*k, c, o.stepping.stepper,
+                          [&](const auto& make) { flip_on_lanes(c, starts, queue, o, make, out); });
   return out;
 }
 
 namespace {
 
-constexpr std::array all_map_quantities{map_quantity::flip,  map_quantity::lyapunov,
-                                        map_quantity::fli,   map_quantity::megno,
-                                        map_quantity::sali,  map_quantity::gali,
-                                        map_quantity::state};
+constexpr std::array all_map_quantities{
+    map_quantity::flip, map_quantity::lyapunov, map_quantity::fli,  map_quantity::megno,
+    map_quantity::sali, map_quantity::gali,     map_quantity::state};
 
 }  // namespace
 
@@ -856,9 +848,8 @@ std::string_view map_quantity_name(map_quantity quantity) {
 map_quantity parse_map_quantity(std::string_view name) {
   for (const auto q : all_map_quantities)
     if (name == map_quantity_name(q)) return q;
-  throw std::invalid_argument(
-      fmt::format("quantity: one of flip, lyapunov, fli, megno, sali, gali, state, got '{}'",
-                  name));
+  throw std::invalid_argument(fmt::format(
+      "quantity: one of flip, lyapunov, fli, megno, sali, gali, state, got '{}'", name));
 }
 
 namespace {
@@ -932,8 +923,7 @@ double final_coordinate(const chain& c, std::span<const double> x0, const map_ce
     });
     if (!reached) return std::numeric_limits<double>::quiet_NaN();  // asked to stop
     for (const double v : x)
-      if (!std::isfinite(v))
-        throw integration_error("state: the state became non-finite", o.t_end);
+      if (!std::isfinite(v)) throw integration_error("state: the state became non-finite", o.t_end);
     return x[static_cast<std::size_t>(o.component)];
   }
   std::vector<double> x(x0.begin(), x0.end());
@@ -1023,9 +1013,9 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
   map_cell_options options = requested;
   options.control = stop.get();
   if (options.quantity == map_quantity::flip) {
-    auto times = flip_times(c, starts,
-                            {options.t_end, options.dt, options.flip_link, options.stepping,
-                             options.control});
+    auto times = flip_times(
+        c, starts,
+        {options.t_end, options.dt, options.flip_link, options.stepping, options.control});
     mark_forbidden(c, starts, options.flip_link, times);
     return times;
   }
@@ -1082,9 +1072,10 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
         final_coordinates_on_lanes(c, starts, all_cells(out.size()), options, make, out, failed);
       });
       // Cells a Gauss–Legendre lane could not solve: the library's Newton iteration.
-      by_library(starts, m, failed,
-                 [&](std::span<const double> x0) { return final_coordinate(c, x0, options); },
-                 out, options.control);
+      by_library(
+          starts, m, failed,
+          [&](std::span<const double> x0) { return final_coordinate(c, x0, options); }, out,
+          options.control);
     }
   }
   return out;

@@ -61,8 +61,9 @@ using step_poll = std::function<bool(std::size_t)>;
 
 // Advances x (dim d) and the tangent vectors W (d × k) by `steps` steps of dt from t; returns
 // the steps done, fewer when `poll` asked to stop before the chunk's last step.
-using tangent_advance = std::function<std::size_t(
-    std::vector<double>& x, Eigen::MatrixXd& W, double t, std::size_t steps, const step_poll& poll)>;
+using tangent_advance =
+    std::function<std::size_t(std::vector<double>& x, Eigen::MatrixXd& W, double t,
+                              std::size_t steps, const step_poll& poll)>;
 
 // The Gauss–Legendre route: each step's exact derivative applied to W.
 template <class Stepper>

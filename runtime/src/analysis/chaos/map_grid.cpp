@@ -23,11 +23,16 @@ struct axis_name {
 
 // Longest prefixes first: "dphi" before "p", "phi" before "p".
 constexpr axis_name axis_names[] = {
-    {"dphi", map_axis_kind::velocity, true}, {"phi", map_axis_kind::angle, true},
-    {"p", map_axis_kind::momentum, true},    {"energy", map_axis_kind::energy, false},
-    {"m", map_axis_kind::mass, true},        {"l", map_axis_kind::length, true},
-    {"g", map_axis_kind::gravity, false},    {"k", map_axis_kind::stiffness, true},
-    {"b", map_axis_kind::damping, true},     {"drive-amplitude", map_axis_kind::drive_amplitude, false},
+    {"dphi", map_axis_kind::velocity, true},
+    {"phi", map_axis_kind::angle, true},
+    {"p", map_axis_kind::momentum, true},
+    {"energy", map_axis_kind::energy, false},
+    {"m", map_axis_kind::mass, true},
+    {"l", map_axis_kind::length, true},
+    {"g", map_axis_kind::gravity, false},
+    {"k", map_axis_kind::stiffness, true},
+    {"b", map_axis_kind::damping, true},
+    {"drive-amplitude", map_axis_kind::drive_amplitude, false},
     {"drive-frequency", map_axis_kind::drive_frequency, false},
 };
 
@@ -151,7 +156,8 @@ map_start start_on(const chain& c, const map_grid& grid, int i, int j) {
   }
   auto p = start.state.begin() + static_cast<std::ptrdiff_t>(n);
   if (std::all_of(p, start.state.end(), [](double x) { return x == 0; }))
-    for (std::size_t k = 0; k < n; ++k) p[static_cast<std::ptrdiff_t>(k)] = c.parameters().lengths[k];
+    for (std::size_t k = 0; k < n; ++k)
+      p[static_cast<std::ptrdiff_t>(k)] = c.parameters().lengths[k];
   const double kinetic = c.hamiltonian(start.state) - v;  // ½ pᵀA⁻¹p > 0
   const double s = std::sqrt((e - v) / kinetic);
   for (; p != start.state.end(); ++p) *p *= s;
@@ -210,9 +216,9 @@ map_axis make_map_axis(std::string_view name, double from, double to, int count,
     throw std::invalid_argument(
         fmt::format("{}: FROM {} is above TO {}; the values must increase", name, from, to));
   if (from == to && count > 1)
-    throw std::invalid_argument(fmt::format(
-        "{}: FROM = TO = {} would repeat one value {} times; give a range or COUNT 1", name,
-        from, count));
+    throw std::invalid_argument(
+        fmt::format("{}: FROM = TO = {} would repeat one value {} times; give a range or COUNT 1",
+                    name, from, count));
   if (!std::isfinite(to - from))
     throw std::invalid_argument(fmt::format(
         "{}: the range {}..{} is too wide: TO - FROM overflows a double", name, from, to));
@@ -236,7 +242,8 @@ void map_grid::validate(const map_cell_options& options) const {
   for (const map_axis* a : {&x, &y}) {
     if (a->kind == map_axis_kind::velocity && !velocities)
       throw std::invalid_argument(fmt::format(
-          "{}: a velocity axis needs the start given by velocities (--dphi), not momenta", a->name));
+          "{}: a velocity axis needs the start given by velocities (--dphi), not momenta",
+          a->name));
     if (a->kind == map_axis_kind::momentum && velocities)
       throw std::invalid_argument(fmt::format(
           "{}: a momentum axis needs the start given by momenta, not velocities (--dphi)",
@@ -248,10 +255,10 @@ void map_grid::validate(const map_cell_options& options) const {
     const auto drive = parameters.pivot.type;
     if ((a->kind == map_axis_kind::drive_amplitude || a->kind == map_axis_kind::drive_frequency) &&
         drive != pivot_motion::kind::vertical && drive != pivot_motion::kind::horizontal)
-      throw std::invalid_argument(fmt::format(
-          "{}: the pivot needs a built-in drive to vary (--pivot vertical:A:OMEGA or "
-          "horizontal:A:OMEGA)",
-          a->name));
+      throw std::invalid_argument(
+          fmt::format("{}: the pivot needs a built-in drive to vary (--pivot vertical:A:OMEGA or "
+                      "horizontal:A:OMEGA)",
+                      a->name));
   }
   parameters.validate();
   options.validate(chain(parameters));
@@ -268,8 +275,7 @@ bool map_cell_forbidden(const map_grid& grid, int i, int j, const map_cell_optio
 }
 
 std::vector<double> map_grid_values(const map_grid& grid, std::span<const int> cells_i,
-                                    std::span<const int> cells_j,
-                                    const map_cell_options& options) {
+                                    std::span<const int> cells_j, const map_cell_options& options) {
   if (cells_i.size() != cells_j.size())
     throw std::invalid_argument("map_grid_values: as many columns as rows");
   std::vector<double> out(cells_i.size(), std::numeric_limits<double>::quiet_NaN());

@@ -57,8 +57,8 @@ nlohmann::json identity_of(const chain& c, const map_run_description& d) {
 map_run_description checked(map_run_description d) {
   check_map_tile_size(d.tile);
   if (d.part.count < 1 || d.part.index < 1 || d.part.index > d.part.count)
-    throw std::invalid_argument(fmt::format("part: I/N with 1 <= I <= N, got {}/{}",
-                                            d.part.index, d.part.count));
+    throw std::invalid_argument(
+        fmt::format("part: I/N with 1 <= I <= N, got {}/{}", d.part.index, d.part.count));
   d.grid.validate(d.cell);
   d.cell.control = nullptr;
   return d;
@@ -140,8 +140,8 @@ int map_run::tile_work_estimate(int index) const {
 }
 
 // Each tile's values do not depend on the order in which the tiles are computed.
-std::vector<int> map_run::pending_tiles(
-    bool resume, const std::function<void(const std::string&)>& redo) const {
+std::vector<int> map_run::pending_tiles(bool resume,
+                                        const std::function<void(const std::string&)>& redo) const {
   const auto done = [&](int index) {
     if (!resume || !std::filesystem::exists(tile_path(index))) return false;
     const std::string problem = load_tile(index).problem;
@@ -174,11 +174,10 @@ std::vector<double> map_run::compute_tile(int index, run_control* stop) const {
   return map_grid_values(grid(), columns, rows, options);
 }
 
-map_tiles_outcome map_run::compute_tiles(map_tile_queue& queue, int threads,
-                                         run_control& control, const map_file_writer& write,
-                                         long total, bool show_progress) const {
-  if (threads < 1)
-    throw std::invalid_argument(fmt::format("threads: at least 1, got {}", threads));
+map_tiles_outcome map_run::compute_tiles(map_tile_queue& queue, int threads, run_control& control,
+                                         const map_file_writer& write, long total,
+                                         bool show_progress) const {
+  if (threads < 1) throw std::invalid_argument(fmt::format("threads: at least 1, got {}", threads));
   std::atomic<bool> stop{false};
   cells_stop cells(control, stop);
   std::exception_ptr error;
@@ -259,8 +258,8 @@ int map_team_size(int threads) {
   return threads > 0 ? threads : omp_get_max_threads();
 }
 
-std::vector<double> map_values(const map_grid& grid, const map_cell_options& options,
-                               int threads, run_control* control) {
+std::vector<double> map_values(const map_grid& grid, const map_cell_options& options, int threads,
+                               run_control* control) {
   grid.validate(options);
   const int team = map_team_size(threads);
   const auto cols = static_cast<std::size_t>(grid.x.count);

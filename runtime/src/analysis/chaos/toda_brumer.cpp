@@ -1,8 +1,8 @@
 #include "npend/analysis/chaos/toda_brumer.hpp"
 
-#include <Eigen/Dense>
 #include <fmt/format.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -49,8 +49,7 @@ std::vector<double> toda_brumer_eigenvalues(const chain& c, std::span<const doub
   const Eigen::MatrixXd minus_hess =
       -Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
           hess.data(), n, n);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(minus_hess,
-                                                               Eigen::EigenvaluesOnly);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(minus_hess, Eigen::EigenvaluesOnly);
   const Eigen::VectorXd& lambda = solver.eigenvalues();
   return {lambda.data(), lambda.data() + n};
 }
@@ -63,8 +62,8 @@ std::vector<toda_brumer_link> toda_brumer_links(const chain& c) {
     const std::vector<double> curvature = separable_curvatures(c);
     std::vector<toda_brumer_link> out;
     for (int k = 0; k < n; ++k)
-      out.push_back({k + 1, curvature[static_cast<std::size_t>(k)],
-                     curvature[static_cast<std::size_t>(k)]});
+      out.push_back(
+          {k + 1, curvature[static_cast<std::size_t>(k)], curvature[static_cast<std::size_t>(k)]});
     return out;
   }
   std::vector<double> zero(nn, 0.0), hess(nn * nn);

@@ -1,10 +1,9 @@
 #include "nearest_neighbours.hpp"
 
-#include <nanoflann.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <nanoflann.hpp>
 #include <stdexcept>
 
 namespace npend::detail {

@@ -1,10 +1,10 @@
 #include "npend/analysis/motion/energy_drift.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 namespace npend {
 

@@ -1,15 +1,15 @@
 #include "npend/analysis/series/autocorrelation.hpp"
 
-#include "analysis/detail/argument_checks.hpp"
-#include "analysis/detail/curve_features.hpp"
-#include "analysis/detail/real_fft.hpp"
-
 #include <fmt/format.h>
 
 #include <array>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
+
+#include "analysis/detail/argument_checks.hpp"
+#include "analysis/detail/curve_features.hpp"
+#include "analysis/detail/real_fft.hpp"
 
 namespace npend {
 
@@ -26,7 +26,8 @@ std::string_view autocorrelation_estimator_name(autocorrelation_estimator e) {
   throw std::invalid_argument("autocorrelation_estimator_name: unknown estimator");
 }
 
-std::optional<autocorrelation_estimator> autocorrelation_estimator_from_name(std::string_view name) {
+std::optional<autocorrelation_estimator> autocorrelation_estimator_from_name(
+    std::string_view name) {
   for (const auto& [estimator, known] : estimator_names)
     if (known == name) return estimator;
   return std::nullopt;

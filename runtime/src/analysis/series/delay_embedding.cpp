@@ -1,18 +1,17 @@
 #include "npend/analysis/series/delay_embedding.hpp"
 
-#include "npend/analysis/series/autocorrelation.hpp"
-#include "npend/analysis/series/mutual_information.hpp"
-#include "npend/analysis/series/power_spectrum.hpp"
-#include "npend/analysis/series/spectral_peaks.hpp"
-
-#include "analysis/detail/argument_checks.hpp"
-
 #include <fmt/format.h>
 
 #include <array>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+
+#include "analysis/detail/argument_checks.hpp"
+#include "npend/analysis/series/autocorrelation.hpp"
+#include "npend/analysis/series/mutual_information.hpp"
+#include "npend/analysis/series/power_spectrum.hpp"
+#include "npend/analysis/series/spectral_peaks.hpp"
 
 namespace npend {
 

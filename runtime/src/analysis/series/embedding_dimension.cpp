@@ -1,12 +1,12 @@
 #include "npend/analysis/series/embedding_dimension.hpp"
 
-#include "analysis/detail/argument_checks.hpp"
-#include "analysis/detail/nearest_neighbours.hpp"
-
 #include <fmt/format.h>
 
 #include <cmath>
 #include <stdexcept>
+
+#include "analysis/detail/argument_checks.hpp"
+#include "analysis/detail/nearest_neighbours.hpp"
 
 namespace npend {
 

@@ -1,12 +1,12 @@
 #include "npend/analysis/series/event_times.hpp"
 
-#include "analysis/detail/argument_checks.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include "analysis/detail/argument_checks.hpp"
 
 namespace npend {
 

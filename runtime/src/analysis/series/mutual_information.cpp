@@ -1,14 +1,14 @@
 #include "npend/analysis/series/mutual_information.hpp"
 
-#include "analysis/detail/argument_checks.hpp"
-#include "analysis/detail/curve_features.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
+
+#include "analysis/detail/argument_checks.hpp"
+#include "analysis/detail/curve_features.hpp"
 
 namespace npend {
 
@@ -58,8 +58,7 @@ mutual_information_result average_mutual_information(std::span<const double> x, 
   detail::require_sample_spacing(dt);
   const std::size_t bins = options.bins;
   // TISEAN's single histogram is the averaged one with one grid.
-  const std::size_t shifts =
-      options.estimator == mutual_information_estimator::averaged ? 4 : 1;
+  const std::size_t shifts = options.estimator == mutual_information_estimator::averaged ? 4 : 1;
   if (bins < 2) throw std::invalid_argument(fmt::format("bins must be at least 2, got {}", bins));
   detail::require_finite_series(x, "x", 2);
   detail::require_varying(x, "x", "its mutual information is undefined");

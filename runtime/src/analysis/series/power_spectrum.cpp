@@ -1,14 +1,14 @@
 #include "npend/analysis/series/power_spectrum.hpp"
 
-#include "analysis/detail/argument_checks.hpp"
-#include "analysis/detail/real_fft.hpp"
-
 #include <fmt/format.h>
 
 #include <array>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+
+#include "analysis/detail/argument_checks.hpp"
+#include "analysis/detail/real_fft.hpp"
 
 namespace npend {
 

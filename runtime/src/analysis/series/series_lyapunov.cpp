@@ -6,11 +6,11 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <nanoflann.hpp>
+#include <stdexcept>
 #include <string_view>
 #include <tuple>
 #include <utility>
-#include <nanoflann.hpp>
-#include <stdexcept>
 
 #include "analysis/detail/argument_checks.hpp"
 #include "analysis/detail/nearest_neighbours.hpp"
@@ -402,8 +402,8 @@ std::pair<double, double> automatic_fit_range(const series_lyapunov_result& r,
 // not start within the embedding window, where the automatic range never starts.
 void judge_linear_region(series_lyapunov_result& r, const series_lyapunov_options& o) {
   const std::vector<double> s = middle_curve(r.stretching.curves);
-  const bool saturated = saturated_before(r, s, r.fit_from, r.fit_to, r.growth_before_fit,
-                                          r.growth_in_fit);
+  const bool saturated =
+      saturated_before(r, s, r.fit_from, r.fit_to, r.growth_before_fit, r.growth_in_fit);
   const auto& f = r.fits[r.fits.size() / 2];
   const double half = 0.5 * (r.fit_to - r.fit_from);
   const double bend = std::fabs(f.slope_first_half - f.slope_second_half) * half;
@@ -420,8 +420,8 @@ void judge_linear_region(series_lyapunov_result& r, const series_lyapunov_option
     if (saturated_before(r, s, from, to, before, within)) {
       r.linear_region = false;
       r.nonlinearity = fmt::format(
-          "no range of the curve is linear, the given {:.4g} ... {:.4g} s neither: {}",
-          r.fit_from, r.fit_to,
+          "no range of the curve is linear, the given {:.4g} ... {:.4g} s neither: {}", r.fit_from,
+          r.fit_to,
           saturation_reason(before, from, within, "the range chosen after the embedding window"));
       return;
     }
@@ -571,9 +571,8 @@ series_lyapunov_options kantz_options(std::size_t samples, std::size_t series,
   s.delay = choices.delay;
   s.dimension = choices.dimension ? *choices.dimension : kantz_dimension(series);
   // The embedding window: neighbours closer in time lie on the same piece of trajectory.
-  s.theiler_window = choices.theiler_window
-                         ? *choices.theiler_window
-                         : std::max<std::size_t>(1, s.dimension - 1) * s.delay;
+  s.theiler_window = choices.theiler_window ? *choices.theiler_window
+                                            : std::max<std::size_t>(1, s.dimension - 1) * s.delay;
   s.horizon = choices.horizon ? *choices.horizon : std::min<std::size_t>(40 * s.delay, samples / 4);
   s.horizon = std::max<std::size_t>(s.horizon, 2);
   s.step = std::max<std::size_t>(1, s.horizon / 200);

@@ -1,7 +1,5 @@
 #include "npend/analysis/series/spectral_peaks.hpp"
 
-#include "analysis/detail/curve_features.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -9,6 +7,8 @@
 #include <complex>
 #include <numbers>
 #include <stdexcept>
+
+#include "analysis/detail/curve_features.hpp"
 
 namespace npend {
 
@@ -40,7 +40,7 @@ double scalloping_bound(spectral_window window) {
   for (std::size_t j = 0; j < length; ++j) {
     at_centre += w[j];
     at_half_bin += w[j] * std::polar(1.0, -std::numbers::pi * static_cast<double>(j) /
-                                               static_cast<double>(length));
+                                              static_cast<double>(length));
   }
   return at_centre * at_centre / std::norm(at_half_bin);
 }

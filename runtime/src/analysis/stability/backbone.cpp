@@ -1,15 +1,15 @@
 #include "npend/analysis/stability/backbone.hpp"
 
-#include "npend/analysis/series/event_times.hpp"
-#include "npend/analysis/stability/normal_modes.hpp"
-#include "npend/integrators/integrate.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+
+#include "npend/analysis/series/event_times.hpp"
+#include "npend/analysis/stability/normal_modes.hpp"
+#include "npend/integrators/integrate.hpp"
 
 namespace npend {
 
@@ -195,8 +195,8 @@ double pendulum_frequency_ratio(double amplitude) {
 
 double pendulum_period(double amplitude, double length, double g) {
   if (!(amplitude >= 0 && amplitude < std::numbers::pi))
-    throw std::invalid_argument(fmt::format(
-        "pendulum_period: the amplitude must be in [0, pi) rad, got {}", amplitude));
+    throw std::invalid_argument(
+        fmt::format("pendulum_period: the amplitude must be in [0, pi) rad, got {}", amplitude));
   if (!(length > 0) || !(g > 0))
     throw std::invalid_argument(fmt::format(
         "pendulum_period: the length and g must be positive, got {} m and {} m/s^2", length, g));

@@ -76,9 +76,9 @@ floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
   Eigen::MatrixXd tangent, coarse;
   bool finished = false;
   try {
-    finished = monodromy(c, x, period, options.steps, 0, total, options.control, tangent) &&
-               monodromy(c, x_coarse, period, coarse_steps, options.steps, total,
-                         options.control, coarse);
+    finished =
+        monodromy(c, x, period, options.steps, 0, total, options.control, tangent) &&
+        monodromy(c, x_coarse, period, coarse_steps, options.steps, total, options.control, coarse);
   } catch (const integration_error& e) {
     // The step is the period over the steps: the stepper's "try a smaller dt" means more
     // steps here.
@@ -118,8 +118,7 @@ floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
   }
   const double rounding =
       kappa * d * std::numeric_limits<double>::epsilon() * tangent.operatorNorm();
-  const double integration =
-      std::fabs(r.max_modulus - largest_modulus(coarse.eigenvalues()));
+  const double integration = std::fabs(r.max_modulus - largest_modulus(coarse.eigenvalues()));
   r.modulus_error = integration + rounding;
   if (!std::isfinite(r.modulus_error)) r.modulus_error = std::numeric_limits<double>::infinity();
 

@@ -82,9 +82,9 @@ double rope_shape(int k, double s, double length) {
 
 double convergence_order(double error_a, int links_a, double error_b, int links_b) {
   if (links_a < 1 || links_b < 1 || links_a == links_b)
-    throw std::invalid_argument(fmt::format(
-        "convergence_order: the link counts must be positive and differ, got {} and {}", links_a,
-        links_b));
+    throw std::invalid_argument(
+        fmt::format("convergence_order: the link counts must be positive and differ, got {} and {}",
+                    links_a, links_b));
   return std::log(std::fabs(error_a) / std::fabs(error_b)) /
          std::log(static_cast<double>(links_b) / links_a);
 }

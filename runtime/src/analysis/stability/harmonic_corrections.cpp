@@ -1,18 +1,18 @@
 #include "npend/analysis/stability/harmonic_corrections.hpp"
 
-#include "analysis/detail/explicit_system.hpp"
-#include "npend/analysis/stability/normal_modes.hpp"
-#include "npend/integrators/integrate.hpp"
-#include "npend/integrators/integrate_system.hpp"
-
-#include <Eigen/Dense>
 #include <fmt/format.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
+
+#include "analysis/detail/explicit_system.hpp"
+#include "npend/analysis/stability/normal_modes.hpp"
+#include "npend/integrators/integrate.hpp"
+#include "npend/integrators/integrate_system.hpp"
 
 namespace npend {
 

@@ -154,10 +154,11 @@ lqr_design lqr(const chain& c, std::span<const double> angles, std::span<const i
   design.controllable = design.uncontrollable.empty();
   for (const auto& lambda : design.uncontrollable)
     if (lambda.real() >= 0)
-      throw std::invalid_argument(fmt::format(
-          "the equilibrium cannot be stabilised from {} {}: its mode with eigenvalue "
-          "{:.6g}{:+.6g}i is unstable and not controllable",
-          c.has_cart() ? "actuators" : "joints", joint_list(design.actuated), lambda.real(), lambda.imag()));
+      throw std::invalid_argument(
+          fmt::format("the equilibrium cannot be stabilised from {} {}: its mode with eigenvalue "
+                      "{:.6g}{:+.6g}i is unstable and not controllable",
+                      c.has_cart() ? "actuators" : "joints", joint_list(design.actuated),
+                      lambda.real(), lambda.imag()));
 
   Eigen::VectorXd q(d);
   q.head(n).setConstant(weights.angle);
@@ -200,8 +201,7 @@ void feedback_rhs::operator()(const std::vector<double>& x, std::vector<double>&
 
 void feedback_jacobian::operator()(const std::vector<double>& x, row_major& J, double t,
                                    std::vector<double>& dfdt) const {
-  const int n = m_chain->coordinates(), d = m_chain->state_size(),
-            inputs = m_chain->input_size();
+  const int n = m_chain->coordinates(), d = m_chain->state_size(), inputs = m_chain->input_size();
   const int m = static_cast<int>(m_design->actuated.size());
   const std::vector<double> u = feedback_rhs(*m_chain, *m_design).torques(x);
   m_chain->jacobian(x, std::span<double>(J.data(), static_cast<std::size_t>(d * d)), t, u);

@@ -1,8 +1,8 @@
 #include "npend/analysis/stability/normal_modes.hpp"
 
-#include <Eigen/Dense>
 #include <fmt/format.h>
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <stdexcept>
 

@@ -230,8 +230,8 @@ bool quasi_monte_carlo(const chain& c, std::span<const double> temperatures,
   pr.done += static_cast<double>(done);
   for (std::size_t t = 0; t < members; ++t) {
     const double temperature = temperatures[g.members[t]];
-    canonical_state s = state_from(pooled[t], log_volume - std::log(o.replicas), temperature, n,
-                                   k, det_reference);
+    canonical_state s =
+        state_from(pooled[t], log_volume - std::log(o.replicas), temperature, n, k, det_reference);
     std::vector<double> log_z, energy, capacity;
     for (const canonical_state& rs : replica_states[t]) {
       log_z.push_back(rs.log_partition_function);
@@ -294,8 +294,7 @@ partition_result canonical_ensemble(const chain& c, std::span<const double> temp
           "trapezoid grid: {}^{} = {:.3g} points{} is too many (at most {:.0e}); use the "
           "quasi-Monte Carlo rule for this many links",
           m, n, per_group * static_cast<double>(groups.size()),
-          groups.size() > 1 ? fmt::format(" over {} boxes", groups.size()) : "",
-          max_evaluations));
+          groups.size() > 1 ? fmt::format(" over {} boxes", groups.size()) : "", max_evaluations));
     r.rule = "trapezoid";
     r.grid = m;
   } else {

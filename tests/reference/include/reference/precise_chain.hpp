@@ -41,16 +41,35 @@ struct dual {
   dual() = default;
   dual(T value, T derivative = T(0)) : v(value), d(derivative) {}  // NOLINT: implicit
 };
-template <class T> dual<T> operator+(dual<T> a, dual<T> b) { return {a.v + b.v, a.d + b.d}; }
-template <class T> dual<T> operator-(dual<T> a, dual<T> b) { return {a.v - b.v, a.d - b.d}; }
-template <class T> dual<T> operator-(dual<T> a) { return {-a.v, -a.d}; }
-template <class T> dual<T> operator*(dual<T> a, dual<T> b) { return {a.v * b.v, a.d * b.v + a.v * b.d}; }
-template <class T> dual<T> operator/(dual<T> a, dual<T> b) {
+template <class T>
+dual<T> operator+(dual<T> a, dual<T> b) {
+  return {a.v + b.v, a.d + b.d};
+}
+template <class T>
+dual<T> operator-(dual<T> a, dual<T> b) {
+  return {a.v - b.v, a.d - b.d};
+}
+template <class T>
+dual<T> operator-(dual<T> a) {
+  return {-a.v, -a.d};
+}
+template <class T>
+dual<T> operator*(dual<T> a, dual<T> b) {
+  return {a.v * b.v, a.d * b.v + a.v * b.d};
+}
+template <class T>
+dual<T> operator/(dual<T> a, dual<T> b) {
   const T v = a.v / b.v;
   return {v, (a.d - v * b.d) / b.v};
 }
-template <class T> dual<T>& operator+=(dual<T>& a, dual<T> b) { return a = a + b; }
-template <class T> dual<T>& operator-=(dual<T>& a, dual<T> b) { return a = a - b; }
+template <class T>
+dual<T>& operator+=(dual<T>& a, dual<T> b) {
+  return a = a + b;
+}
+template <class T>
+dual<T>& operator-=(dual<T>& a, dual<T> b) {
+  return a = a - b;
+}
 
 /// The data of one evaluation (each of dimension n, except g).
 template <class T>
@@ -135,13 +154,15 @@ chain_values<T> evaluate_dense(const chain_data<T>& in) {
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t k = 0; k < n; ++k) {
       G[at(i, k)] = i == k ? -w[i] : KS[at(i, k)] * v[k];
-      Fphi[at(i, k)] = i == k ? -(v[i] * (Av[i] - A[at(i, i)] * v[i])) - in.g * mu[i] * in.l[i] * in.c[i]
-                              : v[i] * A[at(i, k)] * v[k];
+      Fphi[at(i, k)] =
+          i == k ? -(v[i] * (Av[i] - A[at(i, i)] * v[i])) - in.g * mu[i] * in.l[i] * in.c[i]
+                 : v[i] * A[at(i, k)] * v[k];
       Fdphi[at(i, k)] = i == k ? -w[i] : -(v[i] * KS[at(i, k)]);
     }
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t k = 0; k < n; ++k)
-      for (std::size_t j = 0; j < n; ++j) Bphi[at(i, k)] = Bphi[at(i, k)] - Ainv[at(i, j)] * G[at(j, k)];
+      for (std::size_t j = 0; j < n; ++j)
+        Bphi[at(i, k)] = Bphi[at(i, k)] - Ainv[at(i, j)] * G[at(j, k)];
   const std::size_t dim = 2 * n;
   out.jac.assign(dim * dim, T(0));
   for (std::size_t i = 0; i < n; ++i)
@@ -181,7 +202,8 @@ inline quad magnitude(quad x) { return x < 0 ? -x : x; }
 }  // namespace detail
 
 /// The reference at angles φ (dim n), momenta p (dim n), masses, lengths and g.
-inline reference_point precise_reference(const std::vector<double>& phi, const std::vector<double>& p,
+inline reference_point precise_reference(const std::vector<double>& phi,
+                                         const std::vector<double>& p,
                                          const std::vector<double>& masses,
                                          const std::vector<double>& lengths, double g) {
   const std::size_t n = masses.size();
@@ -212,7 +234,8 @@ inline reference_point precise_reference(const std::vector<double>& phi, const s
   };
   const std::size_t data_count = 5 * n + 1;
   for (std::size_t j = 0; j < data_count; ++j) {
-    chain_data<dual<quad>> d{lift(data.s), lift(data.c), lift(data.p), lift(data.m), lift(data.l), data.g};
+    chain_data<dual<quad>> d{lift(data.s), lift(data.c), lift(data.p),
+                             lift(data.m), lift(data.l), data.g};
     std::vector<dual<quad>>* const fields[] = {&d.s, &d.c, &d.p, &d.m, &d.l};
     if (j < 5 * n) {
       auto& x = (*fields[j / n])[j % n];

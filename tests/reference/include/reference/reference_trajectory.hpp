@@ -3,13 +3,12 @@
 // tolerance, called directly — no npend integration code involved.
 #pragma once
 
-#include "reference/dense_chain.hpp"
-
 #include <boost/numeric/odeint/integrate/integrate_adaptive.hpp>
 #include <boost/numeric/odeint/stepper/generation.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
-
 #include <vector>
+
+#include "reference/dense_chain.hpp"
 
 namespace npend::reference {
 

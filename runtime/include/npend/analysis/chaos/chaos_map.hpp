@@ -10,8 +10,8 @@
 #include "npend/analysis/chaos/chaos_indicators.hpp"
 #include "npend/analysis/chaos/lyapunov.hpp"
 #include "npend/chain.hpp"
-#include "npend/run_control.hpp"
 #include "npend/integrators/stepper_kind.hpp"
+#include "npend/run_control.hpp"
 
 namespace npend {
 
@@ -123,7 +123,7 @@ struct map_cell_options {
   /// rk4 or dopri5; the chaos indicators (fli, megno, sali, gali) take rk4 only, as
   /// chaos_indicators does.
   map_stepping stepping = {};
-  int flip_link = 0;   ///< flip: 0 any arm, k ≥ 1 arm k
+  int flip_link = 0;  ///< flip: 0 any arm, k ≥ 1 arm k
   /// gali: k of GALI_k, 2..2n; 0 means n + 1, the least k beyond the dimension n of a
   /// torus, where regular cells fall as a power of t and chaotic ones exponentially.
   int gali_order = 0;
@@ -149,10 +149,10 @@ struct map_cell_options {
 /// tangent kernel and SLEEF's sines, so equal to the library's up to round-off), an indicator
 /// of chaos_indicators (rk4 at dt, to t_end; on the batch lanes likewise), or a coordinate
 /// of the state at t_end (rk4 at dt, a last shorter step landing on t_end; dopri5's dense
-/// output at t_end; on the batch lanes likewise); NaN when the integration fails (an integration_error) and, for a flip
-/// map, where the energy rules a flip out (energy_forbids_flip: a map marks those cells
-/// apart from the +inf of cells that were integrated to t_end without flipping). Throws
-/// std::invalid_argument as flip_time and maximal_lyapunov_exponent do.
+/// output at t_end; on the batch lanes likewise); NaN when the integration fails (an
+/// integration_error) and, for a flip map, where the energy rules a flip out (energy_forbids_flip:
+/// a map marks those cells apart from the +inf of cells that were integrated to t_end without
+/// flipping). Throws std::invalid_argument as flip_time and maximal_lyapunov_exponent do.
 double map_cell(const chain& c, std::span<const double> x0, const map_cell_options& options);
 
 /// map_cell of each of count = starts.size() / 2n start states (dim count × 2n), the same

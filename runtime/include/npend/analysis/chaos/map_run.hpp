@@ -157,8 +157,7 @@ class map_run {
   /// Writes tile `index`'s values (row-major within the tile) through `write`: the run's
   /// tag, the FNV-1a (64 bit) checksum of the data, then the values as float64 in the
   /// machine's byte order.
-  void write_tile(int index, const std::vector<double>& values,
-                  const map_file_writer& write) const;
+  void write_tile(int index, const std::vector<double>& values, const map_file_writer& write) const;
   /// Tile `index` read back and checked (its size, the run's tag, the checksum).
   /// Throws map_tile_error (is_folder) where a folder stands in its place.
   map_tile_contents load_tile(int index) const;

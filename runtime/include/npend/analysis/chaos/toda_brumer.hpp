@@ -1,10 +1,10 @@
 // The Toda–Brumer criterion (paper §6.5.2): where the potential's curvature turns negative.
 #pragma once
 
-#include "npend/chain.hpp"
-
 #include <span>
 #include <vector>
+
+#include "npend/chain.hpp"
 
 namespace npend {
 
@@ -18,9 +18,9 @@ std::vector<double> toda_brumer_eigenvalues(const chain& c, std::span<const doub
 /// Per link k: the curvature scale g μ_k l_k (J) and the critical energy of entering the
 /// region Λ_k > 0 (π/2 < φ_k < 3π/2) from rest with every other link hanging: V at φ_k = π/2.
 struct toda_brumer_link {
-  int link = 0;               ///< 1-based
-  double curvature = 0;       ///< g μ_k l_k
-  double critical_energy = 0; ///< V(φ_k = π/2, others 0)
+  int link = 0;                ///< 1-based
+  double curvature = 0;        ///< g μ_k l_k
+  double critical_energy = 0;  ///< V(φ_k = π/2, others 0)
 };
 std::vector<toda_brumer_link> toda_brumer_links(const chain& c);
 

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "npend/analysis/chaos/poincare_section.hpp"
 #include "npend/analysis/series/autocorrelation.hpp"
 #include "npend/analysis/series/delay_embedding.hpp"
 #include "npend/analysis/series/embedding_dimension.hpp"
-#include "npend/analysis/chaos/poincare_section.hpp"
 #include "npend/analysis/series/power_spectrum.hpp"
 #include "npend/analysis/series/recurrence_times.hpp"
 #include "npend/analysis/series/sampled_signals.hpp"

@@ -2,13 +2,13 @@
 // the choice of the delay τ.
 #pragma once
 
-#include "npend/analysis/series/mutual_information.hpp"
-
 #include <cstddef>
 #include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
+
+#include "npend/analysis/series/mutual_information.hpp"
 
 namespace npend {
 

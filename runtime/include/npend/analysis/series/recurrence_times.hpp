@@ -2,12 +2,12 @@
 // successive events, their distribution and their spectrum.
 #pragma once
 
-#include "npend/analysis/series/histogram.hpp"
-#include "npend/analysis/series/power_spectrum.hpp"
-
 #include <cstddef>
 #include <span>
 #include <vector>
+
+#include "npend/analysis/series/histogram.hpp"
+#include "npend/analysis/series/power_spectrum.hpp"
 
 namespace npend {
 

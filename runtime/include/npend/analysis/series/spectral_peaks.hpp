@@ -1,10 +1,10 @@
 // Lines in a spectral density: local maxima that stand out, strongest first.
 #pragma once
 
-#include "npend/analysis/series/power_spectrum.hpp"
-
 #include <cstddef>
 #include <vector>
+
+#include "npend/analysis/series/power_spectrum.hpp"
 
 namespace npend {
 
@@ -32,8 +32,9 @@ struct peak_options {
 /// ln ρ at k−1, k, k+1 (exact for Gaussian lobes; within a few hundredths of a bin for a Hann
 /// window) — except next to the DC bin (emptied by the mean removal), next to a zero bin, and
 /// where the refined density would exceed ρ_k by more than the window's scalloping bound
-/// |W(0)/W(½)|² (2.47 rectangular, 1.39 Hann): there the bin's own ω_k and ρ_k stand. Throws std::invalid_argument for fewer than 3 bins, omega and power of different
-/// sizes, or options out of range.
+/// |W(0)/W(½)|² (2.47 rectangular, 1.39 Hann): there the bin's own ω_k and ρ_k stand. Throws
+/// std::invalid_argument for fewer than 3 bins, omega and power of different sizes, or options out
+/// of range.
 std::vector<spectral_peak> find_spectral_peaks(const power_spectrum_result& spectrum,
                                                const peak_options& options = {});
 

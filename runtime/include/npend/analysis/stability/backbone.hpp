@@ -4,12 +4,12 @@
 // departs from the linear frequency by a given fraction.
 #pragma once
 
-#include "npend/chain.hpp"
-#include "npend/run_control.hpp"
-
 #include <optional>
 #include <span>
 #include <vector>
+
+#include "npend/chain.hpp"
+#include "npend/run_control.hpp"
 
 namespace npend {
 

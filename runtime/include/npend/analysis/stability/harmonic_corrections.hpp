@@ -19,12 +19,12 @@
 // one; the cubic truncation's is O(ε⁵).
 #pragma once
 
-#include "npend/chain.hpp"
-
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "npend/chain.hpp"
 
 namespace npend {
 

@@ -24,7 +24,7 @@ struct lqr_weights {
 
 struct lqr_design {
   std::vector<double> equilibrium;  ///< x* = [φ*, 0] (dim 2n)
-  std::vector<int> actuated;  ///< the actuators driven (chain::actuators), 0-based, ascending
+  std::vector<int> actuated;        ///< the actuators driven (chain::actuators), 0-based, ascending
   std::vector<double> A;            ///< ∂f/∂x at x*, row-major 2n × 2n
   std::vector<double> B;            ///< ∂f/∂u of the actuated joints, row-major 2n × m
   std::vector<std::complex<double>> open_loop;  ///< eigenvalues of A, by descending real part
@@ -43,11 +43,11 @@ struct lqr_design {
 
 /// The LQR design at the equilibrium φ* (dim n, rad; p = 0; on a cart q* = [x_c, φ*], dim
 /// n + 1) with motors at the `actuated` joints (0-based actuator indices, chain::actuators:
-/// on a cart 0 is the cart's force and j the joint j; empty: every actuator). Throws std::invalid_argument if φ* has the wrong
-/// size, is not an equilibrium (|∂V/∂φ| > 1e-9 per unit of the largest term), a joint index
-/// is out of range or repeated, a weight is not positive and finite, the pivot moves (the
-/// linearisation would depend on t), or (A, B) cannot be stabilised (an unstable
-/// uncontrollable eigenvalue: the message names it).
+/// on a cart 0 is the cart's force and j the joint j; empty: every actuator). Throws
+/// std::invalid_argument if φ* has the wrong size, is not an equilibrium (|∂V/∂φ| > 1e-9 per unit
+/// of the largest term), a joint index is out of range or repeated, a weight is not positive and
+/// finite, the pivot moves (the linearisation would depend on t), or (A, B) cannot be stabilised
+/// (an unstable uncontrollable eigenvalue: the message names it).
 lqr_design lqr(const chain& c, std::span<const double> angles, std::span<const int> actuated = {},
                const lqr_weights& weights = {});
 

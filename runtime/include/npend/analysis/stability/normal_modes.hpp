@@ -1,10 +1,10 @@
 // Linearisation around an equilibrium in the form M ÿ + K y = 0 (seed 2) and its normal modes.
 #pragma once
 
-#include "npend/chain.hpp"
-
 #include <span>
 #include <vector>
+
+#include "npend/chain.hpp"
 
 namespace npend {
 

@@ -2,8 +2,8 @@
 // and 6): nodes c_i = roots of the shifted Legendre polynomial P_s(2c − 1), weights b and
 // matrix A with a_ij = ∫_0^{c_i} ℓ_j, b_j = ∫_0^1 ℓ_j (ℓ_j the Lagrange polynomials on the
 // nodes). The irrational entries are written to 22 digits (beyond double precision) from
-// their exact forms, given beside them; tests/runtime/integrators/test_gauss_legendre.cpp checks them against
-// the collocation and order conditions.
+// their exact forms, given beside them; tests/runtime/integrators/test_gauss_legendre.cpp checks
+// them against the collocation and order conditions.
 #pragma once
 
 #include <array>

@@ -2,8 +2,8 @@
 //
 // Boost 1.74's ublas, which rosenbrock4 is built on, does not compile as C++20 (it calls
 // std::allocator::construct, removed in C++20), so the stepper lives in a translation unit
-// compiled as C++17 (src/integrators/rosenbrock4_dense_output.cpp) and this header stays C++17-clean.
-// It offers the dense-output interface that npend's integration loop uses for odeint's
+// compiled as C++17 (src/integrators/rosenbrock4_dense_output.cpp) and this header stays
+// C++17-clean. It offers the dense-output interface that npend's integration loop uses for odeint's
 // dense-output steppers.
 #pragma once
 
