@@ -170,3 +170,14 @@ def test_chain_on_a_cart_against_closed_forms():
         npend.Chain(1, cart=-1.0)
     with pytest.raises(ValueError, match="cart_damping: the cart.s damping needs a cart"):
         npend.Chain(1, cart_damping=0.5)
+
+
+def test_analyses_of_a_fixed_pivot_refuse_a_cart():
+    """The 0/pi equilibria and their modes belong to a fixed pivot: a cart gets a message."""
+    c = npend.Chain(2, cart=1.0)
+    with pytest.raises(ValueError, match="normal_modes: the chain is on a cart"):
+        npend.modes(c)
+    with pytest.raises(ValueError, match="find_equilibria: the chain is on a cart"):
+        npend.equilibria(c)
+    with pytest.raises(ValueError, match="flip: the chain is on a cart"):
+        npend.map_cells(c, [0, 0.1, 0.2, 0, 0, 0], t_end=1.0)

@@ -968,6 +968,12 @@ void mark_forbidden(const chain& c, std::span<const double> starts, int link,
 }  // namespace
 
 void map_cell_options::validate(const chain& c) const {
+  // A flip is an arm passing the pivot's upright; the maps' axes and lanes know the angles of
+  // a chain on a fixed pivot only.
+  if (c.has_cart())
+    throw std::invalid_argument(
+        fmt::format("{}: the chain is on a cart; maps take chains on a fixed pivot",
+                    map_quantity_name(quantity)));
   if (!(dt > 0) || !(t_end >= dt) || !std::isfinite(t_end))
     throw std::invalid_argument(fmt::format("{}: need 0 < dt <= t_end, got dt = {}, t_end = {}",
                                             map_quantity_name(quantity), dt, t_end));

@@ -35,6 +35,10 @@ equilibrium classify_equilibrium(const chain& c, std::vector<double> angles) {
 
 std::vector<equilibrium> find_equilibria(const chain& c) {
   const int n = c.links();
+  if (c.has_cart())
+    throw std::invalid_argument(
+        "find_equilibria: the chain is on a cart; the 2^n equilibria are those of a chain on a "
+        "fixed pivot (the cart adds a free coordinate)");
   if (n > max_equilibria_links)
     throw std::invalid_argument(fmt::format(
         "find_equilibria: {} links have 2^{} equilibria; at most {} links are supported", n, n,

@@ -33,6 +33,11 @@ void require_equilibrium(const chain& c, std::span<const double> angles) {
 
 linearisation normal_modes(const chain& c, std::span<const double> angles) {
   const int n = c.links();
+  // The cart's free coordinate adds a zero mode that the 0/π classification would misread.
+  if (c.has_cart())
+    throw std::invalid_argument(
+        "normal_modes: the chain is on a cart; its modes are those of a chain on a fixed pivot "
+        "(the cart adds a free coordinate; see lqr_design for the chain on a cart)");
   if (angles.size() != static_cast<std::size_t>(n))
     throw std::invalid_argument(
         fmt::format("angles has {} entries; the {}-link chain needs {}", angles.size(), n, n));
