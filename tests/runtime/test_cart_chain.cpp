@@ -37,9 +37,8 @@ chain_parameters uneven_cart(int n, double cart_mass, double cart_damping = 0) {
   return on_cart(p, cart_mass, cart_damping);
 }
 
-}  // namespace cart_chain_test
-
-using namespace cart_chain_test;
+// The test cases stay in the namespace too: the tests are compiled in unity batches, where a
+// using-directive would carry these names into the files after this one.
 
 TEST_CASE("chain on a cart: layout of the state, mass matrix and positions") {
   const chain c(uneven_cart(2, 1.5));
@@ -188,3 +187,5 @@ TEST_CASE("chain_parameters::validate: the cart's refusals") {
   CHECK_THROWS_WITH_AS(p.validate(), doctest::Contains("a cart and a moving pivot"),
                        std::invalid_argument);
 }
+
+}  // namespace cart_chain_test
