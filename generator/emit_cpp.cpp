@@ -204,13 +204,13 @@ std::string signature(const emitted_function& f, bool definition = false) {
   return fmt::format("{} {}({}) noexcept", f.returns_scalar ? "double" : "void", f.name, args);
 }
 
-std::string body(int n, const emitted_function& f, link_kind kind) {
+std::string body(int n, const emitted_function& f, link_kind kind, const std::string& math) {
   const auto leaf = [&](const node& in) {
     if (!layout_has(f, in.input))
       throw std::logic_error("emit: " + f.name + " uses an input it does not take");
     return input_text(f.layout, n, in, kind);
   };
-  const emitted_statements st = emit_statements(*f.graph, f.outputs, leaf, "  ");
+  const emitted_statements st = emit_statements(*f.graph, f.outputs, leaf, "  ", math);
   std::string text = st.text;
   if (f.returns_scalar) {
     text += fmt::format("  return {};\n", st.outputs.at(0));
@@ -231,7 +231,7 @@ std::string doc_comment(const emitted_function& f) {
 
 emitted_statements emit_statements(const expr_graph& g, const std::vector<sx>& outputs,
                                    const std::function<std::string(const node&)>& leaf,
-                                   const std::string& indent) {
+                                   const std::string& indent, const std::string& math) {
   const std::vector<int> order = postorder(g, outputs);
   std::vector<int> uses(u(g.size()), 0);
   for (const int id : order) {
@@ -274,10 +274,10 @@ emitted_statements emit_statements(const expr_graph& g, const std::vector<sx>& o
         break;
       }
       case op::sin:
-        p = {"std::sin(" + child(nd.lhs).text + ")", atom};
+        p = {math + "sin(" + child(nd.lhs).text + ")", atom};
         break;
       case op::cos:
-        p = {"std::cos(" + child(nd.lhs).text + ")", atom};
+        p = {math + "cos(" + child(nd.lhs).text + ")", atom};
         break;
     }
     const bool leaf_node = nd.kind == op::constant || nd.kind == op::input;
@@ -419,22 +419,31 @@ std::string header_preamble(int n, link_kind kind) {
 
 }  // namespace
 
+std::string chain_command(int n, const std::string& options, link_kind kind) {
+  return fmt::format(
+      "npend-gen --links {}{}{}{}", n,
+      kind == link_kind::point_mass ? "" : fmt::format(" --model {}", link_kind_name(kind)),
+      options.empty() ? "" : " ", options);
+}
+
+std::string function_definition(int n, const emitted_function& f, link_kind kind,
+                                const std::string& math) {
+  return signature(f, true) + " {\n" + body(n, f, kind, math) + "}\n";
+}
+
 chain_sources emit_chain(int n, const std::vector<emitted_function>& functions,
                          const std::string& latex, const std::string& options, link_kind kind) {
   const emitted_model& model = emitted_model_of(kind);
   const bool inputs = has_joint_forces(kind);
   const std::string stem = chain_stem(n, kind);
-  const std::string banner = generated_banner(fmt::format(
-      "npend-gen --links {}{}{}{}", n,
-      kind == link_kind::point_mass ? "" : fmt::format(" --model {}", link_kind_name(kind)),
-      options.empty() ? "" : " ", options));
+  const std::string banner = generated_banner(chain_command(n, options, kind));
   chain_sources out;
   out.header = banner + header_preamble(n, kind);
   out.source = banner + fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n\n", stem) +
                fmt::format("namespace npend::generated::{} {{\n", stem);
   for (const auto& f : functions) {
     out.header += doc_comment(f) + signature(f) + ";\n\n";
-    out.source += "\n" + signature(f, true) + " {\n" + body(n, f, kind) + "}\n";
+    out.source += "\n" + function_definition(n, f, kind);
   }
   const std::string latex_signature = "const char* equations_latex() noexcept";
   out.header += "/// The derived equations as LaTeX (the output of npend-gen --latex).\n" +

@@ -22,18 +22,28 @@ operation_count count_operations(const emitted_function& f);
 /// The statements that compute `outputs` of graph `g`: every shared, trigonometric or long
 /// subexpression as a `const double tK` temporary (in a fixed order), each line starting
 /// with `indent`; and the text of each output (a temporary's name or a short expression).
-/// `leaf` prints an input node.
+/// `leaf` prints an input node; `math` qualifies sin and cos (`std::` for C++, empty for the
+/// GPU's device functions, which call CUDA's unqualified ones).
 struct emitted_statements {
   std::string text;
   std::vector<std::string> outputs;
 };
 emitted_statements emit_statements(const expr_graph& g, const std::vector<sx>& outputs,
                                    const std::function<std::string(const node&)>& leaf,
-                                   const std::string& indent);
+                                   const std::string& indent, const std::string& math = "std::");
 
 /// The lines every generated file starts with: what made it and how to remake it, and that
 /// it is covered by the output exception of LICENSE-EXCEPTION.md.
 std::string generated_banner(const std::string& command);
+
+/// The npend-gen command that writes a chain's files, for their banners: `options` as for
+/// emit_chain.
+std::string chain_command(int links, const std::string& options, link_kind kind);
+
+/// The definition of `f` for `links` links as <stem>_<n>.cpp has it (signature, then the
+/// body of emit_statements), with `math` qualifying sin and cos.
+std::string function_definition(int links, const emitted_function& f, link_kind kind,
+                                const std::string& math = "std::");
 
 /// Header and source of chain_<n>.hpp / chain_<n>.cpp.
 struct chain_sources {

@@ -14,6 +14,7 @@
 #include "chain_model.hpp"
 #include "emit_batch.hpp"
 #include "emit_cpp.hpp"
+#include "emit_gpu.hpp"
 #include "latex.hpp"
 #include "loop_kernels.hpp"
 #include "verify.hpp"
@@ -54,6 +55,7 @@ void write_if_changed(const fs::path& dir, const std::string& name, const std::s
 struct generated_chain {
   chain_sources sources;
   std::vector<emitted_function> functions;
+  std::string options;  ///< the banner's further npend-gen options (emit_chain)
   double seconds = 0;
 };
 
@@ -74,11 +76,8 @@ generated_chain generate(int n, const std::string& solver, link_kind kind = link
   std::ostringstream latex;
   print_latex(sym, mech, latex);
   // The banner names the solver only where it is not the chain's own choice.
-  out.sources =
-      emit_chain(n, out.functions, latex.str(),
-                 chosen == default_solver(sym) ? std::string()
-                                               : fmt::format("--solver {}", solver_name(chosen)),
-                 kind);
+  if (chosen != default_solver(sym)) out.options = fmt::format("--solver {}", solver_name(chosen));
+  out.sources = emit_chain(n, out.functions, latex.str(), out.options, kind);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
@@ -121,7 +120,8 @@ void print_stats(const std::vector<int>& links, bool json, const std::string& so
 int main(int argc, char** argv) {
   CLI::App app{
       "npend-gen: derives Hamilton's equations of the planar n-link pendulum and their exact\n"
-      "Jacobian with GiNaC, and writes them as flat C++ (chain_<n>.hpp/.cpp)."};
+      "Jacobian with GiNaC, and writes them as flat C++ (chain_<n>.hpp/.cpp) and as the GPU\n"
+      "maps' device functions (gpu_chain_<n>.cuh)."};
   app.set_version_flag("--version", "npend-gen 0.1");
   std::vector<int> links, index;
   fs::path out_dir;
@@ -164,9 +164,10 @@ int main(int argc, char** argv) {
                  "of inertia J_i; parameters [m, l, g, c, J]; --verify and --stats only) or "
                  "physical (rigid links with joint springs, damping and torques and a moving "
                  "pivot; parameters [m, l, g, c, J, k, theta0, b], inputs [a_x, a_y, u]; "
-                 "--links writes physical_<n>) or cart (the physical chain's links hung from a "
-                 "cart on a horizontal rail: coordinates [x, phi], parameters [m, l, g, c, J, k, "
-                 "theta0, b, M, b_x], inputs [F, u]; --links writes cart_<n>)")
+                 "--links writes physical_<n> and gpu_physical_<n>.cuh) or cart (the physical "
+                 "chain's links hung from a cart on a horizontal rail: coordinates [x, phi], "
+                 "parameters [m, l, g, c, J, k, theta0, b, M, b_x], inputs [F, u]; --links "
+                 "writes cart_<n>)")
       ->check(CLI::IsMember({"point", "rigid", "physical", "cart"}))
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
@@ -205,6 +206,10 @@ int main(int argc, char** argv) {
         write_if_changed(out_dir, batch_stem(n) + ".hpp", batch.header);
         write_if_changed(out_dir, batch_stem(n) + ".cpp", batch.source);
       }
+      // The models of the GPU maps also get their device functions (emit_gpu.hpp).
+      if (has_gpu_functions(kind))
+        write_if_changed(out_dir, gpu_file_name(n, kind),
+                         emit_gpu(n, g.functions, g.options, kind));
     }
     if (!index.empty()) {
       std::sort(index.begin(), index.end());
