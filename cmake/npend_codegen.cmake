@@ -7,29 +7,39 @@
 set(NPEND_COMMITTED_LINKS 1 2 3 4 5 6)
 set(NPEND_GENERATED_BUILD_DIR "${PROJECT_BINARY_DIR}/generated")
 
-# The models with kernels per link count, one line each: "<npend-gen --model>:<file stems>",
-# the stems of what `npend-gen --links <n> --model <model>` writes (<stem>_<n>.hpp/.cpp; the
-# point-mass chain also writes its batch kernels). Adding a model is a line here (and its row
-# in the generator's emitted_models).
+# The models with kernels per link count, one line each:
+# "<npend-gen --model>:<file stems>[:<device stems>]", the stems of what
+# `npend-gen --links <n> --model <model>` writes: <stem>_<n>.hpp/.cpp (the point-mass chain
+# also writes its batch kernels) and, for the models of the GPU maps, <device stem>_<n>.cuh
+# (the device functions, never compiled into the library: the runtime reads their text).
+# Adding a model is a line here (and its row in the generator's emitted_models).
 set(NPEND_MODELS
-  "point:chain,batch"
-  "physical:physical"
+  "point:chain,batch:gpu_chain"
+  "physical:physical:gpu_physical"
   "cart:cart")
 
-# _npend_model(<entry> <model var> <stems var>): the parts of an NPEND_MODELS entry.
-function(_npend_model entry model_var stems_var)
+# _npend_model(<entry> <model var> <stems var> <device stems var>): the parts of an
+# NPEND_MODELS entry.
+function(_npend_model entry model_var stems_var device_var)
   string(REPLACE ":" ";" parts "${entry}")
   list(GET parts 0 model)
   list(GET parts 1 stems)
   string(REPLACE "," ";" stems "${stems}")
+  set(device)
+  list(LENGTH parts count)
+  if(count GREATER 2)
+    list(GET parts 2 device)
+    string(REPLACE "," ";" device "${device}")
+  endif()
   set(${model_var} "${model}" PARENT_SCOPE)
   set(${stems_var} "${stems}" PARENT_SCOPE)
+  set(${device_var} "${device}" PARENT_SCOPE)
 endfunction()
 
 # The model names alone (for the drift test, cmake/check_generated.cmake).
 set(NPEND_MODEL_NAMES)
 foreach(entry IN LISTS NPEND_MODELS)
-  _npend_model("${entry}" model stems)
+  _npend_model("${entry}" model stems device)
   list(APPEND NPEND_MODEL_NAMES ${model})
 endforeach()
 
@@ -40,12 +50,18 @@ endfunction()
 
 # npend_generated_library(<target> <links>...): a static library with the kernels of the
 # given link counts and the index the runtime looks them up in.
+# The device functions of the same link counts (gpu_<stem>_<n>.cuh) are not part of it: their
+# paths are the GLOBAL property NPEND_GPU_SOURCES, for the runtime to embed their text. Those
+# generated in the build tree are also in NPEND_GPU_SOURCE_DEPENDS, and the target
+# npend_gpu_sources makes them: a rule that reads the files names both in its DEPENDS.
 function(npend_generated_library target)
   set(links ${ARGN})
   list(REMOVE_DUPLICATES links)
   list(SORT links COMPARE NATURAL)
   set(sources)
   set(headers)
+  set(gpu_sources)
+  set(gpu_depends)
   set(generated_in_build FALSE)
   foreach(n IN LISTS links)
     if(NOT n MATCHES "^[1-9][0-9]*$")
@@ -53,10 +69,13 @@ function(npend_generated_library target)
     endif()
     if(n IN_LIST NPEND_COMMITTED_LINKS)
       foreach(entry IN LISTS NPEND_MODELS)
-        _npend_model("${entry}" model stems)
+        _npend_model("${entry}" model stems device)
         foreach(stem IN LISTS stems)
           list(APPEND sources "${PROJECT_SOURCE_DIR}/generated/${stem}_${n}.cpp")
           list(APPEND headers "${PROJECT_SOURCE_DIR}/generated/${stem}_${n}.hpp")
+        endforeach()
+        foreach(stem IN LISTS device)
+          list(APPEND gpu_sources "${PROJECT_SOURCE_DIR}/generated/${stem}_${n}.cuh")
         endforeach()
       endforeach()
     else()
@@ -66,13 +85,18 @@ function(npend_generated_library target)
                             "(-DNPEND_BUILD_GENERATOR=ON, with GiNaC installed).")
       endif()
       foreach(entry IN LISTS NPEND_MODELS)
-        _npend_model("${entry}" model stems)
+        _npend_model("${entry}" model stems device)
         set(outputs)
         foreach(stem IN LISTS stems)
           list(APPEND outputs "${NPEND_GENERATED_BUILD_DIR}/${stem}_${n}.hpp"
                "${NPEND_GENERATED_BUILD_DIR}/${stem}_${n}.cpp")
           list(APPEND sources "${NPEND_GENERATED_BUILD_DIR}/${stem}_${n}.cpp")
           list(APPEND headers "${NPEND_GENERATED_BUILD_DIR}/${stem}_${n}.hpp")
+        endforeach()
+        foreach(stem IN LISTS device)
+          list(APPEND outputs "${NPEND_GENERATED_BUILD_DIR}/${stem}_${n}.cuh")
+          list(APPEND gpu_sources "${NPEND_GENERATED_BUILD_DIR}/${stem}_${n}.cuh")
+          list(APPEND gpu_depends "${NPEND_GENERATED_BUILD_DIR}/${stem}_${n}.cuh")
         endforeach()
         add_custom_command(
           OUTPUT ${outputs}
@@ -111,6 +135,11 @@ function(npend_generated_library target)
   endif()
   # The headers to install with the library (cmake/npend_install.cmake).
   set_property(GLOBAL PROPERTY NPEND_GENERATED_HEADERS ${headers})
+  set_property(GLOBAL PROPERTY NPEND_GPU_SOURCES ${gpu_sources})
+  set_property(GLOBAL PROPERTY NPEND_GPU_SOURCE_DEPENDS ${gpu_depends})
+  # A custom command's outputs are only made for a target of its own directory; this one
+  # lets rules of other directories wait for the build-tree device functions.
+  add_custom_target(npend_gpu_sources DEPENDS ${gpu_depends})
 
   # The loop kernels serve every other link count (generated/chain_loop.*).
   list(APPEND sources "${PROJECT_SOURCE_DIR}/generated/chain_loop.cpp")
