@@ -10,7 +10,7 @@ if ! command -v "$format" >/dev/null; then
   echo "check_format: $format not found (tools/setup.sh --test installs clang-format)" >&2
   exit 2
 fi
-mapfile -t files < <(git ls-files '*.cpp' '*.hpp' '*.h' | grep -v '^generated/')
+mapfile -t files < <(git ls-files '*.cpp' '*.hpp' '*.h' '*.cuh' '*.cu' | grep -v '^generated/')
 if [[ ${1:-} == --fix ]]; then
   "$format" -i "${files[@]}"
   exit 0

@@ -7,6 +7,8 @@
 
 #include "command.hpp"
 #include "input_parsing.hpp"
+#include "npend/analysis/chaos/map_device.hpp"
+#include "npend/batch_math.hpp"
 #include "signal_cleanup.hpp"
 #include "terminal_run.hpp"
 
@@ -45,13 +47,24 @@ void refuse_empty_values(const CLI::App& command) {
   }
 }
 
+// npend's version and what this build and machine run the maps on: the batch kernels'
+// instruction set, and the GPU the maps' --device cuda would use (or why there is none).
+std::string version_text() {
+  const npend::cuda_status gpu = npend::find_cuda();
+  return fmt::format(
+      "npend 0.1\nbatch kernels: {} ({} lanes)\nGPU maps (--device cuda): {}", npend::batch_isa(),
+      npend::batch_width,
+      gpu.usable ? fmt::format("{}; CUDA driver {}, NVRTC {}", gpu.device, gpu.driver, gpu.nvrtc)
+                 : "not available: " + gpu.problem);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
       "npend: exact equations of planar n-link pendulums, generated code, and the analysis of\n"
       "their motion. Run `npend <command> --help` for a command's options."};
-  app.set_version_flag("--version", "npend 0.1");
+  app.set_version_flag("--version", version_text);
   app.require_subcommand(1);
   npend::app::command_list commands;
   npend::app::add_eval_command(app, commands);

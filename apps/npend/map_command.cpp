@@ -51,6 +51,7 @@ struct map_command_options {
   cli::chain_options chain;
   std::string x, y, quantity = "flip", component, phi, p, dphi, out, part;
   std::string stepper, abs_tol, rel_tol;  // as typed; empty: rk4, tolerances 1e-10
+  std::string device;                     // as typed; empty: cpu
   double t_end = 100, dt = 0.01;
   int flip_link = 0, gali_order = 0, threads = 0, tile = 16;
   bool resume = false, json = false, force = false;
@@ -165,7 +166,8 @@ constexpr std::pair<const char*, std::string map_command_options::*> map_texts[]
     {"dphi", &map_command_options::dphi},
     {"stepper", &map_command_options::stepper},
     {"abs_tol", &map_command_options::abs_tol},
-    {"rel_tol", &map_command_options::rel_tol}};
+    {"rel_tol", &map_command_options::rel_tol},
+    {"device", &map_command_options::device}};
 
 nlohmann::json options_record(const map_command_options& o) {
   const cli::chain_options chain = o.chain.with_file();
@@ -269,6 +271,42 @@ void set_base_start(const map_command_options& o, int n, map_grid& grid) {
                                           fmt::format("dphi_1..dphi_{}", n));
 }
 
+// --device, checked against the map (what the GPU maps take) and the machine (a usable GPU)
+// before any file is touched. Throws input_error naming the option.
+map_device device_of(const map_command_options& o, const chain& c, const map_cell_options& cell) {
+  if (o.device.empty()) return map_device::cpu;
+  map_device device{};
+  try {
+    device = parse_map_device(o.device);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(fmt::format("--device: {}", e.what()));
+  }
+  if (device == map_device::cpu) return device;
+  try {
+    check_cuda_map(c, cell);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(fmt::format("--device cuda: {}", e.what()));
+  }
+  if (const cuda_status s = find_cuda(); !s.usable)
+    throw cli::input_error(fmt::format(
+        "--device cuda: CUDA is not usable here: {} (--device cpu runs on the CPU)", s.problem));
+  return device;
+}
+
+// Where the cells ran, for map.json and the summary line: the threads, or the GPU.
+nlohmann::json device_facts(const map_job& job, int threads) {
+  if (job.run.description().device == map_device::cpu)
+    return {{"device", "cpu"}, {"threads", threads}};
+  return {{"device", "cuda"},
+          {"gpu", find_cuda().device},
+          {"gpu_kernel_seconds", cuda_kernel_seconds()}};
+}
+
+std::string device_words(const map_job& job, int threads) {
+  if (job.run.description().device == map_device::cpu) return fmt::format("on {} threads", threads);
+  return fmt::format("on the GPU ({})", find_cuda().device);
+}
+
 // Checks the options and builds the run; touches no file.
 map_job prepare_run(const map_command_options& o) {
   // Any chain: damping, springs and a driven pivot are axes too; map_grid::validate refuses
@@ -317,8 +355,9 @@ map_job prepare_run(const map_command_options& o) {
   } catch (const std::invalid_argument& e) {
     throw cli::input_error(axis_message(grid, e.what()));
   }
+  const map_device device = device_of(o, c, cell);
   if (o.out.empty()) throw cli::input_error("--out: the folder for map.npy, map.png, map.json");
-  return {o, map_run({std::move(grid), cell, o.tile, part}, fs::path(o.out))};
+  return {o, map_run({std::move(grid), cell, o.tile, part, device}, fs::path(o.out))};
 }
 
 std::string run_file_text(const map_job& job) {
@@ -729,8 +768,8 @@ int run_map(const map_command_options& o) {
   const map_tiles_outcome outcome = compute_tiles(job, queue, threads, control, total, true);
   if (outcome.error) std::rethrow_exception(outcome.error);
   if (outcome.stopped) return report_interrupted(job, control.exit_code());
-  return finish_map(job, total, {{"threads", threads}}, fmt::format("on {} threads", threads),
-                    started, control);
+  return finish_map(job, total, device_facts(job, threads), device_words(job, threads), started,
+                    control);
 }
 
 // `npend map merge DIR`: the map from the tiles that --part runs left in DIR/tiles/, exactly
@@ -828,10 +867,12 @@ int run_map_on_ranks(const map_command_options& o, mpi::session& mpi) {
   // rank 0 assembles the map meanwhile. (MPI_Finalize must be called by the thread that
   // initialised MPI, so the map goes to another thread.)
   std::future<int> finished = std::async(std::launch::async, [&] {
-    return finish_map(
-        job, total,
-        {{"threads", threads}, {"ranks", mpi.size()}, {"tiles_per_rank", tiles_per_rank}},
-        fmt::format("on {} ranks x {} threads", mpi.size(), threads), started, control);
+    nlohmann::json facts = device_facts(job, threads);
+    facts["ranks"] = mpi.size();
+    facts["tiles_per_rank"] = tiles_per_rank;
+    return finish_map(job, total, facts,
+                      fmt::format("on {} ranks, each {}", mpi.size(), device_words(job, threads)),
+                      started, control);
   });
   mpi.finalize();
   return finished.get();
@@ -923,6 +964,10 @@ void add_map_command(CLI::App& app, command_list& commands) {
                   "Threads (default: every core; at most 4 x the hardware threads; per rank "
                   "under MPI)");
   cmd->add_option("--tile", o->tile, "Cells per tile side (default 16)");
+  cmd->add_option("--device", o->device,
+                  "cpu (default: the CPU's threads) or cuda: the cells on a GPU (flip, state, "
+                  "lyapunov; rk4 or dopri5, Lyapunov rk4 only; the GPU of each MPI rank's local "
+                  "rank); needs the CUDA driver and NVRTC at run time, not to build");
   cmd->add_option("--out", o->out, "The folder for map.npy, map.png and map.json (required)");
   cmd->add_flag("--resume", o->resume,
                 "Finish an interrupted map in --out (same command): its finished tiles are kept");

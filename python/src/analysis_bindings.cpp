@@ -129,6 +129,28 @@ void set_component(map_cell_options& o, const chain& c, const std::string& compo
     o.component = static_cast<int>(spec::parse_coordinate(component, c.links(), "component"));
 }
 
+// The `device` keyword: "cpu", or "cuda" where the GPU maps take the map and a GPU is
+// usable (RuntimeError naming the keyword where none is).
+map_device device_of(const std::string& name, const chain& c, const map_cell_options& o) {
+  map_device device{};
+  try {
+    device = parse_map_device(name);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(fmt::format("device: {}", e.what()));
+  }
+  if (device == map_device::cpu) return device;
+  try {
+    check_cuda_map(c, o);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(fmt::format("device=\"cuda\": {}", e.what()));
+  }
+  if (const cuda_status s = find_cuda(); !s.usable)
+    throw std::runtime_error(
+        fmt::format("device=\"cuda\": CUDA is not usable here: {} (device=\"cpu\" runs on the CPU)",
+                    s.problem));
+  return device;
+}
+
 // Every start must be finite (the library's message would name its own argument).
 void check_finite(const state_batch& b) {
   for (std::size_t i = 0; i < b.count * b.width; ++i)
@@ -140,7 +162,8 @@ void check_finite(const state_batch& b) {
 py::array_t<double> map_cells(const chain& c, const py::handle& x, const std::string& quantity,
                               double t_end, double dt, int flip_link, int gali_order,
                               const std::string& component, const std::string& stepper,
-                              double abs_tol, double rel_tol, int threads) {
+                              double abs_tol, double rel_tol, int threads,
+                              const std::string& device) {
   const state_batch b = to_states(x, c.state_size(), "x");
   map_cell_options o =
       make_map_cell_options(quantity, t_end, dt, flip_link, gali_order, stepper, abs_tol, rel_tol);
@@ -148,11 +171,12 @@ py::array_t<double> map_cells(const chain& c, const py::handle& x, const std::st
   o.validate(c);
   check_finite(b);
   spec::check_thread_count(threads, "threads");
+  const map_device where = device_of(device, c, o);
   python_interrupt interrupt;
   std::vector<double> values;
   {
     py::gil_scoped_release no_gil;
-    values = map_cell_values(c, {b.row(0), b.count * b.width}, o, threads, &interrupt);
+    values = map_cell_values(c, {b.row(0), b.count * b.width}, o, threads, &interrupt, where);
   }
   interrupt.raise_if_interrupted();
   std::vector<py::ssize_t> shape;
@@ -176,7 +200,7 @@ py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple
                         const std::string& quantity, double t_end, double dt, int flip_link,
                         int gali_order, const std::string& component, const py::object& x0,
                         const py::object& velocities, const std::string& stepper, double abs_tol,
-                        double rel_tol, int threads) {
+                        double rel_tol, int threads, const std::string& device) {
   const auto n = static_cast<std::size_t>(c.links());
   map_grid grid;
   grid.parameters = c.parameters();
@@ -199,11 +223,12 @@ py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple
   set_component(o, c, component);
   grid.validate(o);
   spec::check_thread_count(threads, "threads");
+  const map_device where = device_of(device, c, o);
   python_interrupt interrupt;
   std::vector<double> values;
   {
     py::gil_scoped_release no_gil;
-    values = map_values(grid, o, threads, &interrupt);
+    values = map_values(grid, o, threads, &interrupt, where);
   }
   interrupt.raise_if_interrupted();
   return to_numpy(std::move(values),
@@ -246,7 +271,7 @@ void bind_maps(py::module_& m) {
         py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
         py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("component") = "phi1",
         py::arg("stepper") = "rk4", py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10,
-        py::arg("threads") = 0,
+        py::arg("threads") = 0, py::arg("device") = "cpu",
         R"(One map value per start state (x of shape (2n,) or (k, 2n)), computed on `threads`
 cores (0: all) as `npend map` computes its cells: quantity "flip" (time to the first flip of
 an arm, or arm flip_link; +inf if none by t_end, NaN where the energy rules a flip out),
@@ -255,12 +280,15 @@ t_end: "fli", "megno" (<Y>), "sali", "gali" (GALI_k, k = gali_order, 0: n + 1), 
 (coordinate `component`, phi1..phin or p1..pn, at t_end; angles not wrapped). NaN for a cell
 whose integration failed. stepper "rk4" steps dt; "dopri5" (flip, lyapunov, state) steps
 adaptively under abs_tol and rel_tol, dt its first trial step, and locates a flip inside the
-step by its dense output.)");
+step by its dense output. device "cuda" computes the cells on a GPU (flip, state and
+lyapunov; rk4 or dopri5, Lyapunov rk4 only) as `npend map --device cuda`; `threads` is then
+unused.)");
   m.def("map", &map, py::arg("chain"), py::arg("x"), py::arg("y"), py::kw_only(),
         py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
         py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("component") = "phi1",
         py::arg("x0") = py::none(), py::arg("velocities") = py::none(), py::arg("stepper") = "rk4",
         py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10, py::arg("threads") = 0,
+        py::arg("device") = "cpu",
         R"(A chaos map over a grid, as `npend map`: x and y are (name, from, to, count), count
 values from `from` to `to` both included, with name a start coordinate (phi1..phin, p1..pn,
 or dphi1..dphin when `velocities` gives the start's velocities), "energy" (the start's
@@ -269,7 +297,7 @@ k1..kn and b1..bn: the joints' stiffness and damping, drive-amplitude and drive-
 a chain whose pivot has a built-in drive). The rest of the start comes from x0 (default 0) or, with velocities (n values),
 from x0's angles and those velocities. Returns an array of shape (y count, x count), row 0
 the first y value, NaN where the energy rules a cell out: the same numbers as npend map's
-map.npy. stepper, abs_tol and rel_tol as for map_cells.)");
+map.npy. stepper, abs_tol, rel_tol and device as for map_cells.)");
 }
 
 }  // namespace npend::python

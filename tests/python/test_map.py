@@ -180,3 +180,19 @@ def test_dopri5_maps(tmp_path):
         npend.map_cells(c, [1, 1, 0, 0], quantity="megno", stepper="dopri5")
     with pytest.raises(ValueError, match="stepper"):
         npend.map_cells(c, [1, 1, 0, 0], stepper="euler")
+
+
+def test_gpu_device_is_refused_by_name_where_it_cannot_run():
+    c = npend.Chain(2)
+    x = np.array([[2.0, 2.0, 0.0, 0.0]])
+    with pytest.raises(ValueError, match="device: 'gpu' is not a device"):
+        npend.map_cells(c, x, t_end=1, device="gpu")
+    with pytest.raises(ValueError, match="chaos indicators run on the CPU"):
+        npend.map(c, ("phi1", -3, 3, 4), ("phi2", -3, 3, 4), quantity="megno", t_end=1,
+                  device="cuda")
+    if "not available" in run_npend("--version").stdout:
+        with pytest.raises(RuntimeError, match='device="cuda": CUDA is not usable here'):
+            npend.map_cells(c, x, t_end=1, device="cuda")
+    else:  # a GPU: the same values as the CPU's on this short, regular run
+        assert np.allclose(npend.map_cells(c, x, t_end=1, device="cuda"),
+                           npend.map_cells(c, x, t_end=1), rtol=1e-9, equal_nan=True)

@@ -274,10 +274,57 @@ bool map_cell_forbidden(const map_grid& grid, int i, int j, const map_cell_optio
          energy_forbids_flip(c, start.state, options.flip_link);
 }
 
+namespace {
+
+// map_grid_values on the GPU: the reachable cells of every chain of the grid in one call per
+// model (a parameter axis may make some cells' chains physical — a damping from 0 — and
+// others not).
+std::vector<double> grid_values_on_gpu(const map_grid& grid, std::span<const int> cells_i,
+                                       std::span<const int> cells_j,
+                                       const map_cell_options& options) {
+  std::vector<double> out(cells_i.size(), std::numeric_limits<double>::quiet_NaN());
+  struct model_cells {
+    std::vector<chain> chains;
+    std::vector<int> chain_of;
+    std::vector<double> starts;
+    std::vector<std::size_t> cells;
+  };
+  std::map<bool, model_cells> models;  // by is_physical
+  // Each chain of the parameter axes' (i, j), made once: its model and index there.
+  std::map<std::pair<int, int>, std::pair<bool, int>> known;
+  const bool x_moves = grid.x.is_parameter(), y_moves = grid.y.is_parameter();
+  for (std::size_t k = 0; k < cells_i.size(); ++k) {
+    const std::pair<int, int> key{x_moves ? cells_i[k] : 0, y_moves ? cells_j[k] : 0};
+    auto at = known.find(key);
+    if (at == known.end()) {
+      chain c(cell_parameters(grid, key.first, key.second));
+      model_cells& m = models[c.is_physical()];
+      at = known.emplace(key, std::pair{c.is_physical(), static_cast<int>(m.chains.size())}).first;
+      m.chains.push_back(std::move(c));
+    }
+    model_cells& m = models[at->second.first];
+    const map_start start = start_on(m.chains[static_cast<std::size_t>(at->second.second)], grid,
+                                     cells_i[k], cells_j[k]);
+    if (!start.reachable) continue;
+    m.chain_of.push_back(at->second.second);
+    m.starts.insert(m.starts.end(), start.state.begin(), start.state.end());
+    m.cells.push_back(k);
+  }
+  for (const auto& [physical, m] : models) {
+    const std::vector<double> values = detail::cuda_cells(m.chains, m.chain_of, m.starts, options);
+    for (std::size_t r = 0; r < m.cells.size(); ++r) out[m.cells[r]] = values[r];
+  }
+  return out;
+}
+
+}  // namespace
+
 std::vector<double> map_grid_values(const map_grid& grid, std::span<const int> cells_i,
-                                    std::span<const int> cells_j, const map_cell_options& options) {
+                                    std::span<const int> cells_j, const map_cell_options& options,
+                                    map_device device) {
   if (cells_i.size() != cells_j.size())
     throw std::invalid_argument("map_grid_values: as many columns as rows");
+  if (device == map_device::cuda) return grid_values_on_gpu(grid, cells_i, cells_j, options);
   std::vector<double> out(cells_i.size(), std::numeric_limits<double>::quiet_NaN());
   // The cells of one chain go to map_cells together (parameter axes: one group per value).
   struct group {

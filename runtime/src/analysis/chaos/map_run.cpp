@@ -51,6 +51,8 @@ nlohmann::json identity_of(const chain& c, const map_run_description& d) {
     identity["abs_tol"] = cell.stepping.abs_tol;
     identity["rel_tol"] = cell.stepping.rel_tol;
   }
+  // Likewise the device: a CPU run's identity is the one it always was.
+  if (d.device != map_device::cpu) identity["device"] = std::string(map_device_name(d.device));
   return identity;
 }
 
@@ -60,6 +62,7 @@ map_run_description checked(map_run_description d) {
     throw std::invalid_argument(
         fmt::format("part: I/N with 1 <= I <= N, got {}/{}", d.part.index, d.part.count));
   d.grid.validate(d.cell);
+  if (d.device == map_device::cuda) check_cuda_map(chain(d.grid.parameters), d.cell);
   d.cell.control = nullptr;
   return d;
 }
@@ -162,22 +165,81 @@ std::vector<int> map_run::pending_tiles(bool resume,
 // The tile's cells go to the library together, so that they run on the batch kernels'
 // lanes together (each value the same as map_cell's).
 std::vector<double> map_run::compute_tile(int index, run_control* stop) const {
-  const map_tile_bounds b = m_layout.bounds(index, grid().x, grid().y);
+  return compute_tile_values(std::span<const int>(&index, 1), stop);
+}
+
+std::vector<double> map_run::compute_tile_values(std::span<const int> indices,
+                                                 run_control* stop) const {
   std::vector<int> columns, rows;
-  for (int j = b.y0; j < b.y1; ++j)
-    for (int i = b.x0; i < b.x1; ++i) {
-      columns.push_back(i);
-      rows.push_back(j);
-    }
+  for (const int index : indices) {
+    const map_tile_bounds b = m_layout.bounds(index, grid().x, grid().y);
+    for (int j = b.y0; j < b.y1; ++j)
+      for (int i = b.x0; i < b.x1; ++i) {
+        columns.push_back(i);
+        rows.push_back(j);
+      }
+  }
   map_cell_options options = cell();
   options.control = stop;
-  return map_grid_values(grid(), columns, rows, options);
+  return map_grid_values(grid(), columns, rows, options, m_description.device);
+}
+
+// The GPU takes many tiles at once (a launch fills it only with many cells) and computes
+// them in one go: one thread here hands them over and writes them back. `queue.next` hears
+// of the tiles finished one call at a time, as the calls that take the next ones.
+map_tiles_outcome map_run::compute_tiles_on_gpu(map_tile_queue& queue, run_control& control,
+                                                const map_file_writer& write, long total,
+                                                bool show_progress) const {
+  std::atomic<bool> failed{false};
+  cells_stop cells(control, failed);
+  long unreported = 0, finished = 0;
+  for (;;) {
+    if (control.stop_requested()) {
+      queue.stop();
+      break;
+    }
+    std::vector<int> tiles;
+    std::size_t count = 0;
+    while (count < cuda_cells_per_launch) {
+      const int index = queue.next(unreported > 0);
+      if (unreported > 0) --unreported;
+      if (index < 0) break;
+      tiles.push_back(index);
+      count += m_layout.bounds(index, grid().x, grid().y).cells();
+    }
+    if (tiles.empty()) break;
+    try {
+      const std::vector<double> values = compute_tile_values(tiles, &cells);
+      if (cells.stop_requested()) {  // abandoned part way: not these tiles' values
+        queue.stop();
+        break;
+      }
+      std::size_t at = 0;
+      for (const int index : tiles) {
+        const std::size_t n = m_layout.bounds(index, grid().x, grid().y).cells();
+        write_tile(index,
+                   std::vector<double>(values.begin() + static_cast<std::ptrdiff_t>(at),
+                                       values.begin() + static_cast<std::ptrdiff_t>(at + n)),
+                   write);
+        at += n;
+      }
+    } catch (...) {
+      queue.stop();
+      return {control.stop_requested(), std::current_exception()};
+    }
+    unreported += static_cast<long>(tiles.size());
+    finished += static_cast<long>(tiles.size());
+    if (show_progress) control.progress(static_cast<double>(finished), static_cast<double>(total));
+  }
+  return {control.stop_requested(), nullptr};
 }
 
 map_tiles_outcome map_run::compute_tiles(map_tile_queue& queue, int threads, run_control& control,
                                          const map_file_writer& write, long total,
                                          bool show_progress) const {
   if (threads < 1) throw std::invalid_argument(fmt::format("threads: at least 1, got {}", threads));
+  if (m_description.device == map_device::cuda)
+    return compute_tiles_on_gpu(queue, control, write, total, show_progress);
   std::atomic<bool> stop{false};
   cells_stop cells(control, stop);
   std::exception_ptr error;
@@ -259,9 +321,20 @@ int map_team_size(int threads) {
 }
 
 std::vector<double> map_values(const map_grid& grid, const map_cell_options& options, int threads,
-                               run_control* control) {
+                               run_control* control, map_device device) {
   grid.validate(options);
   const int team = map_team_size(threads);
+  if (device == map_device::cuda) {
+    std::vector<int> columns, rows;
+    for (int j = 0; j < grid.y.count; ++j)
+      for (int i = 0; i < grid.x.count; ++i) {
+        columns.push_back(i);
+        rows.push_back(j);
+      }
+    map_cell_options o = options;
+    o.control = control;
+    return map_grid_values(grid, columns, rows, o, device);
+  }
   const auto cols = static_cast<std::size_t>(grid.x.count);
   return values_in_parallel(cols * static_cast<std::size_t>(grid.y.count), cols, team, control,
                             [&](std::size_t first, std::size_t) {
@@ -275,8 +348,13 @@ std::vector<double> map_values(const map_grid& grid, const map_cell_options& opt
 
 std::vector<double> map_cell_values(const chain& c, std::span<const double> starts,
                                     const map_cell_options& options, int threads,
-                                    run_control* control) {
+                                    run_control* control, map_device device) {
   options.validate(c);
+  if (device == map_device::cuda) {
+    map_cell_options o = options;
+    o.control = control;
+    return cuda_map_cells(c, starts, o);
+  }
   const auto width = static_cast<std::size_t>(c.state_size());
   if (starts.size() % width != 0)
     throw std::invalid_argument(fmt::format(

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "npend/analysis/chaos/chaos_map.hpp"
+#include "npend/analysis/chaos/map_device.hpp"
 #include "npend/parameters.hpp"
 
 namespace npend {
@@ -70,8 +71,12 @@ struct map_grid {
 /// NaN where the energy rules the cell out (map_cell_forbidden) or the integration fails,
 /// and every cell not finished once options.control asks to stop. Throws
 /// std::invalid_argument as map_cells.
+/// With map_device::cuda the cells run on the GPU (map_device.hpp: cuda_map_cells, all of
+/// them at once, in launches of at most cuda_cells_per_launch cells); throws
+/// std::invalid_argument as check_cuda_map and std::runtime_error where CUDA is not usable.
 std::vector<double> map_grid_values(const map_grid& grid, std::span<const int> cells_i,
-                                    std::span<const int> cells_j, const map_cell_options& options);
+                                    std::span<const int> cells_j, const map_cell_options& options,
+                                    map_device device = map_device::cpu);
 
 /// Whether the energy rules cell (i, j) out without integrating: no start of its energy
 /// (an energy axis asking for less than the potential energy of the cell's angles) or, for a

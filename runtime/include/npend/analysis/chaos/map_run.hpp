@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "npend/analysis/chaos/chaos_map.hpp"
+#include "npend/analysis/chaos/map_device.hpp"
 #include "npend/analysis/chaos/map_grid.hpp"
 #include "npend/analysis/chaos/map_tile_queue.hpp"
 #include "npend/chain.hpp"
@@ -66,6 +67,10 @@ struct map_run_description {
   map_cell_options cell;  ///< its `control` is not used: compute_tiles passes its own
   int tile = 16;          ///< cells per tile side, 1..max_map_tile_size
   map_part part;
+  /// Where the cells run: the CPU's threads, or a GPU (map_device.hpp), which takes many
+  /// tiles at once. Part of the run's identity where it is the GPU: its values agree with
+  /// the CPU's to round-off, not bit for bit, and one map's tiles come from one of them.
+  map_device device = map_device::cpu;
 };
 
 /// Writes `bytes` to `path` so that the file appears whole or not at all (the command line
@@ -183,12 +188,16 @@ class map_run {
   /// `stop` inside their steps (may be null); once it asks to stop, the values are not the
   /// tile's.
   std::vector<double> compute_tile(int index, run_control* stop) const;
-  /// Computes the tiles `queue` hands out on `threads` (≥ 1) OpenMP threads, each written
-  /// through `write` as soon as it is done, until the queue runs dry, `control` asks to stop
-  /// or a tile fails. A stop abandons the tiles in flight at once (their cells poll it
-  /// inside their steps): they are not written, and a resumed run computes them.
-  /// control.stop_requested() is polled from every thread at once; progress(finished,
-  /// `total`) is reported by one thread, only with `show_progress`.
+  /// The values of the tiles `indices`, one after another, as compute_tile's, on the run's
+  /// device.
+  std::vector<double> compute_tile_values(std::span<const int> indices, run_control* stop) const;
+  /// Computes the tiles `queue` hands out on `threads` (≥ 1) OpenMP threads (on the GPU:
+  /// as many tiles at a time as make up to cuda_cells_per_launch cells, `threads` unused), each
+  /// written through `write` as soon as it is done, until the queue runs dry, `control` asks to
+  /// stop or a tile fails. A stop abandons the tiles in flight at once (their cells poll it inside
+  /// their steps): they are not written, and a resumed run computes them. control.stop_requested()
+  /// is polled from every thread at once; progress(finished, `total`) is reported by one thread,
+  /// only with `show_progress`.
   map_tiles_outcome compute_tiles(map_tile_queue& queue, int threads, run_control& control,
                                   const map_file_writer& write, long total,
                                   bool show_progress) const;
@@ -203,6 +212,10 @@ class map_run {
   void remove_own_tiles() const;
 
  private:
+  map_tiles_outcome compute_tiles_on_gpu(map_tile_queue& queue, run_control& control,
+                                         const map_file_writer& write, long total,
+                                         bool show_progress) const;
+
   map_run_description m_description;
   chain m_chain;
   map_tile_layout m_layout;
@@ -220,17 +233,21 @@ int map_team_size(int threads);
 /// (y count) × (x count), the values of map_grid_values. `control` (may be null) is polled
 /// between rows; once it asks to stop, the rows not started stay NaN. Throws
 /// std::invalid_argument as map_grid::validate (checked first) and for threads < 0.
+/// With map_device::cuda, every cell on the GPU (map_grid_values; `threads` unused).
 std::vector<double> map_values(const map_grid& grid, const map_cell_options& options,
-                               int threads = 0, run_control* control = nullptr);
+                               int threads = 0, run_control* control = nullptr,
+                               map_device device = map_device::cpu);
 
 /// map_cells of `starts` (count × 2n), computed on `threads` OpenMP threads (0: every
 /// core) in chunks of 8..256 cells (enough chunks to balance the threads, each enough cells
 /// to keep the batch lanes full); the values do not depend on the thread count. `control`
 /// as for map_values. Throws std::invalid_argument as map_cell_options::validate (checked
 /// first), as map_cells (rethrown once the threads are done) and for threads < 0.
+/// With map_device::cuda, on the GPU (cuda_map_cells; `threads` unused).
 std::vector<double> map_cell_values(const chain& c, std::span<const double> starts,
                                     const map_cell_options& options, int threads = 0,
-                                    run_control* control = nullptr);
+                                    run_control* control = nullptr,
+                                    map_device device = map_device::cpu);
 
 /// map_cell_options from the names the front ends take: `quantity` (parse_map_quantity) and
 /// `stepper` (parse_stepper_kind) with its tolerances; the component of a state map is the
