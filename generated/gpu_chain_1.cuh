@@ -8,9 +8,9 @@
 
 namespace npend::gpu::chain_1 {
 
-constexpr int links = 1;
-constexpr int state_size = 2;
-constexpr int param_size = 3;
+inline constexpr int links = 1;
+inline constexpr int state_size = 2;
+inline constexpr int param_size = 3;
 
 NPEND_GPU_FUNCTION void rhs(const double* x, const double* params, double* dxdt) noexcept {
   const double t0 = 1.0 / params[1];

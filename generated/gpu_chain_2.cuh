@@ -8,9 +8,9 @@
 
 namespace npend::gpu::chain_2 {
 
-constexpr int links = 2;
-constexpr int state_size = 4;
-constexpr int param_size = 5;
+inline constexpr int links = 2;
+inline constexpr int state_size = 4;
+inline constexpr int param_size = 5;
 
 NPEND_GPU_FUNCTION void rhs(const double* x, const double* params, double* dxdt) noexcept {
   const double t0 = 1.0 / params[2];

@@ -8,9 +8,9 @@
 
 namespace npend::gpu::chain_3 {
 
-constexpr int links = 3;
-constexpr int state_size = 6;
-constexpr int param_size = 7;
+inline constexpr int links = 3;
+inline constexpr int state_size = 6;
+inline constexpr int param_size = 7;
 
 NPEND_GPU_FUNCTION void rhs(const double* x, const double* params, double* dxdt) noexcept {
   const double t0 = 1.0 / params[3];

@@ -8,9 +8,9 @@
 
 namespace npend::gpu::chain_4 {
 
-constexpr int links = 4;
-constexpr int state_size = 8;
-constexpr int param_size = 9;
+inline constexpr int links = 4;
+inline constexpr int state_size = 8;
+inline constexpr int param_size = 9;
 
 NPEND_GPU_FUNCTION void rhs(const double* x, const double* params, double* dxdt) noexcept {
   const double t0 = 1.0 / params[4];

@@ -8,9 +8,9 @@
 
 namespace npend::gpu::chain_5 {
 
-constexpr int links = 5;
-constexpr int state_size = 10;
-constexpr int param_size = 11;
+inline constexpr int links = 5;
+inline constexpr int state_size = 10;
+inline constexpr int param_size = 11;
 
 NPEND_GPU_FUNCTION void rhs(const double* x, const double* params, double* dxdt) noexcept {
   const double t0 = 1.0 / params[5];

@@ -8,9 +8,9 @@
 
 namespace npend::gpu::chain_6 {
 
-constexpr int links = 6;
-constexpr int state_size = 12;
-constexpr int param_size = 13;
+inline constexpr int links = 6;
+inline constexpr int state_size = 12;
+inline constexpr int param_size = 13;
 
 NPEND_GPU_FUNCTION void rhs(const double* x, const double* params, double* dxdt) noexcept {
   const double t0 = 1.0 / params[6];

@@ -9,10 +9,10 @@
 
 namespace npend::gpu::physical_1 {
 
-constexpr int links = 1;
-constexpr int state_size = 2;
-constexpr int param_size = 8;
-constexpr int input_size = 3;
+inline constexpr int links = 1;
+inline constexpr int state_size = 2;
+inline constexpr int param_size = 8;
+inline constexpr int input_size = 3;
 
 NPEND_GPU_FUNCTION void rhs(const double* x, const double* params, const double* inputs, double* dxdt) noexcept {
   const double t0 = 1.0 / (params[4] + params[0] * (params[3] * params[3])) * x[1];

@@ -9,10 +9,10 @@
 
 namespace npend::gpu::physical_2 {
 
-constexpr int links = 2;
-constexpr int state_size = 4;
-constexpr int param_size = 15;
-constexpr int input_size = 4;
+inline constexpr int links = 2;
+inline constexpr int state_size = 4;
+inline constexpr int param_size = 15;
+inline constexpr int input_size = 4;
 
 NPEND_GPU_FUNCTION void rhs(const double* x, const double* params, const double* inputs, double* dxdt) noexcept {
   const double t0 = params[1] * (params[6] * params[6]);

@@ -9,10 +9,10 @@
 
 namespace npend::gpu::physical_3 {
 
-constexpr int links = 3;
-constexpr int state_size = 6;
-constexpr int param_size = 22;
-constexpr int input_size = 5;
+inline constexpr int links = 3;
+inline constexpr int state_size = 6;
+inline constexpr int param_size = 22;
+inline constexpr int input_size = 5;
 
 NPEND_GPU_FUNCTION void rhs(const double* x, const double* params, const double* inputs, double* dxdt) noexcept {
   const double t0 = params[2] * (params[9] * params[9]);

@@ -9,10 +9,10 @@
 
 namespace npend::gpu::physical_4 {
 
-constexpr int links = 4;
-constexpr int state_size = 8;
-constexpr int param_size = 29;
-constexpr int input_size = 6;
+inline constexpr int links = 4;
+inline constexpr int state_size = 8;
+inline constexpr int param_size = 29;
+inline constexpr int input_size = 6;
 
 NPEND_GPU_FUNCTION void rhs(const double* x, const double* params, const double* inputs, double* dxdt) noexcept {
   const double t0 = params[3] * (params[12] * params[12]);

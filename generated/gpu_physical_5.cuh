@@ -9,10 +9,10 @@
 
 namespace npend::gpu::physical_5 {
 
-constexpr int links = 5;
-constexpr int state_size = 10;
-constexpr int param_size = 36;
-constexpr int input_size = 7;
+inline constexpr int links = 5;
+inline constexpr int state_size = 10;
+inline constexpr int param_size = 36;
+inline constexpr int input_size = 7;
 
 NPEND_GPU_FUNCTION void rhs(const double* x, const double* params, const double* inputs, double* dxdt) noexcept {
   const double t0 = params[4] * (params[15] * params[15]);

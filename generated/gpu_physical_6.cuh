@@ -9,10 +9,10 @@
 
 namespace npend::gpu::physical_6 {
 
-constexpr int links = 6;
-constexpr int state_size = 12;
-constexpr int param_size = 43;
-constexpr int input_size = 8;
+inline constexpr int links = 6;
+inline constexpr int state_size = 12;
+inline constexpr int param_size = 43;
+inline constexpr int input_size = 8;
 
 NPEND_GPU_FUNCTION void rhs(const double* x, const double* params, const double* inputs, double* dxdt) noexcept {
   const double t0 = params[5] * (params[18] * params[18]);

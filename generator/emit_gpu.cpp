@@ -65,13 +65,15 @@ std::string emit_gpu(int n, const std::vector<emitted_function>& functions,
       "on the host). Layouts as {}.hpp.",
       model_description(n, kind), stem, stem));
   out += fmt::format("\nnamespace npend::gpu::{} {{\n\n", stem);
-  out += fmt::format("constexpr int links = {};\n", n);
-  out += fmt::format("constexpr int state_size = {};\n", chain_layout::state_size(n));
+  // `inline`, as in the .hpp: NVRTC warns of every unused constant with internal linkage.
+  out += fmt::format("inline constexpr int links = {};\n", n);
+  out += fmt::format("inline constexpr int state_size = {};\n", chain_layout::state_size(n));
   if (kind == link_kind::physical) {
-    out += fmt::format("constexpr int param_size = {};\n", chain_layout::physical_param_size(n));
-    out += fmt::format("constexpr int input_size = {};\n", chain_layout::input_size(n));
+    out += fmt::format("inline constexpr int param_size = {};\n",
+                       chain_layout::physical_param_size(n));
+    out += fmt::format("inline constexpr int input_size = {};\n", chain_layout::input_size(n));
   } else {
-    out += fmt::format("constexpr int param_size = {};\n", chain_layout::param_size(n));
+    out += fmt::format("inline constexpr int param_size = {};\n", chain_layout::param_size(n));
   }
   for (const char* name : device_functions) {
     const emitted_function* found = nullptr;

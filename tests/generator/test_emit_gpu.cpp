@@ -82,7 +82,7 @@ TEST_CASE("emit_gpu: the source's rhs, hamiltonian and jacobian, with unqualifie
   CHECK(gpu.find("#include") == std::string::npos);
   CHECK(gpu.find("#pragma") == std::string::npos);
   CHECK(gpu.find("namespace npend::gpu::chain_2 {\n") != std::string::npos);
-  CHECK(gpu.find("constexpr int state_size = 4;\nconstexpr int param_size = 5;\n") !=
+  CHECK(gpu.find("inline constexpr int state_size = 4;\ninline constexpr int param_size = 5;\n") !=
         std::string::npos);
   CHECK(gpu.find("input_size") == std::string::npos);
   CHECK(gpu_file_name(2, link_kind::point_mass) == "gpu_chain_2.cuh");
@@ -96,7 +96,7 @@ TEST_CASE("emit_gpu: the physical chain's functions take its inputs after params
                  "double* inputs, double* out) noexcept {\n") != std::string::npos);
   CHECK(gpu.find("inputs[2]") != std::string::npos);  // u_1, after the pivot's a_x, a_y
   // [m, l, g, c, J, k, theta0, b] of 3 links; inputs [a_x, a_y, u_1..u_3].
-  CHECK(gpu.find("constexpr int param_size = 22;\nconstexpr int input_size = 5;\n") !=
+  CHECK(gpu.find("inline constexpr int param_size = 22;\ninline constexpr int input_size = 5;\n") !=
         std::string::npos);
   CHECK(gpu_file_name(3, link_kind::physical) == "gpu_physical_3.cuh");
 }
