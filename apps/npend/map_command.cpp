@@ -965,9 +965,9 @@ void add_map_command(CLI::App& app, command_list& commands) {
                   "under MPI)");
   cmd->add_option("--tile", o->tile, "Cells per tile side (default 16)");
   cmd->add_option("--device", o->device,
-                  "cpu (default: the CPU's threads) or cuda: the cells on a GPU (flip, state, "
-                  "lyapunov; rk4 or dopri5, Lyapunov rk4 only; the GPU of each MPI rank's local "
-                  "rank); needs the CUDA driver and NVRTC at run time, not to build");
+                  "cpu (default: the CPU's threads) or cuda: the cells on a GPU (every quantity; "
+                  "rk4 or dopri5; the GPU of each MPI rank's local rank); needs the CUDA driver "
+                  "and NVRTC at run time, not to build");
   cmd->add_option("--out", o->out, "The folder for map.npy, map.png and map.json (required)");
   cmd->add_flag("--resume", o->resume,
                 "Finish an interrupted map in --out (same command): its finished tiles are kept");

@@ -280,9 +280,8 @@ t_end: "fli", "megno" (<Y>), "sali", "gali" (GALI_k, k = gali_order, 0: n + 1), 
 (coordinate `component`, phi1..phin or p1..pn, at t_end; angles not wrapped). NaN for a cell
 whose integration failed. stepper "rk4" steps dt; "dopri5" (flip, lyapunov, state) steps
 adaptively under abs_tol and rel_tol, dt its first trial step, and locates a flip inside the
-step by its dense output. device "cuda" computes the cells on a GPU (flip, state and
-lyapunov; rk4 or dopri5, Lyapunov rk4 only) as `npend map --device cuda`; `threads` is then
-unused.)");
+step by its dense output. device "cuda" computes the cells on a GPU (rk4 or dopri5) as
+`npend map --device cuda`; `threads` is then unused.)");
   m.def("map", &map, py::arg("chain"), py::arg("x"), py::arg("y"), py::kw_only(),
         py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
         py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("component") = "phi1",

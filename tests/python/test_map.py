@@ -187,8 +187,8 @@ def test_gpu_device_is_refused_by_name_where_it_cannot_run():
     x = np.array([[2.0, 2.0, 0.0, 0.0]])
     with pytest.raises(ValueError, match="device: 'gpu' is not a device"):
         npend.map_cells(c, x, t_end=1, device="gpu")
-    with pytest.raises(ValueError, match="chaos indicators run on the CPU"):
-        npend.map(c, ("phi1", -3, 3, 4), ("phi2", -3, 3, 4), quantity="megno", t_end=1,
+    with pytest.raises(ValueError, match="rk4 or dopri5, not gauss6"):
+        npend.map(c, ("phi1", -3, 3, 4), ("phi2", -3, 3, 4), stepper="gauss6", t_end=1,
                   device="cuda")
     if "not available" in run_npend("--version").stdout:
         with pytest.raises(RuntimeError, match='device="cuda": CUDA is not usable here'):

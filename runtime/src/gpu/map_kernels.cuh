@@ -32,15 +32,17 @@ struct map_job {
   double lyapunov_time;     ///< lyapunov: steps·dt, the time the exponent divides by
   long long steps;          ///< rk4: whole steps of dt up to t_end
   long long chunk;          ///< lyapunov: steps between renormalisations
-  int quantity;             ///< job_flip, job_state or job_lyapunov
+  int quantity;             ///< job_flip, job_state, job_lyapunov or job_indicators
   int stepper;              ///< job_rk4 or job_dopri5
   int flip_link;            ///< flip: 0 any arm, k the arm k
   int component;            ///< state: the coordinate
   int energy_check;         ///< flip: energy_none (driven), energy_conserved, energy_falls
   int max_tries;            ///< dopri5: attempts of one step before it fails
+  int indicator;            ///< indicators: indicator_fli, _megno, _sali or _gali
 };
 
-enum : int { job_flip = 0, job_state = 1, job_lyapunov = 2 };
+enum : int { job_flip = 0, job_state = 1, job_lyapunov = 2, job_indicators = 3 };
+enum : int { indicator_fli = 0, indicator_megno = 1, indicator_sali = 2, indicator_gali = 3 };
 enum : int { job_rk4 = 0, job_dopri5 = 1 };
 enum : int { energy_none = 0, energy_conserved = 1, energy_falls = 2 };
 
@@ -414,10 +416,174 @@ NPEND_GPU_FUNCTION double lyapunov_rk4(const double* x0, const double* params, c
   return sum / job.lyapunov_time;
 }
 
+// The maximal Lyapunov exponent with dopri5 (the batch lanes' lyapunov_on_dopri5_lanes): each
+// renormalisation interval (job.chunk steps of dt, the last one shorter) a run of its own,
+// the stepper restarted with the trial step dt, the state and tangent taken from its dense
+// output at the interval's end, then the tangent renormalised.
+template <class M>
+NPEND_GPU_FUNCTION double lyapunov_dopri5(const double* x0, const double* params,
+                                          const map_job& job) {
+  using S = cell_system<M, true>;
+  dopri5_state<S> s;
+  const double w0 = 1.0 / sqrt(static_cast<double>(M::dim));
+  for (int i = 0; i < M::dim; ++i) {
+    s.x[i] = x0[i];
+    s.x[M::dim + i] = w0;
+  }
+  dopri5_restart(s, params, 0.0, job.dt);
+  long long reached = 0;
+  double sum = 0, y[S::size];
+  for (;;) {
+    const bool accepted = dopri5_attempt(s, params, job);
+    if (dopri5_failed(s, accepted, job)) return NPEND_GPU_NAN;
+    if (!accepted) continue;
+    const long long steps = job.chunk < job.steps - reached ? job.chunk : job.steps - reached;
+    const double target =
+        static_cast<double>(reached) * job.dt + static_cast<double>(steps) * job.dt;
+    if (s.t < target) continue;
+    dopri5_state_at(s, target, 0, S::size, y);
+    for (int i = 0; i < S::size; ++i) {
+      if (!is_finite(y[i])) return NPEND_GPU_NAN;
+      s.x[i] = y[i];
+    }
+    reached += steps;
+    double squares = 0;
+    for (int i = 0; i < M::dim; ++i) squares = squares + s.x[M::dim + i] * s.x[M::dim + i];
+    const double norm = sqrt(squares);
+    sum = sum + log(norm);
+    for (int i = 0; i < M::dim; ++i) s.x[M::dim + i] = s.x[M::dim + i] / norm;
+    if (reached == job.steps) return sum / job.lyapunov_time;
+    dopri5_restart(s, params, static_cast<double>(reached) * job.dt, job.dt);
+  }
+}
+
+// The state, K deviation vectors (d each) and MEGNO's integrals y = ∫ s ẇ₁·w₁/‖w₁‖² ds and
+// z = ∫ Y ds, integrated together (chaos_indicators' augmented system): ẇ = J(x, t) w.
+template <class M, int K>
+struct indicator_system {
+  static constexpr int d = M::dim, size = d * (1 + K) + 2, y = d * (1 + K), z = y + 1;
+  NPEND_GPU_FUNCTION static void rhs(const double* s, const double* params, double t, double* ds) {
+    M::rhs(s, params, t, ds);
+    double jac[d * d];
+    M::jacobian(s, params, t, jac);
+    for (int j = 0; j < K; ++j) {
+      const double* w = s + d * (1 + j);
+      double* dw = ds + d * (1 + j);
+      for (int i = 0; i < d; ++i) {
+        double sum = 0;
+        for (int l = 0; l < d; ++l) sum = sum + jac[i * d + l] * w[l];
+        dw[i] = sum;
+      }
+    }
+    double along = 0, squares = 0;
+    for (int i = 0; i < d; ++i) {
+      along = along + s[d + i] * ds[d + i];
+      squares = squares + s[d + i] * s[d + i];
+    }
+    ds[y] = t * (along / squares);
+    ds[z] = t > 0 ? 2 * s[y] / t : 0.0;
+  }
+};
+
+// The volume spanned by the K columns w + j·d: the product of their singular values, as
+// |R_11 ⋯ R_KK| of a Householder QR (the same product, without an SVD on the GPU).
+template <int d, int K>
+NPEND_GPU_FUNCTION double spanned_volume(const double* w) {
+  double a[d * K];
+  for (int i = 0; i < d * K; ++i) a[i] = w[i];
+  double volume = 1;
+  for (int j = 0; j < K; ++j) {
+    double* col = a + j * d;
+    double squares = 0;
+    for (int i = j; i < d; ++i) squares = squares + col[i] * col[i];
+    const double norm = sqrt(squares);
+    volume = volume * norm;
+    if (norm == 0) return 0;
+    // The reflection taking col[j..] onto −sign(col[j])·norm·e_j, applied to the later columns.
+    double v[d];
+    for (int i = 0; i < d; ++i) v[i] = i < j ? 0.0 : col[i];
+    v[j] = v[j] + (col[j] > 0 ? norm : -norm);
+    double vv = 0;
+    for (int i = j; i < d; ++i) vv = vv + v[i] * v[i];
+    for (int c = j + 1; c < K; ++c) {
+      double* other = a + c * d;
+      double dot = 0;
+      for (int i = j; i < d; ++i) dot = dot + v[i] * other[i];
+      const double f = 2 * dot / vv;
+      for (int i = j; i < d; ++i) other[i] = other[i] - f * v[i];
+    }
+  }
+  return volume;
+}
+
+// FLI, MEGNO ⟨Y⟩, SALI or GALI_K at t_end by rk4 at dt with K deviation vectors, normalised
+// after every step (chaos_indicators, as the batch lanes run it). The vectors start as the
+// library's: w₁ = (1, …, 1)/√d, then e₁, e₂, … made orthogonal to those before.
+template <class M, int K>
+NPEND_GPU_FUNCTION double indicator_rk4(const double* x0, const double* params,
+                                        const map_job& job) {
+  using S = indicator_system<M, K>;
+  constexpr int d = S::d;
+  double s[S::size];
+  for (int i = 0; i < d; ++i) s[i] = x0[i];
+  for (int i = 0; i < d; ++i) s[d + i] = 1.0 / sqrt(static_cast<double>(d));
+  for (int j = 1; j < K; ++j) {
+    double* w = s + d * (1 + j);
+    for (int i = 0; i < d; ++i) w[i] = i == j - 1 ? 1.0 : 0.0;
+    for (int p = 0; p < j; ++p) {
+      const double* q = s + d * (1 + p);
+      double dot = 0;
+      for (int i = 0; i < d; ++i) dot = dot + q[i] * w[i];
+      for (int i = 0; i < d; ++i) w[i] = w[i] - dot * q[i];
+    }
+    double squares = 0;
+    for (int i = 0; i < d; ++i) squares = squares + w[i] * w[i];
+    const double norm = sqrt(squares);
+    for (int i = 0; i < d; ++i) w[i] = w[i] / norm;
+  }
+  s[S::y] = 0;
+  s[S::z] = 0;
+  double log_stretch = 0, fli = 0;
+  for (long long k = 1; k <= job.steps; ++k) {
+    rk4_step<S>(params, static_cast<double>(k - 1) * job.dt, job.dt, s);
+    for (int j = 0; j < K; ++j) {
+      double* w = s + d * (1 + j);
+      double squares = 0;
+      for (int i = 0; i < d; ++i) squares = squares + w[i] * w[i];
+      const double norm = sqrt(squares);
+      if (!is_finite(norm) || norm == 0 || !is_finite(s[0])) return NPEND_GPU_NAN;
+      for (int i = 0; i < d; ++i) w[i] = w[i] / norm;
+      if (j == 0) {
+        log_stretch = log_stretch + log(norm);
+        fli = fmax(fli, log_stretch);
+      }
+    }
+  }
+  const double t = static_cast<double>(job.steps) * job.dt;
+  switch (job.indicator) {
+    case indicator_fli:
+      return fli;
+    case indicator_megno:
+      return t > 0 ? s[S::z] / t : 0.0;
+    case indicator_sali: {
+      double plus = 0, minus = 0;
+      for (int i = 0; i < d; ++i) {
+        const double a = s[d + i], b = s[2 * d + i];
+        plus = plus + (a + b) * (a + b);
+        minus = minus + (a - b) * (a - b);
+      }
+      return fmin(sqrt(plus), sqrt(minus));
+    }
+    default:
+      return spanned_volume<d, K>(s + d);
+  }
+}
+
 /// The value of one cell started at x0 on the chain of `params`: quantity Quantity with
-/// stepper Stepper (job_* of job.quantity and job.stepper). One kernel per pair, so that each
-/// holds only its own code and keeps only its own registers.
-template <class M, int Quantity, int Stepper>
+/// stepper Stepper (job_* of job.quantity and job.stepper), the indicators with Vectors
+/// deviation vectors. One kernel per combination, so that each holds only its own code and
+/// keeps only its own registers.
+template <class M, int Quantity, int Stepper, int Vectors = 2>
 NPEND_GPU_FUNCTION double cell_value_of(const double* x0, const double* params,
                                         const map_job& job) {
   if constexpr (Quantity == job_flip) {
@@ -427,13 +593,19 @@ NPEND_GPU_FUNCTION double cell_value_of(const double* x0, const double* params,
     else
       return flip_rk4<M>(x0, params, job);
   } else if constexpr (Quantity == job_lyapunov) {
-    return lyapunov_rk4<M>(x0, params, job);
+    if constexpr (Stepper == job_dopri5)
+      return lyapunov_dopri5<M>(x0, params, job);
+    else
+      return lyapunov_rk4<M>(x0, params, job);
+  } else if constexpr (Quantity == job_indicators) {
+    return indicator_rk4<M, Vectors>(x0, params, job);
   } else {
     return final_coordinate<M, Stepper>(x0, params, job);
   }
 }
 
-/// cell_value_of for job.quantity and job.stepper (the tests' way in).
+/// cell_value_of for job.quantity and job.stepper, but not the indicators, whose vector count
+/// is the kernel's own (the tests' way in).
 template <class M>
 NPEND_GPU_FUNCTION double cell_value(const double* x0, const double* params, const map_job& job) {
   const bool dopri5 = job.stepper == job_dopri5;
@@ -442,7 +614,8 @@ NPEND_GPU_FUNCTION double cell_value(const double* x0, const double* params, con
       return dopri5 ? cell_value_of<M, job_flip, job_dopri5>(x0, params, job)
                     : cell_value_of<M, job_flip, job_rk4>(x0, params, job);
     case job_lyapunov:
-      return cell_value_of<M, job_lyapunov, job_rk4>(x0, params, job);
+      return dopri5 ? cell_value_of<M, job_lyapunov, job_dopri5>(x0, params, job)
+                    : cell_value_of<M, job_lyapunov, job_rk4>(x0, params, job);
     default:
       return dopri5 ? cell_value_of<M, job_state, job_dopri5>(x0, params, job)
                     : cell_value_of<M, job_state, job_rk4>(x0, params, job);
@@ -455,14 +628,14 @@ NPEND_GPU_FUNCTION double cell_value(const double* x0, const double* params, con
 /// last is done, so that cells that end early (a flip, a forbidden start) free their thread
 /// for the rest. The program's one kernel (map_device.cpp) calls it for its quantity and
 /// stepper.
-template <class M, int Quantity, int Stepper>
+template <class M, int Quantity, int Stepper, int Vectors>
 __device__ void run_cells(const double* starts, const int* chain_of, const double* params,
                           long long count, const map_job& job, double* values,
                           unsigned long long* next) {
   for (;;) {
     const unsigned long long i = atomicAdd(next, 1ULL);
     if (i >= static_cast<unsigned long long>(count)) return;
-    values[i] = cell_value_of<M, Quantity, Stepper>(
+    values[i] = cell_value_of<M, Quantity, Stepper, Vectors>(
         starts + i * M::dim, params + static_cast<long long>(chain_of[i]) * M::params, job);
   }
 }

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <array>
 #include <chain_index.hpp>
 #include <cmath>
 #include <vector>
@@ -29,11 +30,14 @@ void kernel_set::time_derivative(const double* /*x*/, double /*t*/, double* dfdt
 
 double kernel_set::hamiltonian(const double* x, double t) const {
   // T = ½ pᵀq̇ with q̇ = A⁻¹p, and V as potential_energy.
+  // On the stack for the short chains, whose H a map asks for once per cell.
   const int c = coordinates();
-  std::vector<double> dq(static_cast<std::size_t>(c));
-  velocities(x, x + c, dq.data());
+  std::array<double, 16> short_chain;
+  std::vector<double> long_chain(c > 16 ? static_cast<std::size_t>(c) : 0);
+  double* dq = c > 16 ? long_chain.data() : short_chain.data();
+  velocities(x, x + c, dq);
   double kinetic = 0;
-  for (int i = 0; i < c; ++i) kinetic += x[c + i] * dq[static_cast<std::size_t>(i)];
+  for (int i = 0; i < c; ++i) kinetic += x[c + i] * dq[i];
   return 0.5 * kinetic + potential_energy(x, t);
 }
 

@@ -32,14 +32,20 @@ using npend::map_cell_options;
 using npend::map_quantity;
 
 // The host-compiled kernel's value of the cell x0, as the GPU computes it (the energy's
-// verdict on a flip taken first, on the CPU, as cuda_cells does).
-template <class Model>
+// verdict on a flip taken first, on the CPU, as cuda_cells does); the chaos indicators with
+// `Vectors` deviation vectors.
+template <class Model, int Vectors = 0>
 double kernel_cell(const chain& c, const std::vector<double>& x0, const map_cell_options& o) {
   if (o.quantity == map_quantity::flip && npend::energy_forbids_flip(c, x0, o.flip_link))
     return std::numeric_limits<double>::quiet_NaN();
   std::vector<double> params;
   npend::gpu::append_parameters(c, params);
-  return npend::gpu::cell_value<Model>(x0.data(), params.data(), npend::gpu::make_map_job(c, o));
+  const npend::gpu::map_job job = npend::gpu::make_map_job(c, o);
+  if constexpr (Vectors > 0)
+    return npend::gpu::cell_value_of<Model, npend::gpu::job_indicators, npend::gpu::job_rk4,
+                                     Vectors>(x0.data(), params.data(), job);
+  else
+    return npend::gpu::cell_value<Model>(x0.data(), params.data(), job);
 }
 
 struct agreement {
@@ -49,7 +55,7 @@ struct agreement {
 
 // Both sides over a grid of starts (φ1, φ2) at rest: how many cells agree in kind (NaN,
 // +inf, finite) and how many finite ones agree within `tolerance` (relative to max(1, |v|)).
-template <class Model>
+template <class Model, int Vectors = 0>
 agreement compare_on_grid(const chain& c, const map_cell_options& o, double tolerance,
                           int side = 9) {
   agreement a;
@@ -58,7 +64,7 @@ agreement compare_on_grid(const chain& c, const map_cell_options& o, double tole
       const double phi1 = -3.0 + 6.0 * i / (side - 1), phi2 = -3.0 + 6.0 * j / (side - 1);
       const std::vector<double> x0{phi1, phi2, 0.0, 0.0};
       const double library = npend::map_cell(c, x0, o);
-      const double kernel = kernel_cell<Model>(c, x0, o);
+      const double kernel = kernel_cell<Model, Vectors>(c, x0, o);
       ++a.cells;
       const bool kind =
           std::isnan(library) == std::isnan(kernel) && std::isinf(library) == std::isinf(kernel);
@@ -116,6 +122,26 @@ TEST_CASE("gpu map kernels: final states and Lyapunov exponents as the CPU's") {
   a = compare_on_grid<npend::gpu::test_chain_2>(
       c, options(map_quantity::lyapunov, npend::stepper_kind::rk4, 2.0), 1e-9, 5);
   CHECK(a.close == a.cells);
+  a = compare_on_grid<npend::gpu::test_chain_2>(
+      c, options(map_quantity::lyapunov, npend::stepper_kind::dopri5, 2.0), 1e-9, 5);
+  CHECK(a.close == a.cells);
+}
+
+TEST_CASE("gpu map kernels: FLI, MEGNO, SALI and GALI as the CPU's chaos indicators") {
+  const chain c(npend::chain_parameters::uniform(2));
+  for (const auto q : {map_quantity::fli, map_quantity::megno, map_quantity::sali}) {
+    CAPTURE(npend::map_quantity_name(q));
+    const agreement a = compare_on_grid<npend::gpu::test_chain_2, 2>(
+        c, options(q, npend::stepper_kind::rk4, 3.0), 1e-9, 5);
+    CHECK(a.close == a.cells);
+  }
+  // GALI_3 (n + 1) and GALI_4: a QR's volume against the library's singular values.
+  auto o = options(map_quantity::gali, npend::stepper_kind::rk4, 3.0);
+  agreement a = compare_on_grid<npend::gpu::test_chain_2, 3>(c, o, 1e-9, 5);
+  CHECK(a.close == a.cells);
+  o.gali_order = 4;
+  a = compare_on_grid<npend::gpu::test_chain_2, 4>(c, o, 1e-9, 5);
+  CHECK(a.close == a.cells);
 }
 
 TEST_CASE("gpu map kernels: a driven physical pendulum and a damped one as the CPU's odeint") {
@@ -145,19 +171,17 @@ TEST_CASE("gpu maps: the device names, and what the GPU maps refuse by name") {
                        doctest::Contains("cpu (the CPU's cores) or cuda"), std::invalid_argument);
   const chain c(npend::chain_parameters::uniform(2));
   CHECK_THROWS_WITH_AS(
-      npend::check_cuda_map(c, options(map_quantity::megno, npend::stepper_kind::rk4, 10)),
-      doctest::Contains("chaos indicators run on the CPU"), std::invalid_argument);
-  CHECK_THROWS_WITH_AS(
       npend::check_cuda_map(c, options(map_quantity::flip, npend::stepper_kind::gauss6, 10)),
       doctest::Contains("rk4 or dopri5, not gauss6"), std::invalid_argument);
   CHECK_THROWS_WITH_AS(
-      npend::check_cuda_map(c, options(map_quantity::lyapunov, npend::stepper_kind::dopri5, 10)),
-      doctest::Contains("Lyapunov maps integrate with rk4"), std::invalid_argument);
+      npend::check_cuda_map(c, options(map_quantity::megno, npend::stepper_kind::dopri5, 10)),
+      doctest::Contains("rk4 only"), std::invalid_argument);
   const chain long_chain(npend::chain_parameters::uniform(9));
   CHECK_THROWS_WITH_AS(
       npend::check_cuda_map(long_chain, options(map_quantity::flip, npend::stepper_kind::rk4, 10)),
       doctest::Contains("no GPU functions for the 9-link"), std::invalid_argument);
   npend::check_cuda_map(c, options(map_quantity::flip, npend::stepper_kind::dopri5, 10));
+  npend::check_cuda_map(c, options(map_quantity::gali, npend::stepper_kind::rk4, 10));
 }
 
 TEST_CASE("gpu maps: without a usable GPU, a clear error and no values") {
@@ -191,6 +215,8 @@ TEST_CASE("gpu maps: the GPU programs compile with NVRTC where it is installed")
   CHECK(!npend::detail::cuda_program_ptx(chain(rods), o).empty());
   o.quantity = map_quantity::state;
   CHECK(!npend::detail::cuda_program_ptx(chain(driven), o).empty());
-  o = options(map_quantity::lyapunov, npend::stepper_kind::rk4, 10);
+  o = options(map_quantity::lyapunov, npend::stepper_kind::dopri5, 10);
   CHECK(!npend::detail::cuda_program_ptx(chain(npend::chain_parameters::uniform(3)), o).empty());
+  o = options(map_quantity::gali, npend::stepper_kind::rk4, 10);  // GALI_7: 7 vectors of 12
+  CHECK(!npend::detail::cuda_program_ptx(chain(npend::chain_parameters::uniform(6)), o).empty());
 }

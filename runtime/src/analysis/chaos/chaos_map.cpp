@@ -26,26 +26,23 @@ namespace npend {
 
 namespace {
 
-// G_k = m_k c_k + l_k μ_{k+1}.
-std::vector<double> gravity_moments(const chain_parameters& p) {
-  const std::size_t n = p.masses.size();
-  std::vector<double> g(n);
-  double below = 0;
-  for (std::size_t k = n; k-- > 0;) {
-    const double reach = p.com.empty() ? p.lengths[k] : p.com[k];
-    g[k] = p.masses[k] * reach + p.lengths[k] * below;
-    below += p.masses[k];
-  }
-  return g;
-}
-
-}  // namespace
-
-namespace {
-
 // Whether a flip of arm k (1..n) counts: `link` is the one arm asked about, or 0 for any.
 bool watches_arm(int link, std::size_t k) {
   return link == 0 || static_cast<std::size_t>(link) == k;
+}
+
+// The least energy a flip of a watched arm needs: min over the arms k watched of 2 g G_k,
+// G_k = m_k c_k + l_k μ_{k+1} (μ_{k+1} the mass below link k; c = l for point masses).
+// Without allocating: a map asks once per cell.
+double least_flip_energy(const chain_parameters& p, int link) {
+  double needed = std::numeric_limits<double>::infinity(), below = 0;
+  for (std::size_t k = p.masses.size(); k-- > 0;) {
+    const double reach = p.com.empty() ? p.lengths[k] : p.com[k];
+    const double moment = p.masses[k] * reach + p.lengths[k] * below;
+    below += p.masses[k];
+    if (watches_arm(link, k + 1)) needed = std::min(needed, 2 * p.g * moment);
+  }
+  return needed;
 }
 
 }  // namespace
@@ -56,11 +53,7 @@ bool energy_forbids_flip(const chain& c, std::span<const double> x0, int link) {
     throw std::invalid_argument(
         fmt::format("flip: the arm must be 1..{} (or 0: any), got {}", n, link));
   if (c.parameters().pivot.moves()) return false;
-  const auto moments = gravity_moments(c.parameters());
-  double needed = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 1; k <= static_cast<std::size_t>(n); ++k)
-    if (watches_arm(link, k)) needed = std::min(needed, 2 * c.parameters().g * moments[k - 1]);
-  return c.hamiltonian(x0) < needed;
+  return c.hamiltonian(x0) < least_flip_energy(c.parameters(), link);
 }
 
 namespace {

@@ -48,10 +48,17 @@ std::string device_functions(const chain& c) {
   return fmt::format("gpu_{}_{}", c.is_physical() ? "physical" : "chain", c.links());
 }
 
-// The program NVRTC compiles for the chain's model and the job's quantity and stepper: the
-// prelude, the generated device functions, the model adapter, the map kernels and the one
-// kernel, npend_map_cells, that runs them.
-std::string program_text(const chain& c, const gpu::map_job& job) {
+// The deviation vectors an indicator map integrates: GALI_k's k, 2 for the others (as the
+// CPU's maps).
+int deviation_vectors(const chain& c, const map_cell_options& o) {
+  if (o.quantity != map_quantity::gali) return 2;
+  return o.gali_order == 0 ? c.links() + 1 : o.gali_order;
+}
+
+// The program NVRTC compiles for the chain's model and the job's quantity and stepper (the
+// indicators: and `vectors`): the prelude, the generated device functions, the model adapter,
+// the map kernels and the one kernel, npend_map_cells, that runs them.
+std::string program_text(const chain& c, const gpu::map_job& job, int vectors) {
   const std::string functions = device_functions(c);
   std::string text =
       "#define NPEND_GPU_FUNCTION __device__ inline\n"
@@ -67,10 +74,10 @@ std::string program_text(const chain& c, const gpu::map_job& job) {
       "\nextern \"C\" __global__ void npend_map_cells(const double* starts, const int* chain_of,\n"
       "    const double* params, long long count, npend::gpu::map_job job, double* values,\n"
       "    unsigned long long* next) {{\n"
-      "  npend::gpu::run_cells<npend::gpu::model, {}, {}>(starts, chain_of, params, count, job,\n"
-      "                                                   values, next);\n"
+      "  npend::gpu::run_cells<npend::gpu::model, {}, {}, {}>(starts, chain_of, params, count,\n"
+      "                                                       job, values, next);\n"
       "}}\n",
-      job.quantity, job.stepper);
+      job.quantity, job.stepper, vectors);
   return text;
 }
 
@@ -109,7 +116,18 @@ map_job gpu::make_map_job(const chain& c, const map_cell_options& o) {
     case map_quantity::state:
       job.quantity = gpu::job_state;
       break;
-    default: {
+    case map_quantity::fli:
+    case map_quantity::megno:
+    case map_quantity::sali:
+    case map_quantity::gali:
+      job.quantity = gpu::job_indicators;
+      job.indicator = o.quantity == map_quantity::fli     ? gpu::indicator_fli
+                      : o.quantity == map_quantity::megno ? gpu::indicator_megno
+                      : o.quantity == map_quantity::sali  ? gpu::indicator_sali
+                                                          : gpu::indicator_gali;
+      job.rest = 0;
+      break;
+    case map_quantity::lyapunov: {
       job.quantity = gpu::job_lyapunov;
       // maximal_lyapunov_exponent's steps and renormalisations, as the lanes take them.
       lyapunov_options lo;
@@ -143,14 +161,14 @@ namespace {
 // The cells `send` (indices into starts) computed on the GPU into values.
 void run_on_gpu(const chain& model_chain, std::span<const chain> chains,
                 std::span<const int> chain_of, std::span<const double> starts,
-                const std::vector<std::size_t>& send, const map_job& job,
+                const std::vector<std::size_t>& send, const map_job& job, int vectors,
                 std::vector<double>& values, run_control* control) {
   if (send.empty()) return;
   const auto m = static_cast<std::size_t>(model_chain.state_size());
   std::vector<double> params;
   for (const chain& c : chains) gpu::append_parameters(c, params);
-  const gpu::cuda_module& module =
-      gpu::cuda_module::compiled(device_functions(model_chain), program_text(model_chain, job));
+  const gpu::cuda_module& module = gpu::cuda_module::compiled(
+      device_functions(model_chain), program_text(model_chain, job, vectors));
   gpu::device_buffer params_on_gpu(params.size() * sizeof(double));
   params_on_gpu.upload(params.data(), params.size() * sizeof(double));
   gpu::device_buffer counter(sizeof(unsigned long long));
@@ -196,19 +214,11 @@ void run_on_gpu(const chain& model_chain, std::span<const chain> chains,
 void check_cuda_map(const chain& c, const map_cell_options& o) {
   o.validate(c);
   const std::string_view name = map_quantity_name(o.quantity);
-  if (o.quantity != map_quantity::flip && o.quantity != map_quantity::state &&
-      o.quantity != map_quantity::lyapunov)
-    throw std::invalid_argument(fmt::format(
-        "{}: the GPU maps compute flip, state and lyapunov; the chaos indicators run on the "
-        "CPU (--device cpu)",
-        name));
   const stepper_kind stepper = o.stepping.stepper;
   if (stepper != stepper_kind::rk4 && stepper != stepper_kind::dopri5)
-    throw std::invalid_argument(fmt::format("{}: the GPU maps integrate with rk4 or dopri5, not {}",
-                                            name, stepper_name(stepper)));
-  if (o.quantity == map_quantity::lyapunov && stepper != stepper_kind::rk4)
-    throw std::invalid_argument(fmt::format(
-        "lyapunov: the GPU's Lyapunov maps integrate with rk4, not {}", stepper_name(stepper)));
+    throw std::invalid_argument(
+        fmt::format("{}: the GPU maps integrate with rk4 or dopri5, not {} (--device cpu takes it)",
+                    name, stepper_name(stepper)));
   if (c.parameters().pivot.type == pivot_motion::kind::custom)
     throw std::invalid_argument(fmt::format(
         "{}: a pivot on a custom path runs on the CPU only (its path is a function there)", name));
@@ -242,25 +252,34 @@ std::vector<double> cuda_cells(std::span<const chain> chains, std::span<const in
     if (k < 0 || static_cast<std::size_t>(k) >= chains.size())
       throw std::invalid_argument("cuda_cells: a chain index out of range");
   std::vector<double> values(count, std::numeric_limits<double>::quiet_NaN());
-  // A flip the energy rules out is NaN without integrating.
-  std::vector<std::size_t> send;
-  for (std::size_t i = 0; i < count; ++i) {
-    const auto x0 = starts.subspan(i * m, m);
-    detail::require_finite_start(x0, fmt::format("{}: ", map_quantity_name(options.quantity)));
-    const chain& c = chains[chain_of.empty() ? 0 : static_cast<std::size_t>(chain_of[i])];
-    if (options.quantity == map_quantity::flip && energy_forbids_flip(c, x0, options.flip_link))
-      continue;
-    send.push_back(i);
+  const std::string prefix = fmt::format("{}: ", map_quantity_name(options.quantity));
+  for (std::size_t i = 0; i < count; ++i)
+    detail::require_finite_start(starts.subspan(i * m, m), prefix);
+  // A flip the energy rules out is NaN without integrating: the CPU's own check, on every
+  // core (for a large map it is a fair share of the GPU's time).
+  std::vector<unsigned char> ruled_out(count, 0);
+  if (options.quantity == map_quantity::flip) {
+    const auto cells = static_cast<long long>(count);
+#pragma omp parallel for schedule(static)
+    for (long long i = 0; i < cells; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      const chain& c = chains[chain_of.empty() ? 0 : static_cast<std::size_t>(chain_of[k])];
+      ruled_out[k] = energy_forbids_flip(c, starts.subspan(k * m, m), options.flip_link);
+    }
   }
+  std::vector<std::size_t> send;
+  for (std::size_t i = 0; i < count; ++i)
+    if (ruled_out[i] == 0) send.push_back(i);
   require_cuda();
-  run_on_gpu(first, chains, chain_of, starts, send, gpu::make_map_job(first, options), values,
-             options.control);
+  run_on_gpu(first, chains, chain_of, starts, send, gpu::make_map_job(first, options),
+             deviation_vectors(first, options), values, options.control);
   return values;
 }
 
 std::string cuda_program_ptx(const chain& c, const map_cell_options& options) {
   check_cuda_map(c, options);
-  return gpu::compile_ptx(device_functions(c), program_text(c, gpu::make_map_job(c, options)))
+  return gpu::compile_ptx(device_functions(c), program_text(c, gpu::make_map_job(c, options),
+                                                            deviation_vectors(c, options)))
       .value_or(std::string());
 }
 

@@ -119,7 +119,6 @@ void apply_coordinate(std::vector<double>& phi, std::vector<double>& second, con
 
 // What cell (i, j) — column i of x, row j of y — starts from.
 struct map_start {
-  chain_parameters parameters;
   std::vector<double> state;  // [φ, p] (2n)
   // False where an energy axis asks for less than the potential energy of the cell's angles:
   // no start has that energy, and the cell is not integrated.
@@ -135,7 +134,7 @@ map_start start_on(const chain& c, const map_grid& grid, int i, int j) {
   std::vector<double> phi = grid.angles, second = grid.momenta;
   apply_coordinate(phi, second, grid.x, grid.x.value(i));
   apply_coordinate(phi, second, grid.y, grid.y.value(j));
-  map_start start{c.parameters(), {}, true};
+  map_start start{{}, true};
   if (grid.velocities) {
     start.state = c.state_from_velocities(phi, second);
   } else {
@@ -274,6 +273,26 @@ bool map_cell_forbidden(const map_grid& grid, int i, int j, const map_cell_optio
          energy_forbids_flip(c, start.state, options.flip_link);
 }
 
+std::vector<unsigned char> map_cells_forbidden(const map_grid& grid, std::span<const int> cells_i,
+                                               std::span<const int> cells_j,
+                                               const map_cell_options& options) {
+  if (cells_i.size() != cells_j.size())
+    throw std::invalid_argument("map_cells_forbidden: as many columns as rows");
+  std::vector<unsigned char> out(cells_i.size(), 0);
+  const bool x_moves = grid.x.is_parameter(), y_moves = grid.y.is_parameter();
+  std::map<std::pair<int, int>, chain> chains;
+  for (std::size_t k = 0; k < cells_i.size(); ++k) {
+    const std::pair<int, int> key{x_moves ? cells_i[k] : 0, y_moves ? cells_j[k] : 0};
+    auto at = chains.find(key);
+    if (at == chains.end())
+      at = chains.emplace(key, chain(cell_parameters(grid, key.first, key.second))).first;
+    const map_start start = start_on(at->second, grid, cells_i[k], cells_j[k]);
+    out[k] = !start.reachable || (options.quantity == map_quantity::flip &&
+                                  energy_forbids_flip(at->second, start.state, options.flip_link));
+  }
+  return out;
+}
+
 namespace {
 
 // map_grid_values on the GPU: the reachable cells of every chain of the grid in one call per
@@ -282,37 +301,56 @@ namespace {
 std::vector<double> grid_values_on_gpu(const map_grid& grid, std::span<const int> cells_i,
                                        std::span<const int> cells_j,
                                        const map_cell_options& options) {
-  std::vector<double> out(cells_i.size(), std::numeric_limits<double>::quiet_NaN());
-  struct model_cells {
-    std::vector<chain> chains;
-    std::vector<int> chain_of;
-    std::vector<double> starts;
-    std::vector<std::size_t> cells;
-  };
-  std::map<bool, model_cells> models;  // by is_physical
-  // Each chain of the parameter axes' (i, j), made once: its model and index there.
-  std::map<std::pair<int, int>, std::pair<bool, int>> known;
+  const std::size_t count = cells_i.size();
+  const auto m = static_cast<std::size_t>(2 * grid.parameters.links());
+  // Each chain of the parameter axes' (i, j), made once (serially: few), and each cell's.
+  std::vector<chain> chains;
+  std::map<std::pair<int, int>, int> known;
+  std::vector<int> chain_of(count);
   const bool x_moves = grid.x.is_parameter(), y_moves = grid.y.is_parameter();
-  for (std::size_t k = 0; k < cells_i.size(); ++k) {
+  for (std::size_t k = 0; k < count; ++k) {
     const std::pair<int, int> key{x_moves ? cells_i[k] : 0, y_moves ? cells_j[k] : 0};
-    auto at = known.find(key);
-    if (at == known.end()) {
-      chain c(cell_parameters(grid, key.first, key.second));
-      model_cells& m = models[c.is_physical()];
-      at = known.emplace(key, std::pair{c.is_physical(), static_cast<int>(m.chains.size())}).first;
-      m.chains.push_back(std::move(c));
-    }
-    model_cells& m = models[at->second.first];
-    const map_start start = start_on(m.chains[static_cast<std::size_t>(at->second.second)], grid,
-                                     cells_i[k], cells_j[k]);
-    if (!start.reachable) continue;
-    m.chain_of.push_back(at->second.second);
-    m.starts.insert(m.starts.end(), start.state.begin(), start.state.end());
-    m.cells.push_back(k);
+    auto [at, fresh] = known.try_emplace(key, static_cast<int>(chains.size()));
+    if (fresh) chains.emplace_back(cell_parameters(grid, key.first, key.second));
+    chain_of[k] = at->second;
   }
-  for (const auto& [physical, m] : models) {
-    const std::vector<double> values = detail::cuda_cells(m.chains, m.chain_of, m.starts, options);
-    for (std::size_t r = 0; r < m.cells.size(); ++r) out[m.cells[r]] = values[r];
+  // The starts, on every core: for a large map they are a fair share of the GPU's time.
+  std::vector<double> starts(count * m);
+  std::vector<unsigned char> reachable(count);
+  const auto cells = static_cast<long long>(count);
+#pragma omp parallel for schedule(static)
+  for (long long c = 0; c < cells; ++c) {
+    const auto k = static_cast<std::size_t>(c);
+    const map_start start =
+        start_on(chains[static_cast<std::size_t>(chain_of[k])], grid, cells_i[k], cells_j[k]);
+    reachable[k] = start.reachable;
+    std::copy(start.state.begin(), start.state.end(), starts.begin() + static_cast<long>(k * m));
+  }
+  // One call per model: a parameter axis may make some cells' chains physical (a damping
+  // from 0) and others not.
+  std::vector<double> out(count, std::numeric_limits<double>::quiet_NaN());
+  for (const bool physical : {false, true}) {
+    std::vector<chain> model_chains;
+    std::vector<int> index(chains.size(), -1), model_chain_of;
+    for (std::size_t c = 0; c < chains.size(); ++c)
+      if (chains[c].is_physical() == physical) {
+        index[c] = static_cast<int>(model_chains.size());
+        model_chains.push_back(chains[c]);
+      }
+    if (model_chains.empty()) continue;
+    std::vector<double> model_starts;
+    std::vector<std::size_t> model_cells;
+    for (std::size_t k = 0; k < count; ++k) {
+      const int at = index[static_cast<std::size_t>(chain_of[k])];
+      if (at < 0 || reachable[k] == 0) continue;
+      model_chain_of.push_back(at);
+      model_starts.insert(model_starts.end(), starts.begin() + static_cast<long>(k * m),
+                          starts.begin() + static_cast<long>((k + 1) * m));
+      model_cells.push_back(k);
+    }
+    const std::vector<double> values =
+        detail::cuda_cells(model_chains, model_chain_of, model_starts, options);
+    for (std::size_t r = 0; r < model_cells.size(); ++r) out[model_cells[r]] = values[r];
   }
   return out;
 }

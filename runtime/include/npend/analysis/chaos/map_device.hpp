@@ -48,10 +48,9 @@ double cuda_kernel_seconds();
 void require_cuda();
 
 /// Throws std::invalid_argument naming what the GPU maps do not take for chain `c`: the
-/// chaos indicators (fli, megno, sali, gali), the Gauss–Legendre steppers, dopri5 for a
-/// Lyapunov map, a link count without generated device functions (the loop kernels), a
-/// pivot on a custom path, a cart (as the CPU's maps). The rest of `options` as
-/// map_cell_options::validate.
+/// Gauss–Legendre steppers, a link count without generated device functions (the loop
+/// kernels), a pivot on a custom path; and what no map takes, as map_cell_options::validate
+/// (a cart, the chaos indicators with dopri5, ...).
 void check_cuda_map(const chain& c, const map_cell_options& options);
 
 /// map_cells on the GPU: the value of each of count = starts.size() / 2n start states, the

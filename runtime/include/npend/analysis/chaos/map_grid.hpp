@@ -83,4 +83,10 @@ std::vector<double> map_grid_values(const map_grid& grid, std::span<const int> c
 /// flip map, too little energy to flip (energy_forbids_flip).
 bool map_cell_forbidden(const map_grid& grid, int i, int j, const map_cell_options& options);
 
+/// map_cell_forbidden of each cell (cells_i[k], cells_j[k]): 1 where the energy rules it out,
+/// 0 otherwise; each chain of the parameter axes made once.
+std::vector<unsigned char> map_cells_forbidden(const map_grid& grid, std::span<const int> cells_i,
+                                               std::span<const int> cells_j,
+                                               const map_cell_options& options);
+
 }  // namespace npend
