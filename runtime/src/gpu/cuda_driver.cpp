@@ -290,10 +290,9 @@ std::string ptx_of(cuda_state& s, const std::string& name, const std::string& so
     throw std::runtime_error(
         fmt::format("NVRTC could not take {}: {}", name, nvrtc_message(rtc, r)));
   const std::string arch = fmt::format("--gpu-architecture=compute_{}", s.arch);
-  // CUDA's default contraction of a·b + c into one fused multiply-add: without it (each
-  // operation rounded as on the CPU) an H200 took 8 % longer on Heyl's map and agreed with
-  // the CPU's map to the last bit in 31 % of the cells instead of 22 % — the GPU's sines and
-  // cosines, not the contractions, decide the rest — and in 96.7 % to 1e-9 either way.
+  // CUDA's default contraction of a·b + c into one fused multiply-add: rounding each
+  // operation as the CPU does would cost time and bring the GPU's maps hardly closer to the
+  // CPU's, whose sines and cosines differ anyway (docs/benchmarks-gpu.md measures both).
   const char* options[] = {arch.c_str(), "--std=c++17", "-default-device", "--fmad=true"};
   const nvrtcResult compiled = rtc.nvrtcCompileProgram(program, 4, options);
   std::size_t log_size = 0;
