@@ -168,6 +168,169 @@ std::string uncertainty_label(bool ensemble, std::size_t count, double length) {
                         count, length, count);
 }
 
+// What run_equations computes: the maximal exponent, the K largest or the spectrum, of one
+// start or of an ensemble of nearby ones.
+struct exponent_request {
+  std::optional<int> count;  // --exponents K
+  bool full = false;         // the whole spectrum
+  std::optional<lyapunov_ensemble_options> ensemble;
+};
+
+// --exponents, --ensemble, --ensemble-radius and --seed, checked against each other.
+exponent_request parse_exponent_request(const lyapunov_command_options& o, const chain& c) {
+  exponent_request q;
+  if (!o.exponents.empty()) {
+    if (o.maximal) throw cli::input_error("--exponents: give --exponents K or --maximal, not both");
+    if (!o.ensemble.empty())
+      throw cli::input_error(
+          "--exponents: not with --ensemble (an ensemble takes the full "
+          "spectrum or --maximal)");
+    q.count =
+        static_cast<int>(cli::parse_whole_number(o.exponents, "--exponents", 1, 2.0 * c.links()));
+  }
+  q.full = !o.maximal && !q.count;
+  if (!o.ensemble.empty()) {
+    auto& ensemble = q.ensemble.emplace();
+    ensemble.members =
+        static_cast<std::size_t>(cli::parse_whole_number(o.ensemble, "--ensemble", 2, 10000));
+    ensemble.maximal = o.maximal;
+    if (!o.ensemble_radius.empty()) {
+      ensemble.radius = cli::parse_number(o.ensemble_radius, "--ensemble-radius");
+      if (!(ensemble.radius > 0 && ensemble.radius <= 0.1))
+        throw cli::input_error(
+            fmt::format("--ensemble-radius: must be in (0, 0.1] rad, got {}", o.ensemble_radius));
+    }
+    if (!o.seed.empty())
+      ensemble.seed =
+          static_cast<std::uint64_t>(cli::parse_whole_number(o.seed, "--seed", 0, 9.0e15));
+  } else {
+    for (const char* name : {"--ensemble-radius", "--seed"})
+      if (given(o, name)) throw cli::input_error(fmt::format("{}: only with --ensemble K", name));
+  }
+  return q;
+}
+
+// Refuses a run too large for the machine before it starts (cli::require_feasible).
+void check_exponent_cost(const lyapunov_command_options& o, const chain& c,
+                         const lyapunov_options& options, const exponent_request& q) {
+  const double vectors = o.maximal ? 1.0 : q.count ? *q.count : 2.0 * c.links();
+  cli::require_feasible(
+      lyapunov_cost(c, options, vectors, q.ensemble ? static_cast<double>(q.ensemble->members) : 1),
+      fmt::format("{} of {} links by {}{}",
+                  o.maximal ? "the maximal exponent"
+                  : q.count ? fmt::format("the {} largest exponents", *q.count)
+                            : fmt::format("the spectrum ({} exponents)", 2 * c.links()),
+                  c.links(), stepper_name(options.integration.stepper),
+                  q.ensemble ? fmt::format(" for {} starts", q.ensemble->members) : ""),
+      "for a long chain take --maximal or --exponents K with an explicit stepper (--stepper "
+      "rk4), which costs O(n K) per step");
+}
+
+// The run's exponents and their uncertainty, as reported: an ensemble's mean and standard
+// error, or one run's with its blocks' standard error.
+struct exponent_report {
+  std::vector<double> exponents, errors;
+  std::size_t blocks = 0;
+  double block_length = 0, window = 0;
+  std::string label;
+};
+
+exponent_report report_of(const lyapunov_result& r, const lyapunov_ensemble_result& e,
+                          const exponent_request& q, const lyapunov_options& options) {
+  exponent_report out;
+  out.exponents = q.ensemble ? e.mean : r.exponents;
+  out.errors = q.ensemble ? e.standard_error : r.block_standard_error;
+  out.blocks = r.block_exponents.size();
+  out.block_length = out.blocks > 0 ? r.averaging_time / static_cast<double>(out.blocks) : 0;
+  out.label = q.ensemble ? uncertainty_label(true, e.runs.size(), 0)
+                         : uncertainty_label(false, out.blocks, out.block_length);
+  out.window = options.convergence_fraction * r.averaging_time;
+  return out;
+}
+
+void print_exponents_json(const chain& c, const std::vector<double>& x0,
+                          const lyapunov_options& options, const lyapunov_result& r,
+                          const lyapunov_ensemble_result& e, const exponent_request& q,
+                          const exponent_report& p, const series_output& files) {
+  nlohmann::json j = describe_chain(c);
+  j["initial_state"] = x0;
+  j["energy"] = c.hamiltonian(x0);
+  j["stepper"] = std::string(stepper_name(options.integration.stepper));
+  j["method"] = r.method;
+  j["dt"] = options.integration.dt;
+  j["t_end"] = r.t;
+  j["transient"] = r.transient;
+  j["renormalisation_interval"] = r.renormalisation_interval;
+  j["renormalisations"] = r.renormalisations;
+  j["exponents"] = p.exponents;
+  j["maximal_exponent"] = p.exponents.front();
+  j["standard_errors"] = numbers(p.errors);
+  j["uncertainty"] =
+      std::isfinite(p.errors.front()) ? nlohmann::json(p.errors.front()) : nlohmann::json();
+  j["uncertainty_method"] = q.ensemble ? "ensemble standard error" : "block standard error";
+  j["uncertainty_description"] = p.label;
+  if (q.full) {
+    j["sum"] = std::accumulate(p.exponents.begin(), p.exponents.end(), 0.0);
+    j["pair_sums"] = pair_sums(p.exponents);
+  }
+  j["spread"] = numbers(r.spread);
+  j["convergence_window"] = p.window;
+  j["blocks"] = {{"count", p.blocks},
+                 {"length", p.block_length},
+                 {"exponents", r.block_exponents},
+                 {"standard_errors", numbers(r.block_standard_error)}};
+  if (q.ensemble) {
+    nlohmann::json runs = nlohmann::json::array();
+    for (const auto& run : e.runs) runs.push_back(run.exponents);
+    j["ensemble"] = {{"members", e.runs.size()},
+                     {"radius", q.ensemble->radius},
+                     {"seed", q.ensemble->seed},
+                     {"starts", e.starts},
+                     {"exponents", runs},
+                     {"mean", e.mean},
+                     {"standard_deviation", numbers(e.standard_deviation)},
+                     {"standard_error", numbers(e.standard_error)}};
+  }
+  j["max_rel_energy_error"] = r.max_rel_energy_error;
+  files.add_to(j);
+  std::cout << j.dump(2) << "\n";
+}
+
+void print_exponents_text(const lyapunov_command_options& o, const chain& c,
+                          const std::vector<double>& x0, const lyapunov_options& options,
+                          const lyapunov_result& r, const lyapunov_ensemble_result& e,
+                          const exponent_request& q, const exponent_report& p,
+                          const series_output& files) {
+  fmt::print("{} of the {}-link chain from x0 = [{:.6g}] (E = {:.6g} J)\n",
+             o.maximal ? "Maximal Lyapunov exponent"
+             : q.count ? fmt::format("The {} largest Lyapunov exponents", *q.count)
+                       : std::string("Lyapunov spectrum"),
+             c.links(), fmt::join(x0, ", "), c.hamiltonian(x0));
+  fmt::print("{}, dt = {} s, averaged over t = {} ... {} s; {}, re-orthonormalised every {} s\n",
+             stepper_name(options.integration.stepper), options.integration.dt, r.transient, r.t,
+             r.method, r.renormalisation_interval);
+  if (q.ensemble)
+    fmt::print(
+        "ensemble: {} starts (x0 and {} others, angles moved by {:g} rad, back on H = H(x0)); "
+        "lambda_i is their mean\n",
+        e.runs.size(), e.runs.size() - 1, q.ensemble->radius);
+  fmt::print("+- is the {}\n\n", p.label);
+  fmt::print("{:>4}  {:>16}  {:>12}  {:>22}\n", "i", "lambda_i (1/s)", "+-",
+             fmt::format("spread{} (last {:.3g} s)", q.ensemble ? " of x0's run" : "", p.window));
+  for (std::size_t i = 0; i < p.exponents.size(); ++i)
+    fmt::print("{:>4}  {:>16.6g}  {:>12.3g}  {:>22.3g}\n", i + 1, p.exponents[i], p.errors[i],
+               r.spread[i]);
+  if (q.ensemble)
+    fmt::print("\nsingle runs scatter by (standard deviation): [{::.3g}]\n", e.standard_deviation);
+  if (q.full) {
+    fmt::print("\nsum = {:.3g} (0 for a Hamiltonian flow: div f = 0)\n",
+               std::accumulate(p.exponents.begin(), p.exponents.end(), 0.0));
+    fmt::print("pairs lambda_i + lambda_(2n+1-i) = {::.3g}\n", pair_sums(p.exponents));
+  }
+  fmt::print("max |H - H0| / H0 = {:.2g}\n", r.max_rel_energy_error);
+  files.print();
+}
+
 int run_equations(const lyapunov_command_options& o) {
   for (const char* name :
        {"--column", "--tau", "--dim", "--theiler", "--horizon", "--fit", "--radius"})
@@ -179,48 +342,8 @@ int run_equations(const lyapunov_command_options& o) {
   const chain c = o.chain.make_chain(cli::model_support::conservative, "npend lyapunov");
   const std::vector<double> x0 = o.start.make_state(c);
   lyapunov_options options = make_options(o);
-  // --exponents K: the K largest (all 2n when not given).
-  std::optional<int> count;
-  if (!o.exponents.empty()) {
-    if (o.maximal) throw cli::input_error("--exponents: give --exponents K or --maximal, not both");
-    if (!o.ensemble.empty())
-      throw cli::input_error(
-          "--exponents: not with --ensemble (an ensemble takes the full "
-          "spectrum or --maximal)");
-    count =
-        static_cast<int>(cli::parse_whole_number(o.exponents, "--exponents", 1, 2.0 * c.links()));
-  }
-  const bool full = !o.maximal && !count;
-  std::optional<lyapunov_ensemble_options> ensemble;
-  if (!o.ensemble.empty()) {
-    ensemble.emplace();
-    ensemble->members =
-        static_cast<std::size_t>(cli::parse_whole_number(o.ensemble, "--ensemble", 2, 10000));
-    ensemble->maximal = o.maximal;
-    if (!o.ensemble_radius.empty()) {
-      ensemble->radius = cli::parse_number(o.ensemble_radius, "--ensemble-radius");
-      if (!(ensemble->radius > 0 && ensemble->radius <= 0.1))
-        throw cli::input_error(
-            fmt::format("--ensemble-radius: must be in (0, 0.1] rad, got {}", o.ensemble_radius));
-    }
-    if (!o.seed.empty())
-      ensemble->seed =
-          static_cast<std::uint64_t>(cli::parse_whole_number(o.seed, "--seed", 0, 9.0e15));
-  } else {
-    for (const char* name : {"--ensemble-radius", "--seed"})
-      if (given(o, name)) throw cli::input_error(fmt::format("{}: only with --ensemble K", name));
-  }
-  const double vectors = o.maximal ? 1.0 : count ? *count : 2.0 * c.links();
-  cli::require_feasible(
-      lyapunov_cost(c, options, vectors, ensemble ? static_cast<double>(ensemble->members) : 1),
-      fmt::format("{} of {} links by {}{}",
-                  o.maximal ? "the maximal exponent"
-                  : count   ? fmt::format("the {} largest exponents", *count)
-                            : fmt::format("the spectrum ({} exponents)", 2 * c.links()),
-                  c.links(), stepper_name(options.integration.stepper),
-                  ensemble ? fmt::format(" for {} starts", ensemble->members) : ""),
-      "for a long chain take --maximal or --exponents K with an explicit stepper (--stepper "
-      "rk4), which costs O(n K) per step");
+  const exponent_request q = parse_exponent_request(o, c);
+  check_exponent_cost(o, c, options, q);
   series_output files(o.out);
 
   cli::terminal_run control;
@@ -228,12 +351,12 @@ int run_equations(const lyapunov_command_options& o) {
   lyapunov_result r;
   lyapunov_ensemble_result e;
   try {
-    if (ensemble) {
-      e = lyapunov_ensemble(c, x0, options, *ensemble);
+    if (q.ensemble) {
+      e = lyapunov_ensemble(c, x0, options, *q.ensemble);
       if (!e.stopped) r = e.runs.front();
     } else {
       r = o.maximal ? maximal_lyapunov_exponent(c, x0, options)
-          : count   ? largest_lyapunov_exponents(c, x0, options, *count)
+          : q.count ? largest_lyapunov_exponents(c, x0, options, *q.count)
                     : lyapunov_spectrum(c, x0, options);
     }
   } catch (const std::invalid_argument& error) {
@@ -247,89 +370,11 @@ int run_equations(const lyapunov_command_options& o) {
     return control.exit_code();
   }
   if (files.enabled()) write_files(files, r, c, r.exponents.size() == 1);
-
-  // The reported exponents and their uncertainty.
-  const std::vector<double> exponents = ensemble ? e.mean : r.exponents;
-  const std::vector<double> errors = ensemble ? e.standard_error : r.block_standard_error;
-  const std::size_t blocks = r.block_exponents.size();
-  const double block_length = blocks > 0 ? r.averaging_time / static_cast<double>(blocks) : 0;
-  const std::string label = ensemble ? uncertainty_label(true, e.runs.size(), 0)
-                                     : uncertainty_label(false, blocks, block_length);
-
-  const double window = options.convergence_fraction * r.averaging_time;
-  if (o.json) {
-    nlohmann::json j = describe_chain(c);
-    j["initial_state"] = x0;
-    j["energy"] = c.hamiltonian(x0);
-    j["stepper"] = std::string(stepper_name(options.integration.stepper));
-    j["method"] = r.method;
-    j["dt"] = options.integration.dt;
-    j["t_end"] = r.t;
-    j["transient"] = r.transient;
-    j["renormalisation_interval"] = r.renormalisation_interval;
-    j["renormalisations"] = r.renormalisations;
-    j["exponents"] = exponents;
-    j["maximal_exponent"] = exponents.front();
-    j["standard_errors"] = numbers(errors);
-    j["uncertainty"] =
-        std::isfinite(errors.front()) ? nlohmann::json(errors.front()) : nlohmann::json();
-    j["uncertainty_method"] = ensemble ? "ensemble standard error" : "block standard error";
-    j["uncertainty_description"] = label;
-    if (full) {
-      j["sum"] = std::accumulate(exponents.begin(), exponents.end(), 0.0);
-      j["pair_sums"] = pair_sums(exponents);
-    }
-    j["spread"] = numbers(r.spread);
-    j["convergence_window"] = window;
-    j["blocks"] = {{"count", blocks},
-                   {"length", block_length},
-                   {"exponents", r.block_exponents},
-                   {"standard_errors", numbers(r.block_standard_error)}};
-    if (ensemble) {
-      nlohmann::json runs = nlohmann::json::array();
-      for (const auto& run : e.runs) runs.push_back(run.exponents);
-      j["ensemble"] = {{"members", e.runs.size()},
-                       {"radius", ensemble->radius},
-                       {"seed", ensemble->seed},
-                       {"starts", e.starts},
-                       {"exponents", runs},
-                       {"mean", e.mean},
-                       {"standard_deviation", numbers(e.standard_deviation)},
-                       {"standard_error", numbers(e.standard_error)}};
-    }
-    j["max_rel_energy_error"] = r.max_rel_energy_error;
-    files.add_to(j);
-    std::cout << j.dump(2) << "\n";
-    return 0;
-  }
-  fmt::print("{} of the {}-link chain from x0 = [{:.6g}] (E = {:.6g} J)\n",
-             o.maximal ? "Maximal Lyapunov exponent"
-             : count   ? fmt::format("The {} largest Lyapunov exponents", *count)
-                       : std::string("Lyapunov spectrum"),
-             c.links(), fmt::join(x0, ", "), c.hamiltonian(x0));
-  fmt::print("{}, dt = {} s, averaged over t = {} ... {} s; {}, re-orthonormalised every {} s\n",
-             stepper_name(options.integration.stepper), options.integration.dt, r.transient, r.t,
-             r.method, r.renormalisation_interval);
-  if (ensemble)
-    fmt::print(
-        "ensemble: {} starts (x0 and {} others, angles moved by {:g} rad, back on H = H(x0)); "
-        "lambda_i is their mean\n",
-        e.runs.size(), e.runs.size() - 1, ensemble->radius);
-  fmt::print("+- is the {}\n\n", label);
-  fmt::print("{:>4}  {:>16}  {:>12}  {:>22}\n", "i", "lambda_i (1/s)", "+-",
-             fmt::format("spread{} (last {:.3g} s)", ensemble ? " of x0's run" : "", window));
-  for (std::size_t i = 0; i < exponents.size(); ++i)
-    fmt::print("{:>4}  {:>16.6g}  {:>12.3g}  {:>22.3g}\n", i + 1, exponents[i], errors[i],
-               r.spread[i]);
-  if (ensemble)
-    fmt::print("\nsingle runs scatter by (standard deviation): [{::.3g}]\n", e.standard_deviation);
-  if (full) {
-    fmt::print("\nsum = {:.3g} (0 for a Hamiltonian flow: div f = 0)\n",
-               std::accumulate(exponents.begin(), exponents.end(), 0.0));
-    fmt::print("pairs lambda_i + lambda_(2n+1-i) = {::.3g}\n", pair_sums(exponents));
-  }
-  fmt::print("max |H - H0| / H0 = {:.2g}\n", r.max_rel_energy_error);
-  files.print();
+  const exponent_report p = report_of(r, e, q, options);
+  if (o.json)
+    print_exponents_json(c, x0, options, r, e, q, p, files);
+  else
+    print_exponents_text(o, c, x0, options, r, e, q, p, files);
   return 0;
 }
 

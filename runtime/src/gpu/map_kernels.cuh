@@ -15,8 +15,10 @@
 //                                      double* dxdt);
 //   NPEND_GPU_FUNCTION static double hamiltonian(const double* x, const double* params,
 //                                                double t);
-//   NPEND_GPU_FUNCTION static void jacobian(const double* x, const double* params, double t,
-//                                           double* jac);
+//   template <int K>
+//   NPEND_GPU_FUNCTION static void tangents(const double* x, const double* params, double t,
+//                                           const double* w, double* dw);
+// the last J(x, t)·w_j for the K vectors w_j = w + j·dim into dw + j·dim (map_models.cuh).
 
 namespace npend::gpu {
 
@@ -131,15 +133,7 @@ struct cell_system {
   NPEND_GPU_FUNCTION static void rhs(const double* y, const double* params, double t,
                                      double* dydt) {
     M::rhs(y, params, t, dydt);
-    if (Tangent) {
-      double jac[M::dim * M::dim];
-      M::jacobian(y, params, t, jac);
-      for (int i = 0; i < M::dim; ++i) {
-        double sum = 0;
-        for (int j = 0; j < M::dim; ++j) sum = sum + jac[i * M::dim + j] * y[M::dim + j];
-        dydt[M::dim + i] = sum;
-      }
-    }
+    if constexpr (Tangent) M::template tangents<1>(y, params, t, y + M::dim, dydt + M::dim);
   }
 };
 
@@ -464,17 +458,7 @@ struct indicator_system {
   static constexpr int d = M::dim, size = d * (1 + K) + 2, y = d * (1 + K), z = y + 1;
   NPEND_GPU_FUNCTION static void rhs(const double* s, const double* params, double t, double* ds) {
     M::rhs(s, params, t, ds);
-    double jac[d * d];
-    M::jacobian(s, params, t, jac);
-    for (int j = 0; j < K; ++j) {
-      const double* w = s + d * (1 + j);
-      double* dw = ds + d * (1 + j);
-      for (int i = 0; i < d; ++i) {
-        double sum = 0;
-        for (int l = 0; l < d; ++l) sum = sum + jac[i * d + l] * w[l];
-        dw[i] = sum;
-      }
-    }
+    M::template tangents<K>(s, params, t, s + d, ds + d);
     double along = 0, squares = 0;
     for (int i = 0; i < d; ++i) {
       along = along + s[d + i] * ds[d + i];

@@ -42,10 +42,20 @@ void require_cuda() {
 
 namespace {
 
-// The generated device functions' file stem of the chain's model: gpu_chain_<n> or
-// gpu_physical_<n>.
+// The generated device functions' file stem of the chain's model: gpu_chain_<n>,
+// gpu_physical_<n>, or gpu_chain_loop for a point-mass chain on the loop kernels.
 std::string device_functions(const chain& c) {
+  if (c.runs_on_loops()) return "gpu_chain_loop";
   return fmt::format("gpu_{}_{}", c.is_physical() ? "physical" : "chain", c.links());
+}
+
+// The adapter that makes the chain's device functions a model of map_kernels.cuh.
+std::string model_adapter(const chain& c) {
+  if (c.runs_on_loops())
+    return fmt::format("NPEND_GPU_LOOP_MODEL(model, chain_loop, {})", c.links());
+  return fmt::format("{}(model, {})",
+                     c.is_physical() ? "NPEND_GPU_PHYSICAL_MODEL" : "NPEND_GPU_POINT_MODEL",
+                     device_functions(c).substr(4));
 }
 
 // The deviation vectors an indicator map integrates: GALI_k's k, 2 for the others (as the
@@ -66,9 +76,7 @@ std::string program_text(const chain& c, const gpu::map_job& job, int vectors) {
       "#define NPEND_GPU_NAN __longlong_as_double(0x7ff8000000000000LL)\n";
   text += gpu::embedded_source(functions);
   text += gpu::embedded_source("map_models");
-  text += fmt::format("\nnamespace npend::gpu {{\n{}(model, {})\n}}\n",
-                      c.is_physical() ? "NPEND_GPU_PHYSICAL_MODEL" : "NPEND_GPU_POINT_MODEL",
-                      functions.substr(4));
+  text += fmt::format("\nnamespace npend::gpu {{\n{}\n}}\n", model_adapter(c));
   text += gpu::embedded_source("map_kernels");
   text += fmt::format(
       "\nextern \"C\" __global__ void npend_map_cells(const double* starts, const int* chain_of,\n"
