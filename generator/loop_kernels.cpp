@@ -724,20 +724,17 @@ std::string passes_struct(const dialect& d) {
     tnames += fmt::format("{}*{}", tnames.empty() ? "" : ", ", a);
   for (const char* a : value_arrays) cuts += fmt::format("  v.{} = work + n * i++;\n", a);
   for (const char* a : tangent_arrays) cuts += fmt::format("  v.{} = work + n * i++;\n", a);
-  if (!d.zero_momenta)
-    return fmt::format(
-        "// The per-link arrays of the passes (n each), cut from the caller's workspace.\n"
-        "struct passes {{\n  double {};\n  double {};\n}};\n\n"
-        "{}passes cut(int n, double* work) noexcept {{\n  passes v;\n  int i = 0;\n{}"
-        "  return v;\n}}\n",
-        names, tnames, d.qualifier, cuts);
+  const char* const what = d.zero_momenta
+                               ? "// The per-link arrays of the passes (n each), and n zero "
+                                 "momenta for det A, cut from the\n// caller's workspace.\n"
+                               : "// The per-link arrays of the passes (n each), cut from the "
+                                 "caller's workspace.\n";
   return fmt::format(
-      "// The per-link arrays of the passes (n each), and n zero momenta for det A, cut from the\n"
-      "// caller's workspace.\n"
-      "struct passes {{\n  double {};\n  double {};\n  double *no_momenta;\n}};\n\n"
-      "{}passes cut(int n, double* work) noexcept {{\n  passes v;\n  int i = 0;\n{}"
-      "  v.no_momenta = work + n * i;\n  return v;\n}}\n",
-      names, tnames, d.qualifier, cuts);
+      "{}struct passes {{\n  double {};\n  double {};\n{}}};\n\n"
+      "{}passes cut(int n, double* work) noexcept {{\n  passes v;\n  int i = 0;\n{}{}"
+      "  return v;\n}}\n",
+      what, names, tnames, d.zero_momenta ? "  double *no_momenta;\n" : "", d.qualifier, cuts,
+      d.zero_momenta ? "  v.no_momenta = work + n * i;\n" : "");
 }
 
 // The passes every function starts from (the elimination, the value pass, the tangent pass),
@@ -845,7 +842,6 @@ inline constexpr std::size_t jacobian_workspace_size(int n) noexcept {{
   out.source += "};\n\n}  // namespace npend::generated::chain_loop\n";
   return out;
 }
-
 
 std::string emit_gpu_loop_kernels() {
   std::string out = generated_banner("npend-gen --loop");
