@@ -50,10 +50,11 @@ endfunction()
 
 # npend_generated_library(<target> <links>...): a static library with the kernels of the
 # given link counts and the index the runtime looks them up in.
-# The device functions of the same link counts (gpu_<stem>_<n>.cuh) are not part of it: their
-# paths are the GLOBAL property NPEND_GPU_SOURCES, for the runtime to embed their text. Those
-# generated in the build tree are also in NPEND_GPU_SOURCE_DEPENDS, and the target
-# npend_gpu_sources makes them: a rule that reads the files names both in its DEPENDS.
+# The device functions of the same link counts (gpu_<stem>_<n>.cuh) and of the loop kernels
+# (gpu_chain_loop.cuh) are not part of it: their paths are the GLOBAL property
+# NPEND_GPU_SOURCES, for the runtime to embed their text. Those generated in the build tree
+# are also in NPEND_GPU_SOURCE_DEPENDS, and the target npend_gpu_sources makes them: a rule
+# that reads the files names both in its DEPENDS.
 function(npend_generated_library target)
   set(links ${ARGN})
   list(REMOVE_DUPLICATES links)
@@ -135,6 +136,8 @@ function(npend_generated_library target)
   endif()
   # The headers to install with the library (cmake/npend_install.cmake).
   set_property(GLOBAL PROPERTY NPEND_GENERATED_HEADERS ${headers})
+  # The loop kernels' device functions serve every other link count.
+  list(APPEND gpu_sources "${PROJECT_SOURCE_DIR}/generated/gpu_chain_loop.cuh")
   set_property(GLOBAL PROPERTY NPEND_GPU_SOURCES ${gpu_sources})
   set_property(GLOBAL PROPERTY NPEND_GPU_SOURCE_DEPENDS ${gpu_depends})
   # A custom command's outputs are only made for a target of its own directory; this one

@@ -700,7 +700,23 @@ const char* const value_arrays[] = {"s",    "c", "cd",    "sd", "q", "mu", "d", 
 const char* const tangent_arrays[] = {"ds",    "dc", "dcd",    "dsd", "dq", "dr",
                                       "dbeta", "da", "dgamma", "dx",  "dy"};
 
-std::string passes_struct() {
+// How the helpers are printed for one compiler: the host's (chain_loop.cpp) or the GPU maps'
+// device code (gpu_chain_loop.cuh).
+struct dialect {
+  std::string qualifier;  // before every function definition
+  bool zero_momenta;      // the workspace ends with n zero momenta (det A, host only)
+};
+const dialect host_dialect{"", true};
+// The device file has rhs, jacobian_vector and hamiltonian only: no det A, so no zero momenta.
+const dialect device_dialect{"NPEND_GPU_FUNCTION ", false};
+
+// The number of n-double arrays cut from the workspace: workspace_size(n) / n.
+int workspace_arrays(const dialect& d) {
+  return static_cast<int>(std::size(value_arrays) + std::size(tangent_arrays)) +
+         (d.zero_momenta ? 1 : 0);
+}
+
+std::string passes_struct(const dialect& d) {
   std::string names, cuts;
   for (const char* a : value_arrays) names += fmt::format("{}*{}", names.empty() ? "" : ", ", a);
   std::string tnames;
@@ -708,19 +724,59 @@ std::string passes_struct() {
     tnames += fmt::format("{}*{}", tnames.empty() ? "" : ", ", a);
   for (const char* a : value_arrays) cuts += fmt::format("  v.{} = work + n * i++;\n", a);
   for (const char* a : tangent_arrays) cuts += fmt::format("  v.{} = work + n * i++;\n", a);
+  const char* const what = d.zero_momenta
+                               ? "// The per-link arrays of the passes (n each), and n zero "
+                                 "momenta for det A, cut from the\n// caller's workspace.\n"
+                               : "// The per-link arrays of the passes (n each), cut from the "
+                                 "caller's workspace.\n";
   return fmt::format(
-      "// The per-link arrays of the passes (n each), and n zero momenta for det A, cut from the\n"
-      "// caller's workspace.\n"
-      "struct passes {{\n  double {};\n  double {};\n  double *no_momenta;\n}};\n\n"
-      "passes cut(int n, double* work) noexcept {{\n  passes v;\n  int i = 0;\n{}"
-      "  v.no_momenta = work + n * i;\n  return v;\n}}\n",
-      names, tnames, cuts);
+      "{}struct passes {{\n  double {};\n  double {};\n{}}};\n\n"
+      "{}passes cut(int n, double* work) noexcept {{\n  passes v;\n  int i = 0;\n{}{}"
+      "  return v;\n}}\n",
+      what, names, tnames, d.zero_momenta ? "  double *no_momenta;\n" : "", d.qualifier, cuts,
+      d.zero_momenta ? "  v.no_momenta = work + n * i;\n" : "");
+}
+
+// The passes every function starts from (the elimination, the value pass, the tangent pass),
+// each definition after `d`'s qualifier.
+std::string pass_functions(const dialect& d) {
+  std::string text =
+      "\n// The elimination from the tip at (phi, p) (articulated_form.hpp of the generator).\n" +
+      d.qualifier +
+      "void eliminate_from_tip(int n, const double* phi, const double* p, const double* params, "
+      "const passes& v) noexcept {\n" +
+      elimination_pass() + "}\n";
+  text += "\n// The value pass at (phi, p): the elimination and the pass from the pivot.\n" +
+          d.qualifier +
+          "void evaluate(int n, const double* phi, const double* p, const double* params, "
+          "const passes& v) noexcept {\n"
+          "  eliminate_from_tip(n, phi, p, params, v);\n" +
+          pivot_pass() + "}\n";
+  text +=
+      "\n// The derivative of f along (dphi, dp) into df (dim 2n), from evaluate's values: each "
+      "step's\n// forward-mode derivative in the order of the steps.\n" +
+      d.qualifier +
+      "void tangent(int n, const double* params, const passes& v, const double* dphi, "
+      "const double* dp, double* df) noexcept {\n" +
+      tangent_pass() + "}\n";
+  return text;
+}
+
+// The device functions: those of gpu_chain_<n>.cuh, with J·u in place of the Jacobian (a
+// deviation vector's derivative is one product, O(n), where the Jacobian's tangent rows take
+// O(n^2) doubles of workspace per call).
+constexpr const char* device_functions[] = {"rhs", "jacobian_vector", "hamiltonian"};
+
+std::string function_name(const function_text& f) {
+  const auto open = f.signature.find('(');
+  const auto start = f.signature.rfind(' ', open) + 1;
+  return f.signature.substr(start, open - start);
 }
 
 }  // namespace
 
 chain_sources emit_loop_kernels() {
-  const int arrays = static_cast<int>(std::size(value_arrays) + std::size(tangent_arrays)) + 1;
+  const int arrays = workspace_arrays(host_dialect);
   const std::string banner = generated_banner("npend-gen --loop");
   const auto fs = loop_functions();
   chain_sources out;
@@ -753,7 +809,8 @@ inline constexpr std::size_t jacobian_workspace_size(int n) noexcept {{
                    "#include \"{}.hpp\"\n\n#include <cmath>\n#include <cstddef>\n#include "
                    "<npend/batch_math.hpp>\n\n",
                    loop_stem) +
-               "namespace npend::generated::chain_loop {\n\nnamespace {\n\n" + passes_struct();
+               "namespace npend::generated::chain_loop {\n\nnamespace {\n\n" +
+               passes_struct(host_dialect);
   out.source +=
       "\n// s_k, c_k of every phi_k by SLEEF's vectorised sincos (1 ulp, <npend/batch_math.hpp>), "
       "batch_width\n// angles at a time, the last partial batch through a padded copy: the "
@@ -770,23 +827,7 @@ inline constexpr std::size_t jacobian_workspace_size(int n) noexcept {{
       "    v.c[k + i] = c[i];\n"
       "  }\n"
       "}\n";
-  out.source +=
-      "\n// The elimination from the tip at (phi, p) (articulated_form.hpp of the generator).\n"
-      "void eliminate_from_tip(int n, const double* phi, const double* p, const double* params, "
-      "const passes& v) noexcept {\n" +
-      elimination_pass() + "}\n";
-  out.source +=
-      "\n// The value pass at (phi, p): the elimination and the pass from the pivot.\n"
-      "void evaluate(int n, const double* phi, const double* p, const double* params, "
-      "const passes& v) noexcept {\n"
-      "  eliminate_from_tip(n, phi, p, params, v);\n" +
-      pivot_pass() + "}\n";
-  out.source +=
-      "\n// The derivative of f along (dphi, dp) into df (dim 2n), from evaluate's values: each "
-      "step's\n// forward-mode derivative in the order of the steps.\n"
-      "void tangent(int n, const double* params, const passes& v, const double* dphi, "
-      "const double* dp, double* df) noexcept {\n" +
-      tangent_pass() + "}\n\n}  // namespace\n";
+  out.source += pass_functions(host_dialect) + "\n}  // namespace\n";
   for (const auto& f : fs) {
     out.header += fmt::format("/// {}\n{};\n\n", f.doc, f.signature);
     out.source += fmt::format("\n{} {{\n{}}}\n", f.signature, f.body);
@@ -797,13 +838,59 @@ inline constexpr std::size_t jacobian_workspace_size(int n) noexcept {{
   out.source +=
       "\nconst loop_kernels kernels = {\n    .workspace_size = &workspace_size,\n"
       "    .jacobian_workspace_size = &jacobian_workspace_size,\n";
-  for (const auto& f : fs) {
-    const auto open = f.signature.find('(');
-    const auto start = f.signature.rfind(' ', open) + 1;
-    out.source += fmt::format("    .{0} = &{0},\n", f.signature.substr(start, open - start));
-  }
+  for (const auto& f : fs) out.source += fmt::format("    .{0} = &{0},\n", function_name(f));
   out.source += "};\n\n}  // namespace npend::generated::chain_loop\n";
   return out;
 }
 
+std::string emit_gpu_loop_kernels() {
+  std::string out = generated_banner("npend-gen --loop");
+  out += fmt::format(
+      R"(// The device functions of the planar n-link pendulum (point masses on massless rods) for
+// npend's GPU maps, for link counts without unrolled device functions (gpu_chain_<n>.cuh):
+// rhs, jacobian_vector and hamiltonian of chain_loop.hpp, the same loops and statements, as
+// plain functions of doubles that CUDA device code and host C++ both compile. The includer
+// defines NPEND_GPU_FUNCTION (`__device__ inline` for CUDA, `inline` on the host) and makes
+// sin and cos visible (CUDA's device maths; <cmath> on the host). Layouts as
+// npend::chain_layout's; every function takes the link count n first and a workspace of
+// workspace_size(n) doubles last, per call.
+
+namespace npend::gpu::chain_loop {{
+
+// Doubles of workspace the functions need for n links.
+NPEND_GPU_FUNCTION constexpr int workspace_size(int n) noexcept {{ return {} * n; }}
+
+// The parameter layout of npend::chain_layout (<npend/chain_kernels.hpp>, which device code
+// cannot include): params = [m_1..m_n, l_1..l_n, g].
+namespace chain_layout {{
+NPEND_GPU_FUNCTION constexpr int mass_index(int /*n*/, int i) noexcept {{ return i; }}
+NPEND_GPU_FUNCTION constexpr int length_index(int n, int i) noexcept {{ return n + i; }}
+NPEND_GPU_FUNCTION constexpr int gravity_index(int n) noexcept {{ return 2 * n; }}
+}}  // namespace chain_layout
+
+)",
+      workspace_arrays(device_dialect));
+  out += passes_struct(device_dialect);
+  out +=
+      "\n// s_k, c_k of every phi_k, one sin and one cos per link (the host's batch sincos has "
+      "no\n// device version).\n" +
+      device_dialect.qualifier +
+      "void sines_and_cosines(int n, const double* phi, const passes& v) noexcept {\n"
+      "  for (int k = 0; k < n; ++k) {\n"
+      "    v.s[k] = sin(phi[k]);\n"
+      "    v.c[k] = cos(phi[k]);\n"
+      "  }\n"
+      "}\n";
+  out += pass_functions(device_dialect);
+  const auto fs = loop_functions();
+  for (const char* name : device_functions) {
+    const auto f = std::find_if(fs.begin(), fs.end(),
+                                [&](const function_text& t) { return function_name(t) == name; });
+    if (f == fs.end()) throw std::logic_error(fmt::format("emit_gpu_loop_kernels: no {}", name));
+    out += fmt::format("\n// {}\n{}{} {{\n{}}}\n", f->doc, device_dialect.qualifier, f->signature,
+                       f->body);
+  }
+  out += "\n}  // namespace npend::gpu::chain_loop\n";
+  return out;
+}
 }  // namespace npend::gen

@@ -23,6 +23,13 @@ namespace npend::gen {
 /// (npend::loop_kernels of <npend/chain_kernels.hpp>).
 chain_sources emit_loop_kernels();
 
+/// gpu_chain_loop.cuh: the loop kernels' rhs, jacobian_vector and hamiltonian as device
+/// functions of the GPU maps (namespace npend::gpu::chain_loop), printed from the same steps
+/// as chain_loop.cpp's, with no includes and unqualified sin and cos, as emit_gpu's files.
+/// Throws std::logic_error if one of the three functions is missing.
+std::string emit_gpu_loop_kernels();
+
 inline constexpr const char* loop_stem = "chain_loop";
+inline constexpr const char* gpu_loop_file_name = "gpu_chain_loop.cuh";
 
 }  // namespace npend::gen

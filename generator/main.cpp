@@ -138,7 +138,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, max_links));
   app.add_flag("--loop", loop,
                "Write chain_loop.hpp/.cpp: the point-mass chain's kernels for any link count, as "
-               "loops over the links (what the runtime runs for counts not in --links)");
+               "loops over the links (what the runtime runs for counts not in --links), and "
+               "their device functions gpu_chain_loop.cuh");
   app.add_option("--out", out_dir, "Output directory for --links, --index and --loop");
   app.add_option("--latex", latex, "Print the derived equations of N links as LaTeX")
       ->check(CLI::Range(1, max_links));
@@ -225,6 +226,7 @@ int main(int argc, char** argv) {
       const chain_sources loops = emit_loop_kernels();
       write_if_changed(out_dir, std::string(loop_stem) + ".hpp", loops.header);
       write_if_changed(out_dir, std::string(loop_stem) + ".cpp", loops.source);
+      write_if_changed(out_dir, gpu_loop_file_name, emit_gpu_loop_kernels());
     }
     if (latex > 0) {
       const chain_symbols sym(latex, kind);

@@ -1,17 +1,22 @@
 // The GPU maps' device functions (generated/gpu_<stem>_<n>.cuh) compiled as host C++: they
 // are the statements of the chain's C++ kernels with unqualified sin and cos, so on the host
-// they compute the same doubles, bit for bit, as npend::generated::<stem>_<n>.
+// they compute the same doubles, bit for bit, as npend::generated::<stem>_<n>. The loop
+// kernels' (gpu_chain_loop.cuh) agree with npend::generated::chain_loop to rounding: the
+// host's sines and cosines come from SLEEF's batch sincos, theirs from sin and cos.
 #include <doctest/doctest.h>
 
 #include <array>
 #include <chain_2.hpp>
 #include <chain_3.hpp>
+#include <chain_loop.hpp>
 #include <cmath>
 #include <cstring>
 #include <physical_2.hpp>
 #include <random>
 #include <utility>
 #include <vector>
+
+#include "support/test_support.hpp"
 
 // The includer's part of the .cuh contract: NPEND_GPU_FUNCTION, and sin and cos visible
 // (here <cmath>'s, brought into this file's own namespace; the .cuh namespaces land inside
@@ -22,6 +27,7 @@ using std::sin;
 #define NPEND_GPU_FUNCTION inline
 #include <gpu_chain_2.cuh>
 #include <gpu_chain_3.cuh>
+#include <gpu_chain_loop.cuh>
 #include <gpu_physical_2.cuh>
 #undef NPEND_GPU_FUNCTION
 }  // namespace npend_gpu_sources_test
@@ -86,6 +92,37 @@ TEST_CASE("gpu sources: gpu_chain_<n>.cuh computes chain_<n>'s rhs, hamiltonian,
                        npend::gpu::chain_2::jacobian, gen2::rhs, gen2::hamiltonian, gen2::jacobian);
   check_point_chain<3>(npend::gpu::chain_3::rhs, npend::gpu::chain_3::hamiltonian,
                        npend::gpu::chain_3::jacobian, gen3::rhs, gen3::hamiltonian, gen3::jacobian);
+}
+
+TEST_CASE("gpu sources: gpu_chain_loop.cuh computes chain_loop's functions to rounding") {
+  namespace gpu = npend::gpu::chain_loop;
+  namespace gen = ::npend::generated::chain_loop;
+  using ::npend::test::relative_error;
+  for (const int n : {3, 8, 20}) {
+    std::mt19937_64 rng(8300 + n);
+    // Exactly the sizes each file promises, so that the sanitized build catches a function
+    // that reads or writes past them.
+    std::vector<double> gpu_work(static_cast<std::size_t>(gpu::workspace_size(n)));
+    std::vector<double> gen_work(static_cast<std::size_t>(gen::workspace_size(n)));
+    for (int trial = 0; trial < 10; ++trial) {
+      std::vector<double> params = draw(rng, 2 * n, 0.3, 3);
+      params.push_back(9.81);
+      const std::vector<double> x = random_state(rng, n);
+      const std::vector<double> u = draw(rng, 2 * n, -1, 1);
+      std::vector<double> f(2 * n), g(2 * n), jf(2 * n), jg(2 * n);
+      gpu::rhs(n, x.data(), params.data(), f.data(), gpu_work.data());
+      gen::rhs(n, x.data(), params.data(), g.data(), gen_work.data());
+      gpu::jacobian_vector(n, x.data(), params.data(), u.data(), jf.data(), gpu_work.data());
+      gen::jacobian_vector(n, x.data(), params.data(), u.data(), jg.data(), gen_work.data());
+      const double h_gpu = gpu::hamiltonian(n, x.data(), params.data(), gpu_work.data());
+      const double h_gen = gen::hamiltonian(n, x.data(), params.data(), gen_work.data());
+      INFO("n = ", n, ", trial ", trial);
+      // 1 ulp in a sine or cosine, through the elimination's divisions: far below 1e-13.
+      CHECK(relative_error(f, g) < 1e-13);
+      CHECK(relative_error(jf, jg) < 1e-13);
+      CHECK(std::fabs(h_gpu - h_gen) < 1e-13 * std::fabs(h_gen));
+    }
+  }
 }
 
 TEST_CASE("gpu sources: the sizes are the kernels' sizes") {

@@ -9,6 +9,7 @@
 
 #include "emit_cpp.hpp"
 #include "emit_gpu.hpp"
+#include "loop_kernels.hpp"
 
 namespace emit_gpu_test {
 
@@ -109,6 +110,40 @@ TEST_CASE("emit_gpu: refuses the cart and a missing function; the same bytes eve
   CHECK_THROWS_AS(emit_gpu(2, functions, "", link_kind::point_mass), std::logic_error);
   CHECK(emit_gpu(2, samples(), "", link_kind::point_mass) ==
         emit_gpu(2, samples(), "", link_kind::point_mass));
+}
+
+TEST_CASE("emit_gpu_loop_kernels: chain_loop.cpp's passes and functions, NVRTC-ready text") {
+  const std::string gpu = emit_gpu_loop_kernels();
+  const std::string cpp = emit_loop_kernels().source;
+  CHECK(gpu.substr(0, gpu.find('\n')) == cpp.substr(0, cpp.find('\n')));
+  // The passes and the three functions are the host's definitions, statement for statement.
+  for (const char* name :
+       {"eliminate_from_tip", "evaluate", "tangent", "rhs", "jacobian_vector", "hamiltonian"}) {
+    INFO(name);
+    CHECK(gpu.find("\nNPEND_GPU_FUNCTION " + definition(cpp, name)) != std::string::npos);
+  }
+  CHECK(gpu.find(" rhs(") < gpu.find(" jacobian_vector("));
+  CHECK(gpu.find(" jacobian_vector(") < gpu.find(" hamiltonian("));
+  CHECK(gpu.find(" jacobian(") == std::string::npos);
+  CHECK(gpu.find("velocities") == std::string::npos);
+  // One sin and one cos per link, in place of the host's batch sincos.
+  CHECK(gpu.find("    v.s[k] = sin(phi[k]);\n    v.c[k] = cos(phi[k]);\n") != std::string::npos);
+  CHECK(gpu.find("batch_") == std::string::npos);
+  // NVRTC has no standard headers, and the text is one of several concatenated ones.
+  CHECK(gpu.find("std::") == std::string::npos);
+  CHECK(gpu.find("#include") == std::string::npos);
+  CHECK(gpu.find("#pragma") == std::string::npos);
+  CHECK(gpu.find("namespace npend::gpu::chain_loop {\n") != std::string::npos);
+  // The workspace is the arrays the cut takes, n doubles each.
+  int arrays = 0;
+  for (auto at = gpu.find("work + n * i++;"); at != std::string::npos;
+       at = gpu.find("work + n * i++;", at + 1))
+    ++arrays;
+  CHECK(arrays > 0);
+  CHECK(gpu.find("constexpr int workspace_size(int n) noexcept { return " + std::to_string(arrays) +
+                 " * n; }") != std::string::npos);
+  CHECK(emit_gpu_loop_kernels() == gpu);
+  CHECK(std::string(gpu_loop_file_name) == "gpu_chain_loop.cuh");
 }
 
 }  // namespace emit_gpu_test
