@@ -18,11 +18,13 @@
 // The generated device functions, included once in this file (they are not headers with
 // guards: NVRTC takes them as text).
 #include "gpu_chain_2.cuh"
+#include "gpu_chain_loop.cuh"
 #include "gpu_physical_2.cuh"
 
 namespace npend::gpu {
 NPEND_GPU_POINT_MODEL(test_chain_2, chain_2)
 NPEND_GPU_PHYSICAL_MODEL(test_physical_2, physical_2)
+NPEND_GPU_LOOP_MODEL(test_loop_8, chain_loop, 8)
 }  // namespace npend::gpu
 
 namespace map_device_test {
@@ -144,6 +146,36 @@ TEST_CASE("gpu map kernels: FLI, MEGNO, SALI and GALI as the CPU's chaos indicat
   CHECK(a.close == a.cells);
 }
 
+TEST_CASE("gpu map kernels: an 8-link chain on the loop kernels as the CPU's") {
+  // The CPU runs it cell by cell on the loop kernels (their sines from SLEEF, the kernels'
+  // from std::sin: within an ulp), over a short time.
+  const chain c(npend::chain_parameters::uniform(8));
+  REQUIRE(c.runs_on_loops());
+  const auto start = [](double a, double b) {
+    std::vector<double> x(16, 0.0);
+    x[0] = a;
+    x[7] = b;
+    return x;
+  };
+  for (const auto q : {map_quantity::flip, map_quantity::lyapunov, map_quantity::megno}) {
+    CAPTURE(npend::map_quantity_name(q));
+    const auto o = options(q, npend::stepper_kind::rk4, 2.0);
+    for (const double a : {-2.5, 0.5, 3.0})
+      for (const double b : {-3.0, 1.0}) {
+        const std::vector<double> x0 = start(a, b);
+        const double library = npend::map_cell(c, x0, o);
+        const double kernel = q == map_quantity::megno
+                                  ? kernel_cell<npend::gpu::test_loop_8, 2>(c, x0, o)
+                                  : kernel_cell<npend::gpu::test_loop_8>(c, x0, o);
+        CAPTURE(a);
+        CAPTURE(b);
+        CHECK(std::isinf(library) == std::isinf(kernel));
+        if (std::isfinite(library))
+          CHECK(std::fabs(library - kernel) <= 1e-9 * std::max(1.0, std::fabs(library)));
+      }
+  }
+}
+
 TEST_CASE("gpu map kernels: a driven physical pendulum and a damped one as the CPU's odeint") {
   auto p = npend::chain_parameters::uniform(2);
   p.make_uniform_rods();
@@ -176,10 +208,16 @@ TEST_CASE("gpu maps: the device names, and what the GPU maps refuse by name") {
   CHECK_THROWS_WITH_AS(
       npend::check_cuda_map(c, options(map_quantity::megno, npend::stepper_kind::dopri5, 10)),
       doctest::Contains("rk4 only"), std::invalid_argument);
-  const chain long_chain(npend::chain_parameters::uniform(9));
+  auto custom = npend::chain_parameters::uniform(2);
+  custom.make_uniform_rods();
+  custom.pivot.type = npend::pivot_motion::kind::custom;
+  custom.pivot.position = custom.pivot.velocity = custom.pivot.acceleration = [](double) {
+    return npend::pivot_motion::vec2{0.0, 0.0};
+  };
   CHECK_THROWS_WITH_AS(
-      npend::check_cuda_map(long_chain, options(map_quantity::flip, npend::stepper_kind::rk4, 10)),
-      doctest::Contains("no GPU functions for the 9-link"), std::invalid_argument);
+      npend::check_cuda_map(chain(custom),
+                            options(map_quantity::flip, npend::stepper_kind::rk4, 10)),
+      doctest::Contains("custom path runs on the CPU only"), std::invalid_argument);
   npend::check_cuda_map(c, options(map_quantity::flip, npend::stepper_kind::dopri5, 10));
   npend::check_cuda_map(c, options(map_quantity::gali, npend::stepper_kind::rk4, 10));
 }
@@ -219,4 +257,6 @@ TEST_CASE("gpu maps: the GPU programs compile with NVRTC where it is installed")
   CHECK(!npend::detail::cuda_program_ptx(chain(npend::chain_parameters::uniform(3)), o).empty());
   o = options(map_quantity::gali, npend::stepper_kind::rk4, 10);  // GALI_7: 7 vectors of 12
   CHECK(!npend::detail::cuda_program_ptx(chain(npend::chain_parameters::uniform(6)), o).empty());
+  o = options(map_quantity::lyapunov, npend::stepper_kind::rk4, 10);  // the loop kernels
+  CHECK(!npend::detail::cuda_program_ptx(chain(npend::chain_parameters::uniform(12)), o).empty());
 }

@@ -150,3 +150,10 @@ TEST_CASE("gpu maps: chaos indicator maps and a dopri5 Lyapunov map as the CPU's
   d.stepping.stepper = npend::stepper_kind::dopri5;
   check_against_cpu(g, d, tightened(d, 10), tightened(d, 100), 1e-3);
 }
+
+TEST_CASE("gpu maps: a 10-link chain on the loop kernels as the CPU's") {
+  if (!gpu_present()) return;
+  const map_grid g = angle_grid(npend::chain_parameters::uniform(10), 24);
+  const map_cell_options o = cell(map_quantity::flip, 10, 0.005);
+  check_against_cpu(g, o, halved(o), halved(o, 2), 1e-3);
+}

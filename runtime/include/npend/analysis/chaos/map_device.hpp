@@ -48,9 +48,10 @@ double cuda_kernel_seconds();
 void require_cuda();
 
 /// Throws std::invalid_argument naming what the GPU maps do not take for chain `c`: the
-/// Gauss–Legendre steppers, a link count without generated device functions (the loop
-/// kernels), a pivot on a custom path; and what no map takes, as map_cell_options::validate
-/// (a cart, the chaos indicators with dopri5, ...).
+/// Gauss–Legendre steppers, a pivot on a custom path, a model without generated device
+/// functions in this build; and what no map takes, as map_cell_options::validate (a cart, the
+/// chaos indicators with dopri5, ...). Point-mass chains of link counts without unrolled
+/// kernels run on the loop kernels' device functions.
 void check_cuda_map(const chain& c, const map_cell_options& options);
 
 /// map_cells on the GPU: the value of each of count = starts.size() / 2n start states, the
