@@ -164,7 +164,7 @@ chain chain_options::make_chain(model_support support, std::string_view name,
   if (!cart.empty() && !takes_cart)
     throw input_error(fmt::format(
         "{} does not take --cart: it works on the angles of a chain on a fixed pivot (npend "
-        "simulate, eval and control take a cart)",
+        "simulate, eval, control and lyapunov take a cart)",
         name));
   const chain_parameters params =
       spec::make_parameters(with_file().to_spec(), spec::naming::options);

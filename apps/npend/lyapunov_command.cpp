@@ -339,7 +339,8 @@ int run_equations(const lyapunov_command_options& o) {
           fmt::format("{}: only for a measured series (--input F.csv), not with --links", name));
   if (o.integrator.t_end.empty())
     throw cli::input_error("--t-end is required with --links (see npend lyapunov --help)");
-  const chain c = o.chain.make_chain(cli::model_support::conservative, "npend lyapunov");
+  const chain c =
+      o.chain.make_chain(cli::model_support::conservative, "npend lyapunov", /*takes_cart=*/true);
   const std::vector<double> x0 = o.start.make_state(c);
   lyapunov_options options = make_options(o);
   const exponent_request q = parse_exponent_request(o, c);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -46,6 +47,27 @@ TEST_CASE("npend lyapunov: --json exponents, sum, pairs and convergence are the 
   CHECK(j["method"] == "tangent map");
   CHECK(j["renormalisation_interval"].get<double>() == doctest::Approx(0.1));
   CHECK(j["max_rel_energy_error"].get<double>() < 1e-8);
+}
+
+TEST_CASE(
+    "npend lyapunov --cart: the spectrum of the pendulum on a cart, paired and summing to 0") {
+  // Hamilton's flow on the cart's 6-dimensional phase space preserves volume and the
+  // symplectic form: the exponents sum to 0 and pair as lambda_i = -lambda_(7-i) (to the
+  // Gauss-Legendre integrator's round-off); the cart's position is cyclic, so the direction
+  // of its momentum does not stretch, and a chaotic start has a positive largest exponent.
+  const auto r = run_npend("lyapunov --links 2 --cart 1 --phi 1.5,1.5 --t-end 30 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  const auto exponents = j["exponents"].get<std::vector<double>>();
+  REQUIRE(exponents.size() == 6);
+  CHECK(j["initial_state"].size() == 6);
+  CHECK(std::fabs(j["sum"].get<double>()) < 1e-10);
+  for (const auto& pair : j["pair_sums"]) CHECK(std::fabs(pair.get<double>()) < 1e-6);
+  CHECK(exponents.front() > 0.3);
+  CHECK(j["max_rel_energy_error"].get<double>() < 1e-10);
+  const auto damped = run_npend("lyapunov --links 2 --cart 1 --cart-damping 0.1 --t-end 1");
+  CHECK(damped.exit_code == 2);
+  CHECK(damped.err.find("--cart-damping") != std::string::npos);
 }
 
 TEST_CASE("npend lyapunov: --maximal, another stepper, and the readable table") {
