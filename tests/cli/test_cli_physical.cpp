@@ -243,6 +243,6 @@ TEST_CASE("npend: the cart's options and the commands that refuse a cart") {
                                     "x_c, phi_1..phi_1, p_x, p_1..p_1"));
   CHECK(npend::test::is_input_error(run_npend("equilibria --links 2 --cart 1"),
                                     "npend equilibria does not take --cart"));
-  CHECK(npend::test::is_input_error(run_npend("lyapunov --links 2 --cart 1 --phi 1,1 --t-end 1"),
-                                    "npend lyapunov does not take --cart"));
+  CHECK(npend::test::is_input_error(run_npend("modes --links 2 --cart 1"),
+                                    "npend modes does not take --cart"));
 }
