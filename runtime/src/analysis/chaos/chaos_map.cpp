@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "analysis/detail/argument_checks.hpp"
+#include "analysis/detail/map_cell_steps.hpp"
 #include "integrators/batch_lanes.hpp"
 #include "npend/batch_kernels.hpp"
 #include "npend/chain_system.hpp"
@@ -23,6 +24,10 @@
 #include "npend/integrators/integration_error.hpp"
 
 namespace npend {
+
+using detail::indicator_vectors;
+using detail::map_lyapunov_options;
+using detail::whole_steps;
 
 namespace {
 
@@ -90,12 +95,6 @@ class stop_only final : public run_control {
 
 // How often (in steps) a cell stepped one at a time polls its run control.
 constexpr long long steps_between_polls = 256;
-
-// The whole rk4 steps of dt up to t_end (a last shorter step, where a quantity takes one,
-// lands on t_end).
-long long whole_steps(double t_end, double dt) {
-  return static_cast<long long>(std::floor(t_end / dt + 1e-9));
-}
 
 // Whether an arm (or arm o.link) of the n-link state x is at or past the upright position.
 bool has_flipped(const double* x, std::size_t n, const flip_options& o) {
@@ -846,24 +845,6 @@ map_quantity parse_map_quantity(std::string_view name) {
 }
 
 namespace {
-
-// What a Lyapunov map integrates: rk4 at dt (or dopri5), one tangent vector.
-lyapunov_options map_lyapunov_options(const map_cell_options& o) {
-  lyapunov_options lo;
-  lo.integration.stepper = o.stepping.stepper;
-  lo.integration.t_end = o.t_end;
-  lo.integration.dt = o.dt;
-  lo.integration.abs_tol = o.stepping.abs_tol;
-  lo.integration.rel_tol = o.stepping.rel_tol;
-  lo.integration.control = o.control;
-  return lo;
-}
-
-// The deviation vectors an indicator map integrates: GALI_k's k, 2 for the others.
-std::size_t indicator_vectors(const chain& c, const map_cell_options& o) {
-  const int k = o.gali_order == 0 ? c.links() + 1 : o.gali_order;
-  return o.quantity == map_quantity::gali ? static_cast<std::size_t>(k) : 2;
-}
 
 // The map's value of an indicator sample: FLI, MEGNO ⟨Y⟩, SALI or GALI_k.
 double indicator_value(map_quantity quantity, const chaos_indicator_sample& sample) {

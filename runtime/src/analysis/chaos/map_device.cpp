@@ -9,6 +9,7 @@
 #include <string>
 
 #include "analysis/detail/argument_checks.hpp"
+#include "analysis/detail/map_cell_steps.hpp"
 #include "gpu/cuda_driver.hpp"
 #include "gpu/gpu_sources.hpp"
 #include "gpu/host_kernels.hpp"
@@ -58,13 +59,6 @@ std::string model_adapter(const chain& c) {
                      device_functions(c).substr(4));
 }
 
-// The deviation vectors an indicator map integrates: GALI_k's k, 2 for the others (as the
-// CPU's maps).
-int deviation_vectors(const chain& c, const map_cell_options& o) {
-  if (o.quantity != map_quantity::gali) return 2;
-  return o.gali_order == 0 ? c.links() + 1 : o.gali_order;
-}
-
 // The program NVRTC compiles for the chain's model and the job's quantity and stepper (the
 // indicators: and `vectors`): the prelude, the generated device functions, the model adapter,
 // the map kernels and the one kernel, npend_map_cells, that runs them.
@@ -91,11 +85,6 @@ std::string program_text(const chain& c, const gpu::map_job& job, int vectors) {
 
 using gpu::map_job;
 
-// The whole rk4 steps of dt up to t_end, as chaos_map.cpp counts them.
-long long whole_steps(double t_end, double dt) {
-  return static_cast<long long>(std::floor(t_end / dt + 1e-9));
-}
-
 }  // namespace
 
 map_job gpu::make_map_job(const chain& c, const map_cell_options& o) {
@@ -106,7 +95,7 @@ map_job gpu::make_map_job(const chain& c, const map_cell_options& o) {
   job.rel_tol = o.stepping.rel_tol;
   job.min_step = integration_options{}.min_step_ratio * o.dt;
   job.energy_tolerance = flip_energy_tolerance;
-  job.steps = whole_steps(o.t_end, o.dt);
+  job.steps = detail::whole_steps(o.t_end, o.dt);
   job.rest = o.t_end - static_cast<double>(job.steps) * o.dt;
   if (!(job.rest > 1e-9 * o.dt)) job.rest = 0;
   job.stepper = o.stepping.stepper == stepper_kind::dopri5 ? gpu::job_dopri5 : gpu::job_rk4;
@@ -138,9 +127,7 @@ map_job gpu::make_map_job(const chain& c, const map_cell_options& o) {
     case map_quantity::lyapunov: {
       job.quantity = gpu::job_lyapunov;
       // maximal_lyapunov_exponent's steps and renormalisations, as the lanes take them.
-      lyapunov_options lo;
-      lo.integration.t_end = o.t_end;
-      lo.integration.dt = o.dt;
+      const lyapunov_options lo = detail::map_lyapunov_options(o);
       job.steps = static_cast<long long>(output_steps(lo.integration));
       job.chunk = std::max<long long>(1, std::llround(lo.renormalisation_interval / o.dt));
       job.lyapunov_time = static_cast<double>(job.steps) * o.dt;
@@ -280,14 +267,15 @@ std::vector<double> cuda_cells(std::span<const chain> chains, std::span<const in
     if (ruled_out[i] == 0) send.push_back(i);
   require_cuda();
   run_on_gpu(first, chains, chain_of, starts, send, gpu::make_map_job(first, options),
-             deviation_vectors(first, options), values, options.control);
+             static_cast<int>(detail::indicator_vectors(first, options)), values, options.control);
   return values;
 }
 
 std::string cuda_program_ptx(const chain& c, const map_cell_options& options) {
   check_cuda_map(c, options);
-  return gpu::compile_ptx(device_functions(c), program_text(c, gpu::make_map_job(c, options),
-                                                            deviation_vectors(c, options)))
+  return gpu::compile_ptx(device_functions(c),
+                          program_text(c, gpu::make_map_job(c, options),
+                                       static_cast<int>(detail::indicator_vectors(c, options))))
       .value_or(std::string());
 }
 
