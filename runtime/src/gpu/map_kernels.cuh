@@ -62,7 +62,12 @@ NPEND_GPU_FUNCTION bool has_flipped(const double* x, int link) {
   return false;
 }
 
-// chaos_map.cpp's hermite_upright_fraction, operation for operation.
+// The first θ in [0, 1] at which the cubic Hermite interpolant of an angle over a step of h
+// — p(0) = y0, p(1) = y1, p'(0) = h f0, p'(1) = h f1 — reaches the upright ±π it passed
+// (the sign of y1; |y0| < π ≤ |y1|). The cubic is cut at its turning points into monotone
+// pieces, searched in order; the first whose end is upright is bisected down to adjacent
+// doubles. 1 where rounding leaves the cubic just short of π at the end. The CPU's maps
+// (chaos_map.cpp) call this same function.
 NPEND_GPU_FUNCTION double hermite_upright_fraction(double y0, double f0, double y1, double f1,
                                                    double h) {
   const double s = y1 < 0 ? -1.0 : 1.0;

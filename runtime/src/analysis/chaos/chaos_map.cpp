@@ -16,6 +16,7 @@
 
 #include "analysis/detail/argument_checks.hpp"
 #include "analysis/detail/map_cell_steps.hpp"
+#include "gpu/host_kernels.hpp"
 #include "integrators/batch_lanes.hpp"
 #include "npend/batch_kernels.hpp"
 #include "npend/chain_system.hpp"
@@ -104,51 +105,10 @@ bool has_flipped(const double* x, std::size_t n, const flip_options& o) {
 }
 
 // The first θ in [0, 1] at which the cubic Hermite interpolant of an angle over a step of h
-// — p(0) = y0, p(1) = y1, p'(0) = h f0, p'(1) = h f1 — reaches the upright ±π it passed
-// (the sign of y1; |y0| < π ≤ |y1|). The cubic is cut at its turning points into monotone
-// pieces, searched in order; the first whose end is upright is bisected down to adjacent
-// doubles. 1 where rounding leaves the cubic just short of π at the end.
-double hermite_upright_fraction(double y0, double f0, double y1, double f1, double h) {
-  const double s = y1 < 0 ? -1.0 : 1.0;
-  const double d0 = h * f0, d1 = h * f1, rise = y1 - y0;
-  // s p(θ) − π = c0 + c1 θ + c2 θ² + c3 θ³.
-  const double c0 = s * y0 - std::numbers::pi, c1 = s * d0, c2 = s * (3 * rise - 2 * d0 - d1),
-               c3 = s * (d0 + d1 - 2 * rise);
-  const auto g = [&](double t) { return c0 + t * (c1 + t * (c2 + t * c3)); };
-  // The turning points in (0, 1): the roots of c1 + 2 c2 θ + 3 c3 θ², then the end.
-  std::array<double, 3> ends{};
-  std::size_t count = 0;
-  const auto turning = [&](double r) {
-    if (r > 0 && r < 1) ends[count++] = r;
-  };
-  const double a = 3 * c3, b = 2 * c2;
-  if (a != 0) {
-    const double discriminant = b * b - 4 * a * c1;
-    if (discriminant > 0) {
-      const double q = -0.5 * (b + std::copysign(std::sqrt(discriminant), b));
-      turning(q / a);
-      if (q != 0) turning(c1 / q);
-    }
-  } else if (b != 0) {
-    turning(-c1 / b);
-  }
-  if (count == 2 && ends[1] < ends[0]) std::swap(ends[0], ends[1]);
-  ends[count++] = 1;
-  double lo = 0;
-  for (std::size_t i = 0; i < count; ++i) {
-    double hi = ends[i];
-    if (!(g(hi) >= 0)) {
-      lo = hi;
-      continue;
-    }
-    for (;;) {
-      const double mid = lo + 0.5 * (hi - lo);
-      if (mid <= lo || mid >= hi) return hi;
-      (g(mid) >= 0 ? hi : lo) = mid;
-    }
-  }
-  return 1;
-}
+// — p(0) = y0, p(1) = y1, p'(0) = h f0, p'(1) = h f1 — reaches the upright ±π it passed:
+// the GPU kernels' function (runtime/src/gpu/map_kernels.cuh), compiled here for the CPU, so
+// that both locate a flip by the same operations.
+using gpu::hermite_upright_fraction;
 
 // The flip time inside a fixed step from t0 to t0 + h, at whose end a watched arm is upright
 // (and none at its start): the earliest hermite_upright_fraction of the watched arms upright
