@@ -117,6 +117,9 @@ chain_options chain_options::with_file() const {
   }
   if (merged.g.empty() && file.g) merged.g = fmt::format("{}", *file.g);
   if (merged.pivot.empty()) merged.pivot = file.pivot;
+  if (merged.cart.empty() && file.cart) merged.cart = fmt::format("{}", *file.cart);
+  if (merged.cart_damping.empty() && file.cart_damping)
+    merged.cart_damping = fmt::format("{}", *file.cart_damping);
   // "rods" stands for com and inertia: the command line's --rods overrides all three keys,
   // its --no-rods the file's "rods", and its --com or --inertia cannot be mixed with the
   // file's rods.
@@ -161,13 +164,13 @@ chain chain_options::make_chain(model_support support, std::string_view name,
                                 bool takes_cart) const {
   // Before the file, whose lists are checked against the link count.
   spec::check_links(links, spec::naming::options);
-  if (!cart.empty() && !takes_cart)
+  const chain_options merged = with_file();
+  if (!merged.cart.empty() && !takes_cart)
     throw input_error(fmt::format(
         "{} does not take --cart: it works on the angles of a chain on a fixed pivot (npend "
         "simulate, eval, control and lyapunov take a cart)",
         name));
-  const chain_parameters params =
-      spec::make_parameters(with_file().to_spec(), spec::naming::options);
+  const chain_parameters params = spec::make_parameters(merged.to_spec(), spec::naming::options);
   const std::vector<std::string> refused = features_outside(params, support);
   if (!refused.empty())
     throw input_error(fmt::format("{} does not take {}: {}", name, fmt::join(refused, ", "),

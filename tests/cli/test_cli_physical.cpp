@@ -158,6 +158,28 @@ TEST_CASE("npend --chain FILE.json: the file's chain, with command-line options 
       run_npend("eval --links 2 --chain " + dir + "/missing.json --state 0,0,0,0"), "cannot read"));
 }
 
+TEST_CASE("npend --chain FILE.json: a chain on a cart, as --cart and --cart-damping give it") {
+  const std::string dir = npend::test::temporary_directory("cart-file");
+  const std::string file = dir + "/cart.json";
+  {
+    std::ofstream out(file);
+    out << R"({"links": 2, "rods": true, "cart": 1.5, "cart_damping": 0.2})";
+  }
+  const std::string state = " --state 0.1,0.3,-0.2,0.4,0.5,-0.1 --json";
+  const auto r = run_npend("eval --links 2 --chain " + file + state);
+  REQUIRE(r.exit_code == 0);
+  const auto flags = run_npend("eval --links 2 --rods --cart 1.5 --cart-damping 0.2" + state);
+  REQUIRE(flags.exit_code == 0);
+  CHECK(nlohmann::json::parse(r.out)["rhs"] == nlohmann::json::parse(flags.out)["rhs"]);
+  // The command line's --cart overrides the file's mass; a command on a fixed pivot refuses
+  // the file's cart as it refuses --cart.
+  const auto over = run_npend("eval --links 2 --chain " + file + " --cart 3" + state);
+  const auto heavier = run_npend("eval --links 2 --rods --cart 3 --cart-damping 0.2" + state);
+  CHECK(nlohmann::json::parse(over.out)["rhs"] == nlohmann::json::parse(heavier.out)["rhs"]);
+  CHECK(npend::test::is_input_error(run_npend("modes --links 2 --chain " + file),
+                                    "npend modes does not take --cart"));
+}
+
 TEST_CASE("npend floquet: a slowly unstable damped orbit is unstable, with its error") {
   // Overdamped inverted link: max |mu| - 1 = m g l T / b = 4.93e-7, under the old fixed
   // tolerance of 1e-6 but far above the integration's error.

@@ -12,8 +12,8 @@ namespace npend::spec {
 namespace {
 
 bool is_known_key(const std::string& key) {
-  return key == "links" || key == "rods" || key == "pivot" || key == "g" ||
-         find_per_link_key(key) != nullptr;
+  return key == "links" || key == "rods" || key == "pivot" || key == "g" || key == "cart" ||
+         key == "cart_damping" || find_per_link_key(key) != nullptr;
 }
 
 // What a key's value must be, for the message that refuses another.
@@ -21,7 +21,7 @@ std::string expected_value(const std::string& key) {
   if (key == "links") return "must be a whole number";
   if (key == "rods") return "must be true or false";
   if (key == "pivot") return "must be a string such as \"vertical:0.01:100\"";
-  if (key == "g") return "must be a number";
+  if (key == "g" || key == "cart" || key == "cart_damping") return "must be a number";
   return "must be a number or a list of numbers";
 }
 
@@ -91,7 +91,8 @@ std::vector<double> per_link_json(const nlohmann::json& value, const per_link_ke
 }  // namespace
 
 std::string_view chain_file_keys() {
-  return "links, masses, lengths, g, com, inertia, rods, stiffness, rest_angles, damping, pivot";
+  return "links, masses, lengths, g, com, inertia, rods, stiffness, rest_angles, damping, pivot, "
+         "cart, cart_damping";
 }
 
 chain_spec read_chain_file(std::istream& in, std::string_view source, int links) {
@@ -109,9 +110,9 @@ chain_spec read_chain_file(std::istream& in, std::string_view source, int links)
       if (value.get<long long>() != links)
         throw error(fmt::format("the file describes {} links, the command line asks for {}",
                                 value.dump(), links));
-    } else if (key == "g") {
-      if (!value.is_number()) throw error("\"g\" must be a number");
-      file.g = value.get<double>();
+    } else if (key == "g" || key == "cart" || key == "cart_damping") {
+      if (!value.is_number()) throw error(fmt::format("\"{}\" must be a number", key));
+      (key == "g" ? file.g : key == "cart" ? file.cart : file.cart_damping) = value.get<double>();
     } else if (key == "rods") {
       if (!value.is_boolean()) throw error("\"rods\" must be true or false");
       file.rods = value.get<bool>();

@@ -159,6 +159,22 @@ TEST_CASE("read_chain_file: keys fill the spec, one number stands for every link
   CHECK(p.com == std::vector<double>{0.25, 0.25});
 }
 
+TEST_CASE("read_chain_file: the cart's keys fill the spec's cart") {
+  std::istringstream in(R"({"links": 1, "cart": 2.5, "cart_damping": 0.1})");
+  const chain_spec s = npend::spec::read_chain_file(in, "--chain f.json", 1);
+  REQUIRE(s.cart);
+  CHECK(*s.cart == 2.5);
+  REQUIRE(s.cart_damping);
+  CHECK(*s.cart_damping == 0.1);
+  const chain_parameters p = make_parameters(s, naming::options);
+  REQUIRE(p.cart_mass);
+  CHECK(*p.cart_mass == 2.5);
+  CHECK(p.cart_damping == 0.1);
+  std::istringstream bad(R"({"cart": "heavy"})");
+  CHECK_THROWS_WITH_AS(npend::spec::read_chain_file(bad, "--chain f.json", 1),
+                       "--chain f.json: \"cart\" must be a number", npend::spec::input_error);
+}
+
 TEST_CASE("read_chain_file: each problem of the file is one message naming it and the key") {
   const auto message = [](const std::string& text, int links) {
     std::istringstream in(text);
@@ -166,7 +182,7 @@ TEST_CASE("read_chain_file: each problem of the file is one message naming it an
   };
   CHECK(message(R"({"masss": 1})", 1) ==
         "--chain c.json: unknown key \"masss\" (known: links, masses, lengths, g, com, inertia, "
-        "rods, stiffness, rest_angles, damping, pivot)");
+        "rods, stiffness, rest_angles, damping, pivot, cart, cart_damping)");
   CHECK(message(R"({"masses": 1, "masses": 2})", 2) == "--chain c.json: \"masses\" is given twice");
   CHECK(message(R"({"com": [0.5]})", 2) ==
         "--chain c.json: \"com\": expected 2 values (c_1..c_2) or one number for all links, got "
