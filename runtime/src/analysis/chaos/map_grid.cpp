@@ -266,11 +266,9 @@ void map_grid::validate(const map_cell_options& options) const {
 }
 
 bool map_cell_forbidden(const map_grid& grid, int i, int j, const map_cell_options& options) {
-  const chain c(cell_parameters(grid, i, j));
-  const map_start start = start_on(c, grid, i, j);
-  if (!start.reachable) return true;
-  return options.quantity == map_quantity::flip &&
-         energy_forbids_flip(c, start.state, options.flip_link);
+  return map_cells_forbidden(grid, std::span<const int>(&i, 1), std::span<const int>(&j, 1),
+                             options)
+             .front() != 0;
 }
 
 std::vector<unsigned char> map_cells_forbidden(const map_grid& grid, std::span<const int> cells_i,
