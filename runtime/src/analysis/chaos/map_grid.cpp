@@ -265,6 +265,16 @@ void map_grid::validate(const map_cell_options& options) const {
   check_axis_chain(*this, y, options);
 }
 
+namespace {
+
+// Which chain cell (i, j) is on: the parameter axes' indices, 0 where an axis is a start
+// coordinate (cells on one chain share the key).
+std::pair<int, int> chain_key(const map_grid& grid, int i, int j) {
+  return {grid.x.is_parameter() ? i : 0, grid.y.is_parameter() ? j : 0};
+}
+
+}  // namespace
+
 bool map_cell_forbidden(const map_grid& grid, int i, int j, const map_cell_options& options) {
   return map_cells_forbidden(grid, std::span<const int>(&i, 1), std::span<const int>(&j, 1),
                              options)
@@ -277,10 +287,9 @@ std::vector<unsigned char> map_cells_forbidden(const map_grid& grid, std::span<c
   if (cells_i.size() != cells_j.size())
     throw std::invalid_argument("map_cells_forbidden: as many columns as rows");
   std::vector<unsigned char> out(cells_i.size(), 0);
-  const bool x_moves = grid.x.is_parameter(), y_moves = grid.y.is_parameter();
   std::map<std::pair<int, int>, chain> chains;
   for (std::size_t k = 0; k < cells_i.size(); ++k) {
-    const std::pair<int, int> key{x_moves ? cells_i[k] : 0, y_moves ? cells_j[k] : 0};
+    const std::pair<int, int> key = chain_key(grid, cells_i[k], cells_j[k]);
     auto at = chains.find(key);
     if (at == chains.end())
       at = chains.emplace(key, chain(cell_parameters(grid, key.first, key.second))).first;
@@ -305,9 +314,8 @@ std::vector<double> grid_values_on_gpu(const map_grid& grid, std::span<const int
   std::vector<chain> chains;
   std::map<std::pair<int, int>, int> known;
   std::vector<int> chain_of(count);
-  const bool x_moves = grid.x.is_parameter(), y_moves = grid.y.is_parameter();
   for (std::size_t k = 0; k < count; ++k) {
-    const std::pair<int, int> key{x_moves ? cells_i[k] : 0, y_moves ? cells_j[k] : 0};
+    const std::pair<int, int> key = chain_key(grid, cells_i[k], cells_j[k]);
     auto [at, fresh] = known.try_emplace(key, static_cast<int>(chains.size()));
     if (fresh) chains.emplace_back(cell_parameters(grid, key.first, key.second));
     chain_of[k] = at->second;
@@ -368,9 +376,8 @@ std::vector<double> map_grid_values(const map_grid& grid, std::span<const int> c
     std::vector<double> starts;
   };
   std::map<std::pair<int, int>, group> groups;
-  const bool x_moves = grid.x.is_parameter(), y_moves = grid.y.is_parameter();
   for (std::size_t k = 0; k < cells_i.size(); ++k)
-    groups[{x_moves ? cells_i[k] : 0, y_moves ? cells_j[k] : 0}].cells.push_back(k);
+    groups[chain_key(grid, cells_i[k], cells_j[k])].cells.push_back(k);
   for (auto& [key, g] : groups) {
     if (stop_requested(options.control)) break;  // the rest stay NaN
     const chain c(cell_parameters(grid, key.first, key.second));
