@@ -9,14 +9,15 @@ set(NPEND_GENERATED_BUILD_DIR "${PROJECT_BINARY_DIR}/generated")
 
 # The models with kernels per link count, one line each:
 # "<npend-gen --model>:<file stems>[:<device stems>]", the stems of what
-# `npend-gen --links <n> --model <model>` writes: <stem>_<n>.hpp/.cpp (the point-mass chain
-# also writes its batch kernels) and, for the models of the GPU maps, <device stem>_<n>.cuh
-# (the device functions, never compiled into the library: the runtime reads their text).
+# `npend-gen --links <n> --model <model>` writes: <stem>_<n>.hpp/.cpp (every model also
+# writes its Taylor kernels, taylor_<stem>, and the point-mass chain its batch kernels) and,
+# for the models of the GPU maps, <device stem>_<n>.cuh (the device functions, never
+# compiled into the library: the runtime reads their text).
 # Adding a model is a line here (and its row in the generator's emitted_models).
 set(NPEND_MODELS
-  "point:chain,batch:gpu_chain"
-  "physical:physical:gpu_physical"
-  "cart:cart")
+  "point:chain,batch,taylor_chain:gpu_chain"
+  "physical:physical,taylor_physical:gpu_physical"
+  "cart:cart,taylor_cart")
 
 # _npend_model(<entry> <model var> <stems var> <device stems var>): the parts of an
 # NPEND_MODELS entry.

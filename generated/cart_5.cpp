@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "taylor_cart_5.hpp"
+
 namespace npend::generated::cart_5 {
 
 void rhs(const double* x, const double* params, const double* inputs, double* dxdt) noexcept {
@@ -1675,6 +1677,7 @@ const physical_kernels kernels = {
     .positions = &positions,
     .input_matrix = &input_matrix,
     .equations_latex = &equations_latex,
+    .taylor = &taylor_cart_5::kernels,
 };
 
 }  // namespace npend::generated::cart_5

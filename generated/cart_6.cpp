@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "taylor_cart_6.hpp"
+
 namespace npend::generated::cart_6 {
 
 void rhs(const double* x, const double* params, const double* inputs, double* dxdt) noexcept {
@@ -2255,6 +2257,7 @@ const physical_kernels kernels = {
     .positions = &positions,
     .input_matrix = &input_matrix,
     .equations_latex = &equations_latex,
+    .taylor = &taylor_cart_6::kernels,
 };
 
 }  // namespace npend::generated::cart_6

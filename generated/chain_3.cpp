@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "taylor_chain_3.hpp"
+
 namespace npend::generated::chain_3 {
 
 void rhs(const double* x, const double* params, double* dxdt) noexcept {
@@ -522,6 +524,7 @@ const chain_kernels kernels = {
     .positions = &positions,
     .hamiltonian_closed_form = &hamiltonian_closed_form,
     .equations_latex = &equations_latex,
+    .taylor = &taylor_chain_3::kernels,
 };
 
 }  // namespace npend::generated::chain_3

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "taylor_chain_4.hpp"
+
 namespace npend::generated::chain_4 {
 
 void rhs(const double* x, const double* params, double* dxdt) noexcept {
@@ -731,6 +733,7 @@ const chain_kernels kernels = {
     .potential_hessian = &potential_hessian,
     .positions = &positions,
     .equations_latex = &equations_latex,
+    .taylor = &taylor_chain_4::kernels,
 };
 
 }  // namespace npend::generated::chain_4

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "taylor_chain_5.hpp"
+
 namespace npend::generated::chain_5 {
 
 void rhs(const double* x, const double* params, double* dxdt) noexcept {
@@ -1029,6 +1031,7 @@ const chain_kernels kernels = {
     .potential_hessian = &potential_hessian,
     .positions = &positions,
     .equations_latex = &equations_latex,
+    .taylor = &taylor_chain_5::kernels,
 };
 
 }  // namespace npend::generated::chain_5

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "taylor_chain_6.hpp"
+
 namespace npend::generated::chain_6 {
 
 void rhs(const double* x, const double* params, double* dxdt) noexcept {
@@ -1369,6 +1371,7 @@ const chain_kernels kernels = {
     .potential_hessian = &potential_hessian,
     .positions = &positions,
     .equations_latex = &equations_latex,
+    .taylor = &taylor_chain_6::kernels,
 };
 
 }  // namespace npend::generated::chain_6

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "taylor_physical_3.hpp"
+
 namespace npend::generated::physical_3 {
 
 void rhs(const double* x, const double* params, const double* inputs, double* dxdt) noexcept {
@@ -833,6 +835,7 @@ const physical_kernels kernels = {
     .positions = &positions,
     .input_matrix = &input_matrix,
     .equations_latex = &equations_latex,
+    .taylor = &taylor_physical_3::kernels,
 };
 
 }  // namespace npend::generated::physical_3

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "taylor_physical_4.hpp"
+
 namespace npend::generated::physical_4 {
 
 void rhs(const double* x, const double* params, const double* inputs, double* dxdt) noexcept {
@@ -1321,6 +1323,7 @@ const physical_kernels kernels = {
     .positions = &positions,
     .input_matrix = &input_matrix,
     .equations_latex = &equations_latex,
+    .taylor = &taylor_physical_4::kernels,
 };
 
 }  // namespace npend::generated::physical_4

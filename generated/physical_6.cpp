@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "taylor_physical_6.hpp"
+
 namespace npend::generated::physical_6 {
 
 void rhs(const double* x, const double* params, const double* inputs, double* dxdt) noexcept {
@@ -2532,6 +2534,7 @@ const physical_kernels kernels = {
     .positions = &positions,
     .input_matrix = &input_matrix,
     .equations_latex = &equations_latex,
+    .taylor = &taylor_physical_6::kernels,
 };
 
 }  // namespace npend::generated::physical_6

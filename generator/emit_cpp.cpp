@@ -65,6 +65,7 @@ std::vector<int> postorder(const expr_graph& g, const std::vector<sx>& outputs) 
 
 // A cart's arguments (cart_layout): the coordinates q = [x, φ_1..φ_n] and their rates and
 // momenta, so a link's entry sits one place on from the chain's in phi/dphi/p.
+
 std::string cart_input_text(argument_layout layout, int n, const node& in) {
   const bool state = layout == argument_layout::state;
   switch (in.input) {
@@ -96,6 +97,8 @@ std::string cart_input_text(argument_layout layout, int n, const node& in) {
       return {};  // the parameters of the physical chain, at their places
   }
 }
+
+}  // namespace
 
 std::string input_text(argument_layout layout, int n, const node& in, link_kind kind) {
   if (on_cart(kind)) {
@@ -142,6 +145,8 @@ std::string input_text(argument_layout layout, int n, const node& in, link_kind 
   }
   throw std::logic_error("emit: unknown input");
 }
+
+namespace {
 
 bool layout_has(const emitted_function& f, input_kind kind) {
   const argument_layout layout = f.layout;
@@ -439,8 +444,11 @@ chain_sources emit_chain(int n, const std::vector<emitted_function>& functions,
   const std::string banner = generated_banner(chain_command(n, options, kind));
   chain_sources out;
   out.header = banner + header_preamble(n, kind);
-  out.source = banner + fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n\n", stem) +
-               fmt::format("namespace npend::generated::{} {{\n", stem);
+  out.source =
+      banner +
+      fmt::format("#include \"{}.hpp\"\n\n#include <cmath>\n\n#include \"taylor_{}.hpp\"\n\n", stem,
+                  stem) +
+      fmt::format("namespace npend::generated::{} {{\n", stem);
   for (const auto& f : functions) {
     out.header += doc_comment(f) + signature(f) + ";\n\n";
     out.source += "\n" + function_definition(n, f, kind);
@@ -461,7 +469,8 @@ chain_sources emit_chain(int n, const std::vector<emitted_function>& functions,
       "    .param_size = param_size,\n{}",
       model.table, inputs ? "    .input_size = input_size,\n" : "");
   for (const auto& f : functions) out.source += fmt::format("    .{0} = &{0},\n", f.name);
-  out.source += "    .equations_latex = &equations_latex,\n};\n";
+  out.source += fmt::format(
+      "    .equations_latex = &equations_latex,\n    .taylor = &taylor_{}::kernels,\n}};\n", stem);
   out.header += fmt::format("}}  // namespace npend::generated::{}\n", stem);
   out.source += fmt::format("\n}}  // namespace npend::generated::{}\n", stem);
   return out;

@@ -96,6 +96,10 @@ chain_sources emit_index(const std::vector<int>& links);
 std::string chain_stem(int links, link_kind kind = link_kind::point_mass);
 inline constexpr const char* index_stem = "chain_index";
 
+/// The C++ text of input node `in` of an n-link chain of `kind` in a function with `layout`:
+/// "x[3]", "params[5]", "inputs[0]" (the positions of chain_layout or cart_layout).
+std::string input_text(argument_layout layout, int n, const node& in, link_kind kind);
+
 /// A constant as the emitters print it (17 significant digits, or n.0).
 std::string constant_literal(const GiNaC::numeric& value);
 /// The nodes `outputs` depend on, each after its operands: the order the emitters print in.

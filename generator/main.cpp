@@ -15,6 +15,7 @@
 #include "emit_batch.hpp"
 #include "emit_cpp.hpp"
 #include "emit_gpu.hpp"
+#include "emit_taylor.hpp"
 #include "latex.hpp"
 #include "loop_kernels.hpp"
 #include "verify.hpp"
@@ -201,6 +202,10 @@ int main(int argc, char** argv) {
       const generated_chain g = generate(n, solver, kind);
       write_if_changed(out_dir, chain_stem(n, kind) + ".hpp", g.sources.header);
       write_if_changed(out_dir, chain_stem(n, kind) + ".cpp", g.sources.source);
+      // Every model gets its Taylor kernels (emit_taylor.hpp).
+      const chain_sources taylor = emit_taylor(n, function_named(g, "rhs"), g.options, kind);
+      write_if_changed(out_dir, taylor_stem(n, kind) + ".hpp", taylor.header);
+      write_if_changed(out_dir, taylor_stem(n, kind) + ".cpp", taylor.source);
       // The point-mass chain also gets its batch kernels (emit_batch.hpp).
       if (kind == link_kind::point_mass) {
         const chain_sources batch = emit_batch(n, function_named(g, "rhs"));

@@ -155,7 +155,44 @@ pivot_motion::vec2 harmonic(const pivot_motion& p, double t, int derivative) {
                                                   : pivot_motion::vec2{0.0, -s};
 }
 
+// a(t + τ)'s coefficients of a built-in drive: s^(k+2)(t)/k! with s^(d)(t) =
+// a Ω^d cos(Ωt + dπ/2), placed as harmonic() places s.
+template <class T>
+void harmonic_acceleration_series(const pivot_motion& p, double t, int order, T* ax, T* ay) {
+  for (int k = 0; k < order; ++k) ax[k] = ay[k] = 0;
+  if (p.type == pivot_motion::kind::fixed) return;
+  if (p.type == pivot_motion::kind::custom)
+    throw std::invalid_argument(
+        "the taylor stepper needs the pivot's acceleration as a Taylor series, which a custom "
+        "pivot path does not give: use a built-in drive or another stepper");
+  using std::cos;
+  using std::sin;
+  const T w = p.frequency, phase = w * static_cast<T>(t);
+  const T c = cos(phase), s = sin(phase);
+  T scale = static_cast<T>(p.amplitude) * w * w;  // a Ω^(k+2) / k!
+  for (int k = 0; k < order; ++k) {
+    // cos(φ + dπ/2) for d = k + 2: −cos, −sin·(−1)…: the cycle cos, −sin, −cos, sin.
+    const int d = (k + 2) % 4;
+    const T cycle = d == 0 ? c : d == 1 ? -s : d == 2 ? -c : s;
+    const T value = scale * cycle;
+    if (p.type == pivot_motion::kind::horizontal)
+      ax[k] = value;
+    else
+      ay[k] = -value;
+    scale *= w / static_cast<T>(k + 1);
+  }
+}
+
 }  // namespace
+
+void pivot_motion::acceleration_series(double t, int order, double* ax, double* ay) const {
+  harmonic_acceleration_series(*this, t, order, ax, ay);
+}
+
+void pivot_motion::acceleration_series(double t, int order, long double* ax,
+                                       long double* ay) const {
+  harmonic_acceleration_series(*this, t, order, ax, ay);
+}
 
 pivot_motion::vec2 pivot_motion::position_at(double t) const {
   if (type == kind::fixed) return {0.0, 0.0};

@@ -210,7 +210,8 @@ TEST_CASE("npend simulate: bad input gets a one-line message naming the problem,
        "--stepper: unknown stepper 'euler': choose one of rk4, dopri5, rkf78, bs, rosenbrock4, "
        "gauss4, gauss6"},
       {base + " --stepper rk4 --rel-tol 1e-8",
-       "--rel-tol: only the adaptive steppers (dopri5, rkf78, bs, rosenbrock4) take tolerances, "
+       "--rel-tol: only the adaptive steppers (dopri5, rkf78, bs, rosenbrock4, taylor) take "
+       "tolerances, "
        "not rk4"},
       {base + " --stepper dopri5 --abs-tol -1", "--abs-tol: must not be negative, got -1"},
       {base + " --stepper dopri5 --abs-tol 0 --rel-tol 0", "--abs-tol/--rel-tol: both are 0"},

@@ -72,13 +72,16 @@ TEST_CASE("parse_stepper_kind: every name round-trips; an unknown one lists the 
     CHECK(npend::parse_stepper_kind(npend::stepper_name(k)) == k);
     CHECK_FALSE(npend::stepper_description(k).empty());
   }
-  CHECK(npend::all_stepper_kinds().size() == 7);
-  CHECK(npend::stepper_names() == "rk4, dopri5, rkf78, bs, rosenbrock4, gauss4, gauss6");
-  CHECK(npend::stepper_names(npend::stepper_use::adaptive) == "dopri5, rkf78, bs, rosenbrock4");
+  CHECK(npend::all_stepper_kinds().size() == 8);
+  CHECK(npend::stepper_names() == "rk4, dopri5, rkf78, bs, rosenbrock4, gauss4, gauss6, taylor");
+  CHECK(npend::stepper_names(npend::stepper_use::system) ==
+        "rk4, dopri5, rkf78, bs, rosenbrock4, gauss4, gauss6");
+  CHECK(npend::stepper_names(npend::stepper_use::adaptive) ==
+        "dopri5, rkf78, bs, rosenbrock4, taylor");
   CHECK_THROWS_WITH_AS(
       npend::parse_stepper_kind("euler"),
       "unknown stepper 'euler': choose one of rk4, dopri5, rkf78, bs, rosenbrock4, "
-      "gauss4, gauss6",
+      "gauss4, gauss6, taylor",
       std::invalid_argument);
 }
 

@@ -86,6 +86,24 @@ constexpr int torque_index(int /*n*/, int i) { return 1 + i; }
 
 }  // namespace cart_layout
 
+/// The Taylor coefficients of one model's solution for one link count (generated
+/// taylor_<stem>_<n>.hpp): coefficients(params, inputs, order, series, work) fills
+/// series[i·(order+1) + k], k = 1..order, the coefficient of τ^k in x_i(t + τ), from the
+/// state in k = 0, by the recurrences of automatic differentiation over the equations'
+/// nodes. inputs holds the series of the time-dependent inputs w the same way (k <
+/// order; not read by models without inputs), work work_slots·(order + 1) numbers. The
+/// long double version is the same recurrences in long double.
+struct taylor_kernels {
+  int state_size;
+  int param_size;
+  int input_size;
+  int work_slots;
+  void (*coefficients)(const double* params, const double* inputs, int order, double* series,
+                       double* work) noexcept;
+  void (*coefficients_long)(const long double* params, const long double* inputs, int order,
+                            long double* series, long double* work) noexcept;
+};
+
 /// The emitted functions of one link count (see generated chain_<n>.hpp for each one's
 /// formula). All take the layout of chain_layout; none allocates or throws.
 struct chain_kernels {
@@ -111,6 +129,8 @@ struct chain_kernels {
   double (*hamiltonian_closed_form)(const double* x, const double* params) noexcept = nullptr;
   /// The derived equations as LaTeX.
   const char* (*equations_latex)() noexcept = nullptr;
+  /// The Taylor kernels of the same equations.
+  const taylor_kernels* taylor = nullptr;
 };
 
 /// The emitted functions of one link count of the physical chain (rigid links, joint springs,
@@ -150,6 +170,8 @@ struct physical_kernels {
   /// ∂f/∂w, row-major state_size × input_size (2n × (n + 2) for the physical chain).
   void (*input_matrix)(const double* phi, const double* params, double* dfdw) noexcept;
   const char* (*equations_latex)() noexcept = nullptr;
+  /// The Taylor kernels of the same equations (inputs: the series of w).
+  const taylor_kernels* taylor = nullptr;
 };
 
 /// The loop kernels (generated/chain_loop.*): the point-mass chain's functions for any link

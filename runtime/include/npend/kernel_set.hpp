@@ -47,6 +47,16 @@ class kernel_set {
   /// integrators run those directly).
   virtual const chain_kernels* unrolled() const noexcept { return nullptr; }
 
+  /// The Taylor kernels of the unactuated equations (params packed()), or nullptr where
+  /// the model has none (the loop kernels).
+  virtual const taylor_kernels* taylor() const noexcept { return nullptr; }
+  /// The Taylor series of the inputs w(t + τ) with no actuation, as the Taylor kernels take
+  /// them: input_size() rows of order + 1 numbers, w[j·(order+1) + k] for k = 0..order
+  /// (all zero but a moving pivot's acceleration). Throws std::invalid_argument where w has
+  /// no series (a custom pivot path).
+  virtual void input_series(double t, int order, double* w) const;
+  virtual void input_series(double t, int order, long double* w) const;
+
   /// dxdt = f(x, t) with no actuation (x, dxdt: dim 2·coordinates()).
   virtual void rhs(const double* x, double t, double* dxdt) const noexcept = 0;
   /// ∂f/∂x, row-major.

@@ -38,6 +38,11 @@ struct pivot_motion {
   vec2 acceleration_at(double t) const;
   /// d/dt of the acceleration.
   vec2 jerk_at(double t) const;
+  /// The Taylor coefficients of the acceleration about t: a(t + τ) = Σ_k (ax[k], ay[k]) τ^k
+  /// for k = 0..order − 1 (zero for a fixed pivot), for the Taylor integrator's inputs.
+  /// Throws std::invalid_argument for a custom path, whose derivatives are not known.
+  void acceleration_series(double t, int order, double* ax, double* ay) const;
+  void acceleration_series(double t, int order, long double* ax, long double* ay) const;
   /// "fixed", "vertical:A:OMEGA", "horizontal:A:OMEGA" or "custom".
   std::string describe() const;
 };

@@ -9,6 +9,7 @@
 
 #include "npend/chain_system.hpp"
 #include "npend/integrators/integrate_system.hpp"
+#include "npend/integrators/taylor.hpp"
 
 namespace npend {
 
@@ -33,6 +34,10 @@ void integration_options::validate() const {
     throw std::invalid_argument(fmt::format(
         "integration tolerances abs_tol = {}, rel_tol = {}: both must be >= 0 and one > 0", abs_tol,
         rel_tol));
+  if (taylor_order != 0 && (taylor_order < 2 || taylor_order > 60))
+    throw std::invalid_argument(fmt::format(
+        "integration option taylor_order is {}: it must be 0 (from the tolerances) or 2..60",
+        taylor_order));
   if (!(min_step_ratio > 0 && min_step_ratio < 1))
     throw std::invalid_argument(fmt::format(
         "integration option min_step_ratio is {}: it must lie in (0, 1)", min_step_ratio));
@@ -70,6 +75,13 @@ integration_result integrate(const chain& c, std::span<const double> x0,
     throw std::invalid_argument(
         fmt::format("start state x0 has {} entries; the {}-link chain needs {}", x0.size(),
                     c.links(), c.state_size()));
+  if (options.stepper == stepper_kind::taylor) {
+    options.validate();
+    taylor_stepper stepper(c.kernels_in_use(), options.abs_tol, options.rel_tol,
+                           options.taylor_order);
+    return detail::integrate_visited(stepper, make_implicit_system(c), x0, options, observer,
+                                     step_observer);
+  }
   return integrate_system(make_implicit_system(c), x0, options, observer, step_observer);
 }
 

@@ -14,22 +14,26 @@ struct stepper_info {
   bool adaptive;
   bool in_map_lanes;  // the batch lanes of a map implement it
   bool variational;   // its tangent map needs no second derivatives of f
+  bool any_system;    // it integrates a system given as functions, not only a chain's kernels
 };
 
-constexpr std::array<stepper_info, 7> infos{{
+constexpr std::array<stepper_info, 8> infos{{
     {stepper_kind::rk4, "rk4", "classic Runge-Kutta 4, fixed step (the paper's method)", false,
-     true, true},
+     true, true, true},
     {stepper_kind::dopri5, "dopri5", "Dormand-Prince 5(4), adaptive, dense output", true, true,
-     true},
-    {stepper_kind::rkf78, "rkf78", "Runge-Kutta-Fehlberg 7(8), adaptive", true, false, true},
+     true, true},
+    {stepper_kind::rkf78, "rkf78", "Runge-Kutta-Fehlberg 7(8), adaptive", true, false, true, true},
     {stepper_kind::bulirsch_stoer, "bs", "Bulirsch-Stoer extrapolation, adaptive, dense output",
-     true, false, true},
+     true, false, true, true},
     {stepper_kind::rosenbrock4, "rosenbrock4",
-     "Rosenbrock 4 with the exact Jacobian, adaptive, dense output", true, false, false},
+     "Rosenbrock 4 with the exact Jacobian, adaptive, dense output", true, false, false, true},
     {stepper_kind::gauss4, "gauss4",
-     "implicit Gauss-Legendre, 2 stages, order 4, fixed step, symplectic", false, true, true},
+     "implicit Gauss-Legendre, 2 stages, order 4, fixed step, symplectic", false, true, true, true},
     {stepper_kind::gauss6, "gauss6",
-     "implicit Gauss-Legendre, 3 stages, order 6, fixed step, symplectic", false, true, true},
+     "implicit Gauss-Legendre, 3 stages, order 6, fixed step, symplectic", false, true, true, true},
+    {stepper_kind::taylor, "taylor",
+     "Taylor's method, adaptive order and step, on the generated recurrences, dense output", true,
+     false, false, false},
 }};
 
 constexpr auto kinds = [] {
@@ -69,6 +73,8 @@ bool serves(stepper_kind kind, stepper_use use) {
       return i.in_map_lanes;
     case stepper_use::variational:
       return i.variational;
+    case stepper_use::system:
+      return i.any_system;
   }
   return false;
 }

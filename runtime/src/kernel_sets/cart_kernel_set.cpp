@@ -10,6 +10,8 @@ class cart_kernel_set final : public kernel_set {
   cart_kernel_set(const chain_parameters& params, const physical_kernels& kernels)
       : kernel_set(params.links(), params.cart_packed()), m_params(params), m_k(&kernels) {}
 
+  const taylor_kernels* taylor() const noexcept override { return m_k->taylor; }
+
   // q = [x_c, φ_1..φ_n]; w = [F, u_1..u_n], all of them actuators.
   int coordinates() const noexcept override { return cart_layout::coordinate_count(links()); }
   int input_size() const noexcept override { return cart_layout::input_size(links()); }

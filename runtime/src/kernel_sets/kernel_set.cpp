@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <array>
 #include <chain_index.hpp>
 #include <cmath>
@@ -22,6 +23,14 @@ void kernel_set::jacobian_vector(const double* x, const double* u, double t, dou
     for (std::size_t j = 0; j < dim; ++j) sum += jac[i * dim + j] * u[j];
     ju[i] = sum;
   }
+}
+
+void kernel_set::input_series(double /*t*/, int order, double* w) const {
+  std::fill(w, w + static_cast<std::ptrdiff_t>(input_size()) * (order + 1), 0.0);
+}
+
+void kernel_set::input_series(double /*t*/, int order, long double* w) const {
+  std::fill(w, w + static_cast<std::ptrdiff_t>(input_size()) * (order + 1), 0.0L);
 }
 
 void kernel_set::time_derivative(const double* /*x*/, double /*t*/, double* dfdt) const {

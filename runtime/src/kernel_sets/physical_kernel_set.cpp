@@ -1,4 +1,6 @@
 // The physical chain: rigid links, joint springs, damping and torques, a moving pivot.
+#include <algorithm>
+
 #include "kernel_sets/kernel_set_detail.hpp"
 
 namespace npend::detail {
@@ -14,6 +16,11 @@ class physical_kernel_set final : public kernel_set {
   int input_size() const noexcept override { return chain_layout::input_size(links()); }
   int points() const noexcept override { return links(); }
   bool time_dependent() const noexcept override { return m_params.pivot.moves(); }
+  const taylor_kernels* taylor() const noexcept override { return m_k->taylor; }
+  void input_series(double t, int order, double* w) const override { pivot_series(t, order, w); }
+  void input_series(double t, int order, long double* w) const override {
+    pivot_series(t, order, w);
+  }
 
   void rhs(const double* x, double t, double* dxdt) const noexcept override {
     const input_buffer w = inputs(t);
@@ -109,6 +116,16 @@ class physical_kernel_set final : public kernel_set {
     for (int i = 0; i < links(); ++i)
       w[chain_layout::torque_index(links(), i)] = torques != nullptr ? torques[i] : 0.0;
     return w;
+  }
+
+  // The pivot's acceleration as a series; the torques (none) zero.
+  template <class T>
+  void pivot_series(double t, int order, T* w) const {
+    const int stride = order + 1;
+    std::fill(w, w + static_cast<std::ptrdiff_t>(input_size()) * stride, T(0));
+    m_params.pivot.acceleration_series(t, order,
+                                       w + chain_layout::pivot_acceleration_index(0) * stride,
+                                       w + chain_layout::pivot_acceleration_index(1) * stride);
   }
 
   chain_parameters m_params;

@@ -21,6 +21,7 @@ class point_mass_kernel_set final : public kernel_set {
   int input_size() const noexcept override { return chain_layout::input_size(links()); }
   int points() const noexcept override { return links(); }
   const chain_kernels* unrolled() const noexcept override { return m_point; }
+  const taylor_kernels* taylor() const noexcept override { return m_point->taylor; }
 
   void rhs(const double* x, double /*t*/, double* dxdt) const noexcept override {
     m_point->rhs(x, packed().data(), dxdt);

@@ -21,7 +21,7 @@ namespace npend {
 /// counts); dt < 0 integrates backwards in time. Fixed-step steppers (rk4, gauss4, gauss6)
 /// step exactly from grid point to grid point. Adaptive ones choose their own steps under
 /// abs_tol and rel_tol (odeint's error norm: |err_i| ≤ abs_tol + rel_tol·|x_i|) and reach
-/// the grid by dense output (dopri5, bs, rosenbrock4) or by steps cut to end on each grid
+/// the grid by dense output (dopri5, bs, rosenbrock4, taylor) or by steps cut to end on each grid
 /// point (rkf78); dt is also their first trial step.
 struct integration_options {
   stepper_kind stepper = stepper_kind::gauss6;
@@ -30,6 +30,9 @@ struct integration_options {
   double dt = 1e-3;
   double abs_tol = 1e-10;
   double rel_tol = 1e-10;
+  /// The order of the taylor stepper: 0 chooses it from the tolerances (taylor_order_for),
+  /// 2..60 fixes it. Other steppers ignore it.
+  int taylor_order = 0;
   /// An adaptive stepper whose step falls below min_step_ratio·|dt| stops the integration
   /// (a collapsed step size).
   double min_step_ratio = 1e-9;
@@ -40,7 +43,7 @@ struct integration_options {
 
   /// Throws std::invalid_argument naming the field: non-finite values, dt = 0 or pointing
   /// away from t_end, an interval shorter than one dt, negative tolerances or both zero,
-  /// min_step_ratio outside (0, 1).
+  /// min_step_ratio outside (0, 1), taylor_order outside 0 and 2..60.
   void validate() const;
 };
 
@@ -132,6 +135,10 @@ using step_observer_function = std::function<observer_action(const integration_s
 /// grid point after it, and `step_observer` (if given) after every step of the stepper.
 /// Either may stop the run by returning observer_action::stop; the result then holds the
 /// grid point, or the end of the step, where it stopped.
+///
+/// The taylor stepper runs the chain's generated Taylor kernels (npend/integrators/taylor.hpp),
+/// which every built link count has; a chain on the loop kernels or with a custom pivot path
+/// has none and is refused.
 ///
 /// Throws std::invalid_argument for bad options or a start state of the wrong size or with
 /// non-finite entries, and npend::integration_error (with the time) when the state becomes

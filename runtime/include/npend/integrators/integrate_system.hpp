@@ -481,6 +481,11 @@ decltype(auto) visit_stepper(stepper_kind kind, const integration_options& optio
       auto stepper = detail::make_rosenbrock4(system, dim, atol, rtol);
       return visit(stepper);
     }
+    case stepper_kind::taylor:
+      throw std::invalid_argument(
+          "the taylor stepper integrates a chain's own equations (its generated Taylor "
+          "kernels), not a system given as functions such as this one: choose one of " +
+          stepper_names(stepper_use::system));
   }
   throw std::logic_error("visit_stepper: unknown stepper kind");
 }

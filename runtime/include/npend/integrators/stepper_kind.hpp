@@ -16,12 +16,14 @@ enum class stepper_kind {
   rosenbrock4,     ///< Rosenbrock 4 with the exact Jacobian, adaptive, dense output
   gauss4,          ///< implicit Gauss–Legendre, 2 stages, order 4, fixed step, symplectic
   gauss6,          ///< implicit Gauss–Legendre, 3 stages, order 6, fixed step, symplectic
+  taylor,          ///< Taylor's method of adaptive order on the generated recurrences, dense output
 };
 
 /// Every stepper, in the order above.
 std::span<const stepper_kind> all_stepper_kinds();
 
-/// The name users type: "rk4", "dopri5", "rkf78", "bs", "rosenbrock4", "gauss4", "gauss6".
+/// The name users type: "rk4", "dopri5", "rkf78", "bs", "rosenbrock4", "gauss4", "gauss6",
+/// "taylor".
 std::string_view stepper_name(stepper_kind kind);
 
 /// A one-line description ("classic Runge-Kutta 4, fixed step").
@@ -43,6 +45,8 @@ enum class stepper_use {
   adaptive,     ///< steppers that choose their own steps under abs/rel tolerances
   map,          ///< steppers the map's batch lanes run (rk4, dopri5, gauss4, gauss6)
   variational,  ///< steppers that integrate the tangent (variational) equations too
+  system,       ///< steppers that integrate any system given as functions (all but taylor, which
+                ///< runs a chain's generated Taylor kernels)
 };
 
 /// Whether `kind` serves `use`.
