@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <stdexcept>
 
 #include "input_parsing.hpp"
@@ -26,6 +27,21 @@ void integrator_options::add_stepper_options(CLI::App& command, std::string_view
   command.add_option(
       "--rel-tol", rel_tol,
       fmt::format("{}Relative error tolerance of the adaptive steppers (default: 1e-10)", note));
+  command.add_option("--order", order,
+                     fmt::format("{}Order of the taylor stepper, 2..60 (default: from the "
+                                 "tolerances, ceil(1 - ln(tol)/2))",
+                                 note));
+}
+
+void parse_taylor_order(const std::string& text, stepper_kind stepper, int& order) {
+  if (text.empty()) return;
+  if (stepper != stepper_kind::taylor)
+    throw input_error(fmt::format("--order: only the taylor stepper takes an order, not {}",
+                                  stepper_name(stepper)));
+  const double value = parse_number(text, "--order");
+  if (!(value >= 2 && value <= 60) || value != std::floor(value))
+    throw input_error(fmt::format("--order: must be an integer in 2..60, got {}", text));
+  order = static_cast<int>(value);
 }
 
 void check_step_count(double t_end, double dt, std::string_view options, std::string_view advice) {
@@ -72,6 +88,7 @@ integration_options integrator_options::make() const {
                        : fmt::format("only the adaptive steppers ({}) take tolerances, not {}",
                                      stepper_names(stepper_use::adaptive), stepper_name(o.stepper)),
                    o.abs_tol, o.rel_tol);
+  parse_taylor_order(order, o.stepper, o.taylor_order);
   return o;
 }
 

@@ -1,4 +1,5 @@
-// The options that say how to integrate: --t-end, --dt, --stepper, --abs-tol, --rel-tol.
+// The options that say how to integrate: --t-end, --dt, --stepper, --abs-tol, --rel-tol,
+// --order.
 // Shared by every command that integrates.
 #pragma once
 
@@ -12,20 +13,23 @@ namespace npend::cli {
 
 /// Raw text of the integration options, parsed strictly after CLI11 has collected them.
 struct integrator_options {
-  std::string t_end, dt, stepper, abs_tol, rel_tol;
+  std::string t_end, dt, stepper, abs_tol, rel_tol, order;
 
-  /// Adds --t-end (required), --dt, --stepper, --abs-tol and --rel-tol to `command`.
+  /// Adds --t-end (required), --dt, --stepper, --abs-tol, --rel-tol and --order to
+  /// `command`.
   void add_to(CLI::App& command);
 
-  /// Adds only --stepper, --abs-tol and --rel-tol, their help texts starting with `note`
+  /// Adds only --stepper, --abs-tol, --rel-tol and --order, their help texts starting with
+  /// `note`
   /// (for commands whose time grid comes from other options).
   void add_stepper_options(CLI::App& command, std::string_view note = "");
 
   /// The integration options they describe, from t = 0: dt default 0.001 s, stepper
   /// default gauss6, tolerances default 1e-10 (adaptive steppers only). Throws input_error
   /// naming the option: non-numbers, t-end or dt not positive, dt longer than t-end, more
-  /// than max_steps steps, an unknown stepper, negative tolerances (or both zero), and
-  /// tolerances given for a fixed-step stepper.
+  /// than max_steps steps, an unknown stepper, negative tolerances (or both zero),
+  /// tolerances given for a fixed-step stepper, and an --order that is not 2..60 or is given
+  /// for a stepper other than taylor.
   integration_options make() const;
 
   /// The most output steps (t-end / dt) a command accepts.
@@ -42,6 +46,11 @@ void check_step_count(double t_end, double dt, std::string_view options,
 /// keep their defaults). `refusal`: empty where the stepper takes tolerances, else why it
 /// does not, said after "<option>: " for a tolerance given anyway. Throws input_error naming
 /// the option: a tolerance refused, not a number or negative, or both tolerances 0.
+/// --order as typed (empty: `order` keeps 0, from the tolerances) for `stepper`. Throws
+/// input_error naming --order: not an integer in 2..60, or given for a stepper other than
+/// taylor.
+void parse_taylor_order(const std::string& text, stepper_kind stepper, int& order);
+
 void parse_tolerances(const std::string& abs_text, const std::string& rel_text,
                       std::string_view refusal, double& abs_tol, double& rel_tol);
 

@@ -59,7 +59,7 @@ state_batch to_states(const py::handle& x, int state_size, const char* what) {
 }
 
 integration_options integration_from(double t_end, double dt, const std::string& stepper,
-                                     double t_start, double abs_tol, double rel_tol) {
+                                     double t_start, double abs_tol, double rel_tol, int order) {
   integration_options o;
   o.stepper = parse_stepper_kind(stepper);
   o.t_start = t_start;
@@ -67,6 +67,10 @@ integration_options integration_from(double t_end, double dt, const std::string&
   o.dt = dt;
   o.abs_tol = abs_tol;
   o.rel_tol = rel_tol;
+  o.taylor_order = order;
+  if (order != 0 && o.stepper != stepper_kind::taylor)
+    throw std::invalid_argument(
+        fmt::format("order: only the taylor stepper takes an order, not {}", stepper));
   o.validate();
   return o;
 }

@@ -43,10 +43,10 @@ struct state_batch {
 };
 state_batch to_states(const py::handle& x, int state_size, const char* what);
 
-/// The integration options shared by simulate, lyapunov and poincare (validated by the
-/// library when it runs).
+/// The integration options shared by simulate, lyapunov and poincare (validated here);
+/// `order` is the taylor stepper's (0: from the tolerances), refused for another stepper.
 integration_options integration_from(double t_end, double dt, const std::string& stepper,
-                                     double t_start, double abs_tol, double rel_tol);
+                                     double t_start, double abs_tol, double rel_tol, int order = 0);
 
 /// The run control of a computation that runs with the GIL released: every 20 ms it takes
 /// the GIL back and runs Python's signal handlers, so Ctrl-C (or any handler that raises)

@@ -18,9 +18,10 @@ std::vector<double> start_state(const chain& c, const py::handle& x0) {
 }
 
 py::tuple simulate(const chain& c, const py::handle& x0_in, double t_end, double dt,
-                   const std::string& stepper, double t_start, double abs_tol, double rel_tol) {
+                   const std::string& stepper, double t_start, double abs_tol, double rel_tol,
+                   int order) {
   const auto x0 = start_state(c, x0_in);
-  auto o = integration_from(t_end, dt, stepper, t_start, abs_tol, rel_tol);
+  auto o = integration_from(t_end, dt, stepper, t_start, abs_tol, rel_tol, order);
   // The arrays grow as the run goes: memory for what was computed, not for what was asked.
   const std::size_t rows_asked = output_steps(o) + 1;
   const auto d = static_cast<std::size_t>(c.state_size());
@@ -166,12 +167,14 @@ t_k = t_start + k dt up to t_end, as `npend simulate` does.
 
 Returns (t, X): t of shape (N+1,), X of shape (N+1, 2n), row k the state at t_k.
 stepper: one of {} (default gauss6); the adaptive ones ({})
-use abs_tol and rel_tol. Raises ValueError for bad input, RuntimeError when the integration
+use abs_tol and rel_tol; order fixes the taylor stepper's order (2..60; 0: from the
+tolerances). Raises ValueError for bad input, RuntimeError when the integration
 cannot go on, KeyboardInterrupt on Ctrl-C.)",
                   stepper_names(), stepper_names(stepper_use::adaptive));
   m.def("simulate", &simulate, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
         py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("t_start") = 0.0,
-        py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10, simulate_doc.c_str());
+        py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10, py::arg("order") = 0,
+        simulate_doc.c_str());
   m.def("lyapunov", &lyapunov, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
         py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("maximal") = false,
         py::arg("exponents") = 0, py::arg("renormalise_every") = 0.1, py::arg("transient") = 0.0,
