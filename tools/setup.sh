@@ -33,8 +33,8 @@ test_packages=(
   # benchmarks (bench/run) and their checks in the tests: Google Benchmark, the SymPy peer,
   # SciPy's solve_ivp as the flip map's peer
   libbenchmark-dev python3-sympy python3-scipy
-  # the Python module (pybind11 on Debian's python3 and numpy), its pytest suite and the
-  # example's plots
+  # the Python module (pybind11 on Debian's python3 and numpy), its pytest suite, the
+  # example's plots and bench/run's work-precision diagram (matplotlib)
   python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
   # npend animate encodes MP4 with ffmpeg (GIF with gnuplot)
   ffmpeg
