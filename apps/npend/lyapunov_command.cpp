@@ -54,9 +54,10 @@ lyapunov_options make_options(const lyapunov_command_options& o) {
   l.integration = o.integrator.make();
   if (!serves(l.integration.stepper, stepper_use::variational))
     throw cli::input_error(fmt::format(
-        "--stepper: {} cannot integrate the variational equations (it would need second "
-        "derivatives of f); use one of {} (default gauss6)",
-        stepper_name(l.integration.stepper), stepper_names(stepper_use::variational)));
+        "--stepper: {} cannot integrate the variational equations ({}); use one of {} (default "
+        "gauss6)",
+        stepper_name(l.integration.stepper), variational_refusal(l.integration.stepper),
+        stepper_names(stepper_use::variational)));
   if (!o.transient.empty()) {
     l.transient = cli::parse_number(o.transient, "--transient");
     if (l.transient < 0)

@@ -79,6 +79,19 @@ bool serves(stepper_kind kind, stepper_use use) {
   return false;
 }
 
+std::string_view variational_refusal(stepper_kind kind) {
+  switch (kind) {
+    case stepper_kind::rosenbrock4:
+      return "its stages need the Jacobian of the augmented system, which holds second "
+             "derivatives of f that the generated kernels do not provide";
+    case stepper_kind::taylor:
+      return "its generated Taylor kernels hold the chain's equations, not their variational "
+             "equations";
+    default:
+      return "";
+  }
+}
+
 std::string stepper_names(stepper_use use) {
   std::string out;
   for (const auto& i : infos) {

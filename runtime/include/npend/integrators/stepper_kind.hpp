@@ -52,6 +52,10 @@ enum class stepper_use {
 /// Whether `kind` serves `use`.
 bool serves(stepper_kind kind, stepper_use use);
 
+/// Why `kind` does not integrate the variational equations (empty where it does): for the
+/// messages that refuse it.
+std::string_view variational_refusal(stepper_kind kind);
+
 /// The names of the steppers that serve `use`, joined by ", " (for messages and help texts).
 std::string stepper_names(stepper_use use = stepper_use::any);
 

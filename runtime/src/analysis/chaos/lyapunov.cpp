@@ -45,10 +45,10 @@ void lyapunov_options::validate() const {
         fmt::format("lyapunov: blocks is {}: it must be at least 2", blocks));
   if (!serves(integration.stepper, stepper_use::variational))
     throw std::invalid_argument(fmt::format(
-        "lyapunov: the {} stepper cannot integrate the variational equations (its stages need "
-        "their Jacobian, which holds second derivatives of f that the generated kernels do not "
-        "provide); use one of {}",
-        stepper_name(integration.stepper), stepper_names(stepper_use::variational)));
+        "lyapunov: the {} stepper cannot integrate the variational equations ({}); use one of "
+        "{}",
+        stepper_name(integration.stepper), variational_refusal(integration.stepper),
+        stepper_names(stepper_use::variational)));
 }
 
 namespace {

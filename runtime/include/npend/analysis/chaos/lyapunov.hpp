@@ -31,8 +31,7 @@ namespace npend {
 ///   system of dimension 2n(k + 1) (npend::integrate_system) — for the explicit Runge–Kutta
 ///   methods also the exact derivative of the discrete step, but not a symplectic one;
 ///   the adaptive ones control the error of the tangent vectors too;
-/// - rosenbrock4 is refused: its stages need the Jacobian of the augmented system, which
-///   holds second derivatives of f that the generated kernels do not provide.
+/// - rosenbrock4 and taylor are refused (variational_refusal says why).
 struct lyapunov_options {
   integration_options integration;
   /// Time (s) between re-orthonormalisations, rounded to a whole number ≥ 1 of steps dt.
