@@ -11,7 +11,7 @@
 namespace npend::generated::taylor_cart_6 {
 
 /// The series the recurrences keep: the workspace holds work_slots·(order + 1) numbers.
-inline constexpr int work_slots = 721;
+inline constexpr int work_slots = 792;
 
 /// series[i·(order+1) + k] is the coefficient of τ^k in x_i(t + τ) (dim 14 rows): the caller
 /// sets k = 0 to the state, and this fills k = 1..order. inputs[j·(order+1) + k] are the

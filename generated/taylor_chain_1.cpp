@@ -14,6 +14,7 @@ void recurrences(const T* params, [[maybe_unused]] const T* inputs, int order, T
   using std::cos;
   using std::sin;
   const int P = order + 1;
+  const int M = order;
   const T c6 = T(1.0) / params[1];
   const T c10 = T(1.0) / params[0];
   const T c14 = params[0] * params[1];
@@ -23,16 +24,18 @@ void recurrences(const T* params, [[maybe_unused]] const T* inputs, int order, T
   T* const s9 = work + 0 * P;
   T* const s11 = work + 1 * P;
   T* const s18 = work + 2 * P;
-  T* const s1 = work + 3 * P;
-  T* const s1_pair = work + 4 * P;
-  T* const s16 = work + 5 * P;
-  T* const s17 = work + 6 * P;
+  T* const x0_w = work + 3 * P;
+  T* const s1 = work + 4 * P;
+  T* const s1_pair = work + 5 * P;
+  T* const s16 = work + 6 * P;
+  T* const s17 = work + 7 * P;
   for (int k = 0; k < order; ++k) {
     const T next = T(1) / T(k + 1);
     s9[k] = c6 * x1[k];
     s11[k] = c10 * s9[k];
     s18[k] = c6 * s11[k];
-    taylor::sin_cos(x0, s1, s1_pair, k);
+    x0_w[M - k] = T(k) * x0[k];
+    taylor::sin_cos(x0[0], x0_w, s1, s1_pair, M, k);
     s16[k] = c15 * s1[k];
     s17[k] = -s16[k];
     series[0 * P + k + 1] = s18[k] * next;

@@ -51,11 +51,15 @@ class taylor_printer {
     m_text.assign(u(m_g.size()), {});
     for (const int id : m_order) classify(id);
     pair_sines_and_cosines();
+    plan_mirrors();
     for (const sx out : rhs.outputs) m_outputs.push_back(out.id);
   }
 
   std::string body() {
     std::string constants, pointers, loop;
+    const auto slot = [&](const std::string& name) {
+      pointers += fmt::format("  T* const {} = work + {} * P;\n", name, m_slots++);
+    };
     for (const int id : m_order) {
       const node& nd = m_g.at(id);
       if (!m_series[u(id)]) {
@@ -63,17 +67,20 @@ class taylor_printer {
           constants += fmt::format("  const T {} = {};\n", m_text[u(id)], scalar_expression(nd));
         continue;
       }
+      if (m_mirror[u(id)]) slot(mirror_name(id));
+      if (m_weighted[u(id)]) slot(weighted_name(id));
       if (nd.kind == op::input) continue;
-      pointers += fmt::format("  T* const {} = work + {} * P;\n", m_text[u(id)], m_slots++);
-      if ((nd.kind == op::sin || nd.kind == op::cos) && !has_partner(id))
-        pointers += fmt::format("  T* const {} = work + {} * P;\n", partner_name(id), m_slots++);
+      slot(m_text[u(id)]);
+      if ((nd.kind == op::sin || nd.kind == op::cos) && !has_partner(id)) slot(partner_name(id));
       loop += recurrence(id);
     }
     for (std::size_t i = 0; i < m_outputs.size(); ++i) loop += output(static_cast<int>(i));
-    std::string text = "  using std::cos;\n  using std::sin;\n  const int P = order + 1;\n";
+    std::string text =
+        "  using std::cos;\n  using std::sin;\n  const int P = order + 1;\n  const int M = "
+        "order;\n";
     text += constants + state_rows() + pointers;
-    text += "  for (int k = 0; k < order; ++k) {\n    const T next = T(1) / T(k + 1);\n" + loop +
-            "  }\n";
+    text += "  for (int k = 0; k < order; ++k) {\n    const T next = T(1) / T(k + 1);\n" +
+            input_mirrors() + loop + "  }\n";
     return text;
   }
 
@@ -128,6 +135,43 @@ class taylor_printer {
     }
   }
 
+  // The sums of products, quotients and sine/cosine pairs run over one series forwards and
+  // another backwards; each series read backwards is also kept mirrored (m[M − j] = s[j]),
+  // so that both run forwards in memory and the sums vectorise. The argument u of a
+  // sine/cosine pair is read as j·u[j], kept mirrored too (its "weighted" series).
+  void plan_mirrors() {
+    m_mirror.assign(u(m_g.size()), 0);
+    m_weighted.assign(u(m_g.size()), 0);
+    for (const int id : m_order) {
+      const node& nd = m_g.at(id);
+      if (!m_series[u(id)]) continue;
+      if (nd.kind == op::mul && m_series[u(nd.lhs)] && m_series[u(nd.rhs)]) {
+        // Read backwards the operand that is already mirrored, if one is.
+        const int backwards = m_mirror[u(nd.lhs)] && !m_mirror[u(nd.rhs)] ? nd.lhs : nd.rhs;
+        m_backwards[id] = backwards;
+        m_mirror[u(backwards)] = 1;
+      }
+      if (nd.kind == op::div && m_series[u(nd.rhs)]) m_mirror[u(nd.rhs)] = 1;
+      if (nd.kind == op::sin || nd.kind == op::cos) m_weighted[u(nd.lhs)] = 1;
+    }
+  }
+
+  std::string mirror_name(int id) const { return m_text[u(id)] + "_m"; }
+  std::string weighted_name(int id) const { return m_text[u(id)] + "_w"; }
+  // The statement that mirrors coefficient k of node id, if it is read backwards.
+  std::string mirror(int id) const {
+    if (!m_mirror[u(id)]) return {};
+    return fmt::format("    {}[M - k] = {}[k];\n", mirror_name(id), m_text[u(id)]);
+  }
+
+  // The state's and the inputs' coefficient k, known when the order starts, mirrored.
+  std::string input_mirrors() const {
+    std::string text;
+    for (const int id : m_order)
+      if (m_g.at(id).kind == op::input && m_series[u(id)]) text += mirror(id);
+    return text;
+  }
+
   bool has_partner(int id) const { return m_partner.count(id) != 0; }
   std::string partner_name(int id) const {
     return has_partner(id) ? m_text[u(m_partner.at(id))] : m_text[u(id)] + "_pair";
@@ -179,33 +223,43 @@ class taylor_printer {
     const auto series = [&](int operand) { return m_series[u(operand)] != 0; };
     switch (nd.kind) {
       case op::neg:
-        return fmt::format("    {}[k] = -{}[k];\n", v, name(nd.lhs));
+        return fmt::format("    {}[k] = -{}[k];\n", v, name(nd.lhs)) + mirror(id);
       case op::add:
       case op::sub: {
         const char* sign = nd.kind == op::add ? "+" : "-";
         if (series(nd.lhs) && series(nd.rhs))
-          return fmt::format("    {}[k] = {}[k] {} {}[k];\n", v, name(nd.lhs), sign, name(nd.rhs));
+          return fmt::format("    {}[k] = {}[k] {} {}[k];\n", v, name(nd.lhs), sign, name(nd.rhs)) +
+                 mirror(id);
         if (series(nd.lhs))
           return fmt::format("    {0}[k] = k == 0 ? {1}[0] {2} {3} : {1}[k];\n", v, name(nd.lhs),
-                             sign, name(nd.rhs));
+                             sign, name(nd.rhs)) +
+                 mirror(id);
         return fmt::format("    {0}[k] = k == 0 ? {1} {2} {3}[0] : {4}{3}[k];\n", v, name(nd.lhs),
-                           sign, name(nd.rhs), nd.kind == op::add ? "" : "-");
+                           sign, name(nd.rhs), nd.kind == op::add ? "" : "-") +
+               mirror(id);
       }
-      case op::mul:
-        if (series(nd.lhs) && series(nd.rhs))
-          return fmt::format("    {}[k] = taylor::product({}, {}, k);\n", v, name(nd.lhs),
-                             name(nd.rhs));
-        if (series(nd.lhs))
-          return fmt::format("    {}[k] = {} * {}[k];\n", v, name(nd.rhs), name(nd.lhs));
-        return fmt::format("    {}[k] = {} * {}[k];\n", v, name(nd.lhs), name(nd.rhs));
+      case op::mul: {
+        if (series(nd.lhs) && series(nd.rhs)) {
+          const int backwards = m_backwards.at(id);
+          const int forwards = backwards == nd.rhs ? nd.lhs : nd.rhs;
+          return fmt::format("    {}[k] = taylor::product({}, {}, M, k);\n", v, name(forwards),
+                             mirror_name(backwards)) +
+                 mirror(id);
+        }
+        const int factor = series(nd.lhs) ? nd.rhs : nd.lhs;
+        return fmt::format("    {}[k] = {} * {}[k];\n", v, name(factor),
+                           name(factor == nd.lhs ? nd.rhs : nd.lhs)) +
+               mirror(id);
+      }
       case op::div:
         if (!series(nd.rhs))
-          return fmt::format("    {}[k] = {}[k] / {};\n", v, name(nd.lhs), name(nd.rhs));
-        if (series(nd.lhs))
-          return fmt::format("    {0}[k] = taylor::quotient({1}[k], {2}, {0}, k);\n", v,
-                             name(nd.lhs), name(nd.rhs));
-        return fmt::format("    {0}[k] = taylor::quotient(k == 0 ? {1} : T(0), {2}, {0}, k);\n", v,
-                           name(nd.lhs), name(nd.rhs));
+          return fmt::format("    {}[k] = {}[k] / {};\n", v, name(nd.lhs), name(nd.rhs)) +
+                 mirror(id);
+        return fmt::format("    {0}[k] = taylor::quotient({1}, {2}, {0}, M, k);\n", v,
+                           series(nd.lhs) ? name(nd.lhs) + "[k]"
+                                          : fmt::format("k == 0 ? {} : T(0)", name(nd.lhs)),
+                           mirror_name(nd.rhs)) +
+               mirror(id);
       case op::sin:
       case op::cos: {
         // The pair is computed where its first member comes.
@@ -214,7 +268,12 @@ class taylor_printer {
         const std::string other = partner_name(id);
         const std::string& s = nd.kind == op::sin ? v : other;
         const std::string& c = nd.kind == op::sin ? other : v;
-        return fmt::format("    taylor::sin_cos({}, {}, {}, k);\n", name(nd.lhs), s, c);
+        std::string text = fmt::format(
+            "    {0}[M - k] = T(k) * {1}[k];\n    taylor::sin_cos({1}[0], {0}, {2}, {3}, M, k);\n",
+            weighted_name(nd.lhs), name(nd.lhs), s, c);
+        text += mirror(id);
+        if (has_partner(id)) text += mirror(m_partner.at(id));
+        return text;
       }
       default:
         throw std::logic_error("emit_taylor: a series node that is no operation");
@@ -236,6 +295,8 @@ class taylor_printer {
   std::vector<char> m_series;  // whether a node varies along the solution
   std::vector<std::string> m_text;
   std::map<int, int> m_partner;
+  std::vector<char> m_mirror, m_weighted;  // series kept mirrored, and j·u[j] mirrored
+  std::map<int, int> m_backwards;          // the operand a product reads backwards
   std::map<int, int> m_paired;
   std::vector<int> m_outputs;
   int m_slots = 0;

@@ -65,7 +65,8 @@ TEST_CASE("taylor kernels: the single pendulum's coefficients as derived by hand
   const npend::taylor_kernels* k = ch.kernels_in_use().taylor();
   REQUIRE(k != nullptr);
   const int order = 4, stride = order + 1;
-  std::vector<double> series(2 * stride, 0.0), work(static_cast<std::size_t>(k->work_slots * stride));
+  std::vector<double> series(2 * stride, 0.0),
+      work(static_cast<std::size_t>(k->work_slots * stride));
   series[0] = phi;
   series[stride] = mom;
   k->coefficients(ch.kernels_in_use().packed().data(), nullptr, order, series.data(), work.data());
@@ -114,11 +115,10 @@ TEST_CASE("taylor: agrees with gauss6 on the triple pendulum and keeps H to its 
   g.dt = 2.5e-3;
   const auto gauss = npend::integrate(c, x0, g);
   double worst_energy = 0;
-  const auto taylor = npend::integrate(c, x0, taylor_options(50, 1e-14, 0.5),
-                                       [&](double, std::span<const double> x) {
-                                         worst_energy = std::max(
-                                             worst_energy, std::fabs(c.hamiltonian(x) - h0) / h0);
-                                       });
+  const auto taylor = npend::integrate(
+      c, x0, taylor_options(50, 1e-14, 0.5), [&](double, std::span<const double> x) {
+        worst_energy = std::max(worst_energy, std::fabs(c.hamiltonian(x) - h0) / h0);
+      });
   double worst = 0;
   for (std::size_t i = 0; i < x0.size(); ++i)
     worst = std::max(worst, std::fabs(taylor.state[i] - gauss.state[i]));
@@ -204,8 +204,7 @@ TEST_CASE("taylor: a fixed order reaches the same state, and the equilibrium ste
   double worst = 0;
   for (std::size_t i = 0; i < x0.size(); ++i)
     worst = std::max(worst, std::fabs(chosen.state[i] - fixed.state[i]));
-  INFO("order 25 against the chosen order: ", worst, ", steps ", fixed.steps, " vs ",
-       chosen.steps);
+  INFO("order 25 against the chosen order: ", worst, ", steps ", fixed.steps, " vs ", chosen.steps);
   CHECK(worst < 1e-10);
   CHECK(fixed.steps < chosen.steps);
   // At rest at the bottom every coefficient vanishes: the run takes steps of dt and stays.

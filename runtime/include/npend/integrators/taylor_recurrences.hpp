@@ -3,9 +3,11 @@
 //
 // The generated Taylor kernels (generated/taylor_<model>_<n>.cpp) call these once per node
 // of the equations' expression graph and per order k; sums and differences they write out
-// themselves. A series u is an array of coefficients u[0..k] of u(t0 + τ) = Σ u[j] τ^j.
-// The header is self-contained (no library), like <npend/chain_kernels.hpp>, and templated
-// on the number type so the same kernels run in double and long double.
+// themselves. A series u is an array of coefficients u[0..m] of u(t0 + τ) = Σ u[j] τ^j, m
+// the order. Each sum runs over one series forwards and another backwards; the one read
+// backwards is passed mirrored, r[m − j] = u[j], so both run forwards in memory and the sum
+// vectorises. The header is self-contained (no library), like <npend/chain_kernels.hpp>, and
+// templated on the number type so the same kernels run in double and long double.
 // (Jorba & Zou, "A software package for the numerical integration of ODEs by means of
 // high-order Taylor methods", Experimental Mathematics 14 (2005), section 2.)
 #pragma once
@@ -15,41 +17,61 @@
 
 namespace npend::taylor {
 
-/// (a·b)[k] = Σ_{j=0..k} a[j] b[k−j].
+/// Σ_{j<n} a[j] b[j] in four partial sums: one running sum would make every term wait for
+/// the one before (the latency of an add), four fill the vector units.
 template <class T>
-inline T product(const T* a, const T* b, int k) noexcept {
-  T sum = a[k] * b[0];
-  for (std::ptrdiff_t j = 0, n = k; j < n; ++j) sum += a[j] * b[n - j];
-  return sum;
+inline T dot(const T* a, const T* b, std::ptrdiff_t n) noexcept {
+  T s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+  std::ptrdiff_t j = 0;
+  for (; j + 4 <= n; j += 4) {
+    s0 += a[j] * b[j];
+    s1 += a[j + 1] * b[j + 1];
+    s2 += a[j + 2] * b[j + 2];
+    s3 += a[j + 3] * b[j + 3];
+  }
+  for (; j < n; ++j) s0 += a[j] * b[j];
+  return (s0 + s1) + (s2 + s3);
 }
 
-/// (a/b)[k] for c = a/b with c[0..k−1] known: (a[k] − Σ_{j=1..k} b[j] c[k−j]) / b[0].
+/// (a·b)[k] = Σ_{j=0..k} a[j] b[k−j], with b mirrored (b_m[m − j] = b[j]).
+///
+/// The two terms with a coefficient of order k (a[k] b[0] and a[0] b[k]), just computed, are
+/// added last: the sum of the others needs only earlier orders, so it runs while the
+/// statements before are still being computed, and a chain of dependent products waits only
+/// for those two terms each, not for a whole sum.
 template <class T>
-inline T quotient(T a_k, const T* b, const T* c, int k) noexcept {
-  T sum = a_k;
-  for (std::ptrdiff_t j = 0, n = k; j < n; ++j) sum -= b[n - j] * c[j];
-  return sum / b[0];
+inline T product(const T* a, const T* b_m, int m, int k) noexcept {
+  if (k == 0) return a[0] * b_m[m];
+  const T earlier = dot(a + 1, b_m + (m - k + 1), std::ptrdiff_t{k} - 1);
+  return earlier + (a[0] * b_m[m - k] + a[k] * b_m[m]);
+}
+
+/// (a/b)[k] for c = a/b with c[0..k−1] known: (a[k] − Σ_{j=0..k−1} c[j] b[k−j]) / b[0],
+/// with b mirrored; the term with b[k] last, as in product.
+template <class T>
+inline T quotient(T a_k, const T* b_m, const T* c, int m, int k) noexcept {
+  if (k == 0) return a_k / b_m[m];
+  const T earlier = dot(c + 1, b_m + (m - k + 1), std::ptrdiff_t{k} - 1);
+  return (a_k - (earlier + c[0] * b_m[m - k])) / b_m[m];
 }
 
 /// s[k] and c[k] of s = sin u, c = cos u from s' = c u', c' = −s u':
-/// s[k] = (1/k) Σ_{j=1..k} j u[j] c[k−j], c[k] = −(1/k) Σ_{j=1..k} j u[j] s[k−j].
+/// s[k] = (1/k) Σ_{j=0..k−1} c[j] (k−j) u[k−j], c[k] = −(1/k) Σ_{j=0..k−1} s[j] (k−j) u[k−j],
+/// with w_m[m − j] = j u[j] (the weighted series of u, mirrored) filled up to j = k; u0 = u[0].
+/// The term with u[k] last, as in product.
 template <class T>
-inline void sin_cos(const T* u, T* s, T* c, int k) noexcept {
+inline void sin_cos(T u0, const T* w_m, T* s, T* c, int m, int k) noexcept {
   if (k == 0) {
     using std::cos;
     using std::sin;
-    s[0] = sin(u[0]);
-    c[0] = cos(u[0]);
+    s[0] = sin(u0);
+    c[0] = cos(u0);
     return;
   }
-  T ss = 0, cc = 0;
-  for (std::ptrdiff_t i = 0, n = k; i < n; ++i) {  // j = k − i runs k..1
-    const T ju = static_cast<T>(n - i) * u[n - i];
-    ss += ju * c[i];
-    cc += ju * s[i];
-  }
-  s[k] = ss / static_cast<T>(k);
-  c[k] = -cc / static_cast<T>(k);
+  const T* w = w_m + (m - k);  // w[j] = (k − j) u[k − j]
+  const T inverse = T(1) / static_cast<T>(k);
+  s[k] = (dot(c + 1, w + 1, std::ptrdiff_t{k} - 1) + c[0] * w[0]) * inverse;
+  c[k] = -(dot(s + 1, w + 1, std::ptrdiff_t{k} - 1) + s[0] * w[0]) * inverse;
 }
 
 }  // namespace npend::taylor
