@@ -30,7 +30,8 @@ void control_options::add_controller_to(CLI::App& command) {
   add_to(command, false);
 }
 
-std::optional<lqr_design> control_options::controller_design(const chain& c) const {
+std::optional<lqr_design> control_options::controller_design(const chain& c,
+                                                             stepper_kind stepper) const {
   if (controller.empty()) {
     if (given() || !actuated.empty() || !weights.empty())
       throw input_error("--at, --actuated and --weights go with --controller lqr");
@@ -39,6 +40,11 @@ std::optional<lqr_design> control_options::controller_design(const chain& c) con
   if (controller != "lqr")
     throw input_error(fmt::format("--controller: the one controller is lqr, got '{}'", controller));
   if (!given()) throw input_error("--controller lqr needs the equilibrium to hold: --at phi_1,..");
+  if (!serves(stepper, stepper_use::system))
+    throw input_error(fmt::format(
+        "--stepper: {} integrates the chain's own equations, not the chain under feedback; "
+        "with --controller take one of {}",
+        stepper_name(stepper), stepper_names(stepper_use::system)));
   return design(c);
 }
 

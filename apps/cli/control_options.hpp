@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <npend/analysis/stability/lqr.hpp>
+#include <npend/integrators/stepper_kind.hpp>
 #include <optional>
 #include <string>
 
@@ -21,9 +22,10 @@ struct control_options {
   void add_controller_to(CLI::App& command);
 
   /// The design to run the chain under: none without --controller, the LQR design with
-  /// --controller lqr. Throws input_error for another controller, lqr without --at, and
-  /// --at, --actuated or --weights without --controller.
-  std::optional<lqr_design> controller_design(const chain& c) const;
+  /// --controller lqr, run by `stepper`. Throws input_error for another controller, lqr
+  /// without --at, --at, --actuated or --weights without --controller, and a stepper that
+  /// runs only the chain's own equations (taylor), not the feedback system.
+  std::optional<lqr_design> controller_design(const chain& c, stepper_kind stepper) const;
 
   /// Whether a design was asked for (--at given).
   bool given() const { return !at.empty(); }

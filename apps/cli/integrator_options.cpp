@@ -92,4 +92,14 @@ integration_options integrator_options::make() const {
   return o;
 }
 
+integration_options integrator_options::make_for(const chain& c) const {
+  const integration_options o = make();
+  try {
+    check_stepper_fits(c, o.stepper);
+  } catch (const std::invalid_argument& e) {
+    throw input_error(fmt::format("--stepper: {}", e.what()));
+  }
+  return o;
+}
+
 }  // namespace npend::cli

@@ -31,6 +31,8 @@ struct integrator_options {
   /// tolerances given for a fixed-step stepper, and an --order that is not 2..60 or is given
   /// for a stepper other than taylor.
   integration_options make() const;
+  /// make(), and the stepper checked against chain c (check_stepper_fits) as input.
+  integration_options make_for(const chain& c) const;
 
   /// The most output steps (t-end / dt) a command accepts.
   static constexpr double max_steps = 1e9;

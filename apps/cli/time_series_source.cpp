@@ -303,7 +303,7 @@ std::optional<simulated_start> series_options::simulation(std::size_t min_sample
   integrator_options grid = integrator;
   grid.t_end = fmt::format("{:.17g}", duration);
   grid.dt = dt;
-  const integration_options integration = grid.make();
+  const integration_options integration = grid.make_for(c);
   std::string source = fmt::format("simulation: {} link{}, E = {:.6g} J, {}, dt = {:g} s",
                                    c.links(), c.links() == 1 ? "" : "s", c.hamiltonian(x0),
                                    stepper_name(integration.stepper), integration.dt);

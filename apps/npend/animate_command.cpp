@@ -52,8 +52,8 @@ void open_output(std::optional<cli::atomic_output_file>& file, const std::string
 int run_animate(const animate_options& o) {
   const chain c = o.chain.make_chain(cli::model_support::any);
   const std::vector<double> x0 = o.start.make_state(c);
-  const integration_options options = o.integrator.make();
-  const std::optional<lqr_design> design = o.control.controller_design(c);
+  const integration_options options = o.integrator.make_for(c);
+  const std::optional<lqr_design> design = o.control.controller_design(c, options.stepper);
   const video_format format = video_format_of(o.out);
   const animation_style style = make_style(o, format);
   const std::size_t frames = frame_count(options.t_end, style.fps);

@@ -70,7 +70,7 @@ int run_poincare(const poincare_options& o) {
     max_points = static_cast<std::size_t>(k);
   }
   const std::vector<double> x0 = o.start.make_state(c);
-  integration_options options = o.integrator.make();
+  integration_options options = o.integrator.make_for(c);
   series_output files(o.out);
 
   // Ctrl-C stops the run at its next output step; nothing is written then.

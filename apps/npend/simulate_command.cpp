@@ -116,10 +116,10 @@ int run_simulate(const simulate_options& o) {
         "--tensions: rod tensions are those of point masses on massless rods; drop --com, "
         "--inertia, --rods, --stiffness, --rest-angles, --damping and --pivot");
   const std::vector<double> x0 = o.start.make_state(c);
-  integration_options options = o.integrator.make();
+  integration_options options = o.integrator.make_for(c);
   const std::size_t every = parse_every(o.every);
   // --controller lqr: the chain under u = −K(x − x*) of the design at --at.
-  const std::optional<lqr_design> design = o.control.controller_design(c);
+  const std::optional<lqr_design> design = o.control.controller_design(c, options.stepper);
   if (o.tensions && design)
     throw cli::input_error(
         "--tensions: a controlled chain's joint torques load the rods with more than a tension");

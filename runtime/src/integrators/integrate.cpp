@@ -53,6 +53,10 @@ std::size_t output_steps(const integration_options& options) {
   return static_cast<std::size_t>(steps);
 }
 
+void check_stepper_fits(const chain& c, stepper_kind stepper) {
+  if (stepper == stepper_kind::taylor) taylor_integrator<double>(c.kernels_in_use(), 1e-10, 1e-10);
+}
+
 void integration_step::state_at(double t, std::span<double> x) const {
   if (x.size() != m_x_begin.size())
     throw std::invalid_argument(

@@ -47,6 +47,12 @@ struct integration_options {
   void validate() const;
 };
 
+/// Throws std::invalid_argument where `stepper` cannot integrate `c`: taylor on a chain
+/// without Taylor kernels (the loop kernels of an unbuilt link count) or with a custom pivot
+/// path. npend::integrate refuses the same; front ends call this to refuse it with the other
+/// bad input, before a run starts.
+void check_stepper_fits(const chain& c, stepper_kind stepper);
+
 /// N, the number of output steps (see integration_options). Validates the options.
 std::size_t output_steps(const integration_options& options);
 
