@@ -4,6 +4,7 @@
 
 #include <map>
 #include <npend/chain_kernels.hpp>
+#include <set>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -78,7 +79,7 @@ class taylor_printer {
     std::string text =
         "  using std::cos;\n  using std::sin;\n  const int P = order + 1;\n  const int M = "
         "order;\n";
-    text += constants + state_rows() + pointers;
+    text += constants + m_rows + pointers;
     text += "  for (int k = 0; k < order; ++k) {\n    const T next = T(1) / T(k + 1);\n" +
             input_mirrors() + loop + "  }\n";
     return text;
@@ -100,15 +101,13 @@ class taylor_printer {
           m_text[u(id)] = place.text;
           return;
         }
+        // x_i's series is the row series[i·P .. i·P + order]; an input's row likewise.
         m_series[u(id)] = 1;
-        if (place.where == input_place::state) {
-          m_text[u(id)] = fmt::format("x{}", place.index);
-          m_state_rows = std::max(m_state_rows, place.index + 1);
-        } else {
-          m_text[u(id)] = fmt::format("w{}", place.index);
-          m_input_rows = std::max(m_input_rows, place.index + 1);
-          m_reads_inputs = true;
-        }
+        const bool state = place.where == input_place::state;
+        m_text[u(id)] = fmt::format("{}{}", state ? "x" : "w", place.index);
+        m_rows += fmt::format("  const T* const {} = {} + {} * P;\n", m_text[u(id)],
+                              state ? "series" : "inputs", place.index);
+        m_reads_inputs = m_reads_inputs || !state;
         return;
       }
       default:
@@ -175,21 +174,6 @@ class taylor_printer {
   bool has_partner(int id) const { return m_partner.count(id) != 0; }
   std::string partner_name(int id) const {
     return has_partner(id) ? m_text[u(m_partner.at(id))] : m_text[u(id)] + "_pair";
-  }
-
-  // The state rows: x_i's series is series[i·P .. i·P + order]; the inputs' rows likewise.
-  std::string state_rows() const {
-    std::string text;
-    for (const int id : m_order) {
-      const node& nd = m_g.at(id);
-      if (nd.kind != op::input || !m_series[u(id)]) continue;
-      const input_place place = place_of(m_n, nd, m_kind);
-      if (place.where == input_place::state)
-        text += fmt::format("  const T* const x{0} = series + {0} * P;\n", place.index);
-      else
-        text += fmt::format("  const T* const w{0} = inputs + {0} * P;\n", place.index);
-    }
-    return text;
   }
 
   std::string scalar_expression(const node& nd) const {
@@ -264,7 +248,7 @@ class taylor_printer {
       case op::cos: {
         // The pair is computed where its first member comes.
         if (has_partner(id) && m_paired.count(m_partner.at(id)) != 0) return {};
-        m_paired.insert({id, 1});
+        m_paired.insert(id);
         const std::string other = partner_name(id);
         const std::string& s = nd.kind == op::sin ? v : other;
         const std::string& c = nd.kind == op::sin ? other : v;
@@ -297,10 +281,10 @@ class taylor_printer {
   std::map<int, int> m_partner;
   std::vector<char> m_mirror, m_weighted;  // series kept mirrored, and j·u[j] mirrored
   std::map<int, int> m_backwards;          // the operand a product reads backwards
-  std::map<int, int> m_paired;
+  std::set<int> m_paired;                  // sine/cosine nodes whose pair is computed
   std::vector<int> m_outputs;
   int m_slots = 0;
-  int m_state_rows = 0, m_input_rows = 0;
+  std::string m_rows;  // the declarations of the state's and the inputs' rows
   bool m_reads_inputs = false;
 };
 

@@ -28,9 +28,9 @@ void integrator_options::add_stepper_options(CLI::App& command, std::string_view
       "--rel-tol", rel_tol,
       fmt::format("{}Relative error tolerance of the adaptive steppers (default: 1e-10)", note));
   command.add_option("--order", order,
-                     fmt::format("{}Order of the taylor stepper, 2..60 (default: from the "
+                     fmt::format("{}Order of the taylor stepper, 2..{} (default: from the "
                                  "tolerances, ceil(1 - ln(tol)/2))",
-                                 note));
+                                 note, taylor_max_order));
 }
 
 void parse_taylor_order(const std::string& text, stepper_kind stepper, int& order) {
@@ -39,8 +39,9 @@ void parse_taylor_order(const std::string& text, stepper_kind stepper, int& orde
     throw input_error(fmt::format("--order: only the taylor stepper takes an order, not {}",
                                   stepper_name(stepper)));
   const double value = parse_number(text, "--order");
-  if (!(value >= 2 && value <= 60) || value != std::floor(value))
-    throw input_error(fmt::format("--order: must be an integer in 2..60, got {}", text));
+  if (!(value >= 2 && value <= taylor_max_order) || value != std::floor(value))
+    throw input_error(
+        fmt::format("--order: must be an integer in 2..{}, got {}", taylor_max_order, text));
   order = static_cast<int>(value);
 }
 

@@ -20,16 +20,15 @@ struct integrator_options {
   void add_to(CLI::App& command);
 
   /// Adds only --stepper, --abs-tol, --rel-tol and --order, their help texts starting with
-  /// `note`
-  /// (for commands whose time grid comes from other options).
+  /// `note` (for commands whose time grid comes from other options).
   void add_stepper_options(CLI::App& command, std::string_view note = "");
 
   /// The integration options they describe, from t = 0: dt default 0.001 s, stepper
   /// default gauss6, tolerances default 1e-10 (adaptive steppers only). Throws input_error
   /// naming the option: non-numbers, t-end or dt not positive, dt longer than t-end, more
   /// than max_steps steps, an unknown stepper, negative tolerances (or both zero),
-  /// tolerances given for a fixed-step stepper, and an --order that is not 2..60 or is given
-  /// for a stepper other than taylor.
+  /// tolerances given for a fixed-step stepper, and an --order that is not
+  /// 2..taylor_max_order or is given for a stepper other than taylor.
   integration_options make() const;
   /// make(), and the stepper checked against chain c (check_stepper_fits) as input.
   integration_options make_for(const chain& c) const;
@@ -44,15 +43,15 @@ struct integrator_options {
 void check_step_count(double t_end, double dt, std::string_view options,
                       std::string_view advice = "use a larger --dt");
 
+/// --order as typed (empty: `order` keeps 0, from the tolerances) for `stepper`. Throws
+/// input_error naming --order: not an integer in 2..taylor_max_order, or given for a
+/// stepper other than taylor.
+void parse_taylor_order(const std::string& text, stepper_kind stepper, int& order);
+
 /// --abs-tol and --rel-tol as typed (`abs_text`, `rel_text`; empty: `abs_tol` and `rel_tol`
 /// keep their defaults). `refusal`: empty where the stepper takes tolerances, else why it
 /// does not, said after "<option>: " for a tolerance given anyway. Throws input_error naming
 /// the option: a tolerance refused, not a number or negative, or both tolerances 0.
-/// --order as typed (empty: `order` keeps 0, from the tolerances) for `stepper`. Throws
-/// input_error naming --order: not an integer in 2..60, or given for a stepper other than
-/// taylor.
-void parse_taylor_order(const std::string& text, stepper_kind stepper, int& order);
-
 void parse_tolerances(const std::string& abs_text, const std::string& rel_text,
                       std::string_view refusal, double& abs_tol, double& rel_tol);
 

@@ -167,10 +167,10 @@ t_k = t_start + k dt up to t_end, as `npend simulate` does.
 
 Returns (t, X): t of shape (N+1,), X of shape (N+1, 2n), row k the state at t_k.
 stepper: one of {} (default gauss6); the adaptive ones ({})
-use abs_tol and rel_tol; order fixes the taylor stepper's order (2..60; 0: from the
+use abs_tol and rel_tol; order fixes the taylor stepper's order (2..{}; 0: from the
 tolerances). Raises ValueError for bad input, RuntimeError when the integration
 cannot go on, KeyboardInterrupt on Ctrl-C.)",
-                  stepper_names(), stepper_names(stepper_use::adaptive));
+                  stepper_names(), stepper_names(stepper_use::adaptive), taylor_max_order);
   m.def("simulate", &simulate, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
         py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("t_start") = 0.0,
         py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10, py::arg("order") = 0,

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -132,35 +133,39 @@ double pivot_motion::period() const {
 
 namespace {
 
-// The built-in drives: s(t) = a cos(Ωt) along the axis (its k-th derivative), placed on x
-// (horizontal) or on y with the sign that makes s the height (vertical; y points down).
-pivot_motion::vec2 harmonic(const pivot_motion& p, double t, int derivative) {
-  const double w = p.frequency, phase = w * t;
-  double s = 0;
-  switch (derivative) {
-    case 0:
-      s = p.amplitude * std::cos(phase);
-      break;
-    case 1:
-      s = -p.amplitude * w * std::sin(phase);
-      break;
-    case 2:
-      s = -p.amplitude * w * w * std::cos(phase);
-      break;
-    default:
-      s = p.amplitude * w * w * w * std::sin(phase);
-      break;
-  }
-  return p.type == pivot_motion::kind::horizontal ? pivot_motion::vec2{s, 0.0}
-                                                  : pivot_motion::vec2{0.0, -s};
+// cos(φ + dπ/2), the d-th derivative of cos at φ, from cos φ (d even) or sin φ (d odd):
+// the cycle cos, −sin, −cos, sin.
+template <class T>
+T shifted_cosine(int d, T cos_or_sin) {
+  return d % 4 == 0 || d % 4 == 3 ? cos_or_sin : -cos_or_sin;
 }
 
-// a(t + τ)'s coefficients of a built-in drive: s^(k+2)(t)/k! with s^(d)(t) =
-// a Ω^d cos(Ωt + dπ/2), placed as harmonic() places s.
+// A built-in drive's displacement s along its axis, placed on x (horizontal) or on y with the
+// sign that makes s the height (vertical; y points down).
+template <class T>
+std::array<T, 2> on_axis(const pivot_motion& p, T s) {
+  if (p.type == pivot_motion::kind::horizontal) return {s, T(0)};
+  return {T(0), -s};
+}
+
+// The built-in drives: s(t) = a cos(Ωt) along the axis, its d-th derivative
+// a Ω^d cos(Ωt + dπ/2).
+pivot_motion::vec2 harmonic(const pivot_motion& p, double t, int derivative) {
+  const double w = p.frequency, phase = w * t;
+  double s = p.amplitude;
+  for (int i = 0; i < derivative; ++i) s *= w;
+  s *= shifted_cosine(derivative, derivative % 2 == 0 ? std::cos(phase) : std::sin(phase));
+  return on_axis(p, s);
+}
+
+// a(t + τ)'s coefficients of a built-in drive: s^(k+2)(t)/k!, from one cosine and sine.
 template <class T>
 void harmonic_acceleration_series(const pivot_motion& p, double t, int order, T* ax, T* ay) {
-  for (int k = 0; k < order; ++k) ax[k] = ay[k] = 0;
-  if (p.type == pivot_motion::kind::fixed) return;
+  if (p.type == pivot_motion::kind::fixed) {
+    std::fill(ax, ax + order, T(0));
+    std::fill(ay, ay + order, T(0));
+    return;
+  }
   if (p.type == pivot_motion::kind::custom)
     throw std::invalid_argument(
         "the taylor stepper needs the pivot's acceleration as a Taylor series, which a custom "
@@ -171,14 +176,10 @@ void harmonic_acceleration_series(const pivot_motion& p, double t, int order, T*
   const T c = cos(phase), s = sin(phase);
   T scale = static_cast<T>(p.amplitude) * w * w;  // a Ω^(k+2) / k!
   for (int k = 0; k < order; ++k) {
-    // cos(φ + dπ/2) for d = k + 2: −cos, −sin·(−1)…: the cycle cos, −sin, −cos, sin.
-    const int d = (k + 2) % 4;
-    const T cycle = d == 0 ? c : d == 1 ? -s : d == 2 ? -c : s;
-    const T value = scale * cycle;
-    if (p.type == pivot_motion::kind::horizontal)
-      ax[k] = value;
-    else
-      ay[k] = -value;
+    const int d = k + 2;
+    const std::array<T, 2> a = on_axis(p, scale * shifted_cosine(d, d % 2 == 0 ? c : s));
+    ax[k] = a[0];
+    ay[k] = a[1];
     scale *= w / static_cast<T>(k + 1);
   }
 }

@@ -34,10 +34,10 @@ void integration_options::validate() const {
     throw std::invalid_argument(fmt::format(
         "integration tolerances abs_tol = {}, rel_tol = {}: both must be >= 0 and one > 0", abs_tol,
         rel_tol));
-  if (taylor_order != 0 && (taylor_order < 2 || taylor_order > 60))
+  if (taylor_order != 0 && (taylor_order < 2 || taylor_order > taylor_max_order))
     throw std::invalid_argument(fmt::format(
-        "integration option taylor_order is {}: it must be 0 (from the tolerances) or 2..60",
-        taylor_order));
+        "integration option taylor_order is {}: it must be 0 (from the tolerances) or 2..{}",
+        taylor_order, taylor_max_order));
   if (!(min_step_ratio > 0 && min_step_ratio < 1))
     throw std::invalid_argument(fmt::format(
         "integration option min_step_ratio is {}: it must lie in (0, 1)", min_step_ratio));

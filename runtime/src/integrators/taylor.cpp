@@ -11,8 +11,6 @@ namespace npend {
 
 namespace {
 
-constexpr int max_order = 60;
-
 // The recurrences in T: the double kernels or their long double twin.
 void run_kernels(const taylor_kernels& k, const double* params, const double* inputs, int order,
                  double* series, double* work) {
@@ -59,14 +57,14 @@ taylor_integrator<T>::taylor_integrator(const kernel_set& kernels, double abs_to
   if (order == 0) {
     const double smaller =
         abs_tol > 0 && rel_tol > 0 ? std::min(abs_tol, rel_tol) : std::max(abs_tol, rel_tol);
-    // Beyond max_order a tighter tolerance only shortens the steps (below double's
+    // Beyond taylor_max_order a tighter tolerance only shortens the steps (below double's
     // precision it cannot be met anyway: the step size collapses and the run says so).
-    m_order = std::min(taylor_order_for(std::min(smaller, 0.5)), max_order);
+    m_order = std::min(taylor_order_for(std::min(smaller, 0.5)), taylor_max_order);
   }
-  if (m_order < 2 || m_order > max_order)
+  if (m_order < 2 || m_order > taylor_max_order)
     throw std::invalid_argument(fmt::format(
         "taylor stepper: the order {} must lie in 2..{} (0 chooses it from the tolerance)", order,
-        max_order));
+        taylor_max_order));
   const auto stride = static_cast<std::size_t>(m_order + 1);
   const auto& packed = kernels.packed();
   m_params.assign(packed.begin(), packed.end());
@@ -116,8 +114,8 @@ T taylor_integrator<T>::step(T direction, T limit, T fallback) {
   }
   h *= T(std::exp(-0.7 / (m_order - 1)));
   if (limit != 0) h = std::min(h, T(fabs(limit)));
+  // No coefficient to go by (an equilibrium), or NaN ones (the run reports the state).
   if (!(h < std::numeric_limits<T>::infinity())) h = fabs(fallback);
-  if (std::isnan(static_cast<double>(h))) h = fabs(fallback);  // non-finite coefficients
   h = direction < 0 ? -h : h;
   m_t_begin = m_t;
   m_h = h;

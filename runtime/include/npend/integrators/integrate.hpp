@@ -14,6 +14,9 @@
 
 namespace npend {
 
+/// The highest order the taylor stepper takes.
+inline constexpr int taylor_max_order = 60;
+
 /// What npend::integrate does and where it reports.
 ///
 /// The output grid is t_k = t_start + k·dt for k = 0 … N with
@@ -31,7 +34,7 @@ struct integration_options {
   double abs_tol = 1e-10;
   double rel_tol = 1e-10;
   /// The order of the taylor stepper: 0 chooses it from the tolerances (taylor_order_for),
-  /// 2..60 fixes it. Other steppers ignore it.
+  /// 2..taylor_max_order fixes it. Other steppers ignore it.
   int taylor_order = 0;
   /// An adaptive stepper whose step falls below min_step_ratio·|dt| stops the integration
   /// (a collapsed step size).
@@ -43,7 +46,7 @@ struct integration_options {
 
   /// Throws std::invalid_argument naming the field: non-finite values, dt = 0 or pointing
   /// away from t_end, an interval shorter than one dt, negative tolerances or both zero,
-  /// min_step_ratio outside (0, 1), taylor_order outside 0 and 2..60.
+  /// min_step_ratio outside (0, 1), taylor_order outside 0 and 2..taylor_max_order.
   void validate() const;
 };
 

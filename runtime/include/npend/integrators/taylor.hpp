@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "npend/integrators/integrate.hpp"
 #include "npend/kernel_set.hpp"
 
 namespace npend {
@@ -31,7 +32,7 @@ template <class T>
 class taylor_integrator {
  public:
   /// Tolerances as odeint's (both ≥ 0, one > 0); `order` 0 chooses it from the smaller
-  /// positive tolerance, else it is fixed (2..60). Throws std::invalid_argument for a
+  /// positive tolerance, else it is fixed (2..taylor_max_order). Throws std::invalid_argument for a
   /// model without Taylor kernels, bad tolerances or a bad order.
   taylor_integrator(const kernel_set& kernels, double abs_tol, double rel_tol, int order = 0);
 
