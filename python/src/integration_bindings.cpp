@@ -23,7 +23,7 @@ py::tuple simulate(const chain& c, const py::handle& x0_in, double t_end, double
   const auto x0 = start_state(c, x0_in);
   auto o = integration_from(t_end, dt, stepper, t_start, abs_tol, rel_tol, order);
   // The arrays grow as the run goes: memory for what was computed, not for what was asked.
-  const std::size_t rows_asked = output_steps(o) + 1;
+  const std::size_t rows_asked = output_intervals(o) + 1;
   const auto d = static_cast<std::size_t>(c.state_size());
   std::vector<double> t, states;
   t.reserve(std::min<std::size_t>(rows_asked, 1 << 16));

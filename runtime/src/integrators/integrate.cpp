@@ -53,6 +53,13 @@ std::size_t output_steps(const integration_options& options) {
   return static_cast<std::size_t>(steps);
 }
 
+std::size_t output_intervals(const integration_options& options) {
+  const std::size_t whole = output_steps(options);
+  const double last = options.t_start + static_cast<double>(whole) * options.dt;
+  const bool short_step_left = std::fabs(options.t_end - last) > 1e-9 * std::fabs(options.dt);
+  return whole + (short_step_left ? 1 : 0);
+}
+
 void check_stepper_fits(const chain& c, stepper_kind stepper) {
   if (stepper == stepper_kind::taylor) taylor_integrator<double>(c.kernels_in_use(), 1e-10, 1e-10);
 }

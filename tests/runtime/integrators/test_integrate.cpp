@@ -158,8 +158,10 @@ TEST_CASE("integrate: small oscillations follow the normal-mode solution, n = 2 
   }
 }
 
-TEST_CASE("integrate: the output grid is t_start + k dt, forwards and backwards") {
-  const chain c(npend::chain_parameters::uniform(2));
+TEST_CASE(
+    "integrate: the output grid is t_start + k dt and ends at t_end, forwards and backwards") {
+  const npend::chain_parameters params = npend::chain_parameters::uniform(2);
+  const chain c(params);
   const std::vector<double> x0{0.3, -0.2, 0.1, 0.0};
   for (stepper_kind k : npend::all_stepper_kinds()) {
     for (double sign : {1.0, -1.0}) {
@@ -167,25 +169,39 @@ TEST_CASE("integrate: the output grid is t_start + k dt, forwards and backwards"
       o.stepper = k;
       o.t_start = 1.0;
       o.t_end = 1.0 + sign * 0.35;
-      o.dt = sign * 0.1;  // 3.5 steps: the grid ends at t_start + 3 dt
+      o.dt = sign * 0.1;  // 3.5 steps: three of dt, then half a step to t_end
+      o.abs_tol = o.rel_tol = 1e-12;
       std::vector<double> times;
       const auto r = npend::integrate(
           c, x0, o, [&](double t, std::span<const double>) { times.push_back(t); });
       INFO(npend::stepper_name(k), ", dt = ", o.dt);
-      REQUIRE(times.size() == 4);
-      for (std::size_t i = 0; i < times.size(); ++i)
+      CHECK(npend::output_steps(o) == 3);
+      CHECK(npend::output_intervals(o) == 4);
+      REQUIRE(times.size() == 5);
+      for (std::size_t i = 0; i + 1 < times.size(); ++i)
         CHECK(times[i] == o.t_start + static_cast<double>(i) * o.dt);
-      CHECK(r.outputs == 4);
-      CHECK(r.t == times.back());
-      CHECK(r.state.size() == 4);
+      CHECK(times.back() == o.t_end);
+      CHECK(r.outputs == 5);
+      CHECK(r.t == o.t_end);
       CHECK_FALSE(r.stopped);
-      if (!npend::is_adaptive(k)) CHECK(r.steps == 3);
+      if (!npend::is_adaptive(k)) CHECK(r.steps == 4);
+      // The state is the one at t_end: against an independent tight reference, to the
+      // stepper's accuracy at this coarse dt (rk4 at 0.1 s is the loosest). Backwards in
+      // time is forwards with the momenta reversed (the chain is reversible).
+      std::vector<double> start = x0;
+      if (sign < 0) start[2] = -start[2], start[3] = -start[3];
+      auto reference = npend::reference::reference_trajectory(
+                           npend::reference::dense_chain_of(params), start, {0.35})
+                           .back();
+      if (sign < 0) reference[2] = -reference[2], reference[3] = -reference[3];
+      CHECK(npend::test::relative_error(r.state, reference) < 1e-3);
     }
   }
   integration_options o;
   o.t_end = 1.0;
-  o.dt = 0.1;  // 1/0.1 is 9.999999999999998 in floating point: still 10 steps
+  o.dt = 0.1;  // 1/0.1 is 9.999999999999998 in floating point: still 10 steps, none left
   CHECK(npend::output_steps(o) == 10);
+  CHECK(npend::output_intervals(o) == 10);
 }
 
 TEST_CASE("integrate: going backwards retraces the forward motion") {

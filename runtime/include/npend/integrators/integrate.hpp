@@ -21,11 +21,12 @@ inline constexpr int taylor_max_order = 60;
 ///
 /// The output grid is t_k = t_start + k·dt for k = 0 … N with
 /// N = output_steps(options) = ⌊(t_end − t_start)/dt⌋ (a grid point within 1e-9·dt of t_end
-/// counts); dt < 0 integrates backwards in time. Fixed-step steppers (rk4, gauss4, gauss6)
-/// step exactly from grid point to grid point. Adaptive ones choose their own steps under
-/// abs_tol and rel_tol (odeint's error norm: |err_i| ≤ abs_tol + rel_tol·|x_i|) and reach
-/// the grid by dense output (dopri5, bs, rosenbrock4, taylor) or by steps cut to end on each grid
-/// point (rkf78); dt is also their first trial step.
+/// counts), and then t_end itself when it lies between grid points, after a shorter last
+/// step: the run always ends at t_end. dt < 0 integrates backwards in time. Fixed-step
+/// steppers (rk4, gauss4, gauss6) step exactly from grid point to grid point. Adaptive ones choose
+/// their own steps under abs_tol and rel_tol (odeint's error norm: |err_i| ≤ abs_tol +
+/// rel_tol·|x_i|) and reach the grid by dense output (dopri5, bs, rosenbrock4, taylor) or by steps
+/// cut to end on each grid point (rkf78); dt is also their first trial step.
 struct integration_options {
   stepper_kind stepper = stepper_kind::gauss6;
   double t_start = 0;
@@ -56,14 +57,20 @@ struct integration_options {
 /// bad input, before a run starts.
 void check_stepper_fits(const chain& c, stepper_kind stepper);
 
-/// N, the number of output steps (see integration_options). Validates the options.
+/// N, the number of whole steps of dt within the interval (see integration_options).
+/// Validates the options.
 std::size_t output_steps(const integration_options& options);
+
+/// The number of output steps of npend::integrate: N, plus one when t_end lies between grid
+/// points (the shorter last step to t_end). The output has output_intervals + 1 points.
+/// Validates the options.
+std::size_t output_intervals(const integration_options& options);
 
 /// How an integration ended.
 struct integration_result {
   /// The state at `t` (dim of the system, 2n for a chain).
   std::vector<double> state;
-  /// The last grid time reached: t_start + N·dt, or earlier if the observer stopped; if
+  /// The last grid time reached: t_end, or earlier if the observer stopped; if
   /// the step observer stopped the run, the end of that step.
   double t = 0;
   /// Grid points passed to the observer, including t_start.

@@ -59,13 +59,21 @@ class integration_run {
         m_observer(observer),
         m_step_observer(step_observer),
         m_label(std::move(label)),
-        m_steps(output_steps(options)) {}
+        m_whole_steps(output_steps(options)),
+        m_steps(output_intervals(options)) {}
 
+  /// The output steps: the whole steps of dt, and the shorter last one up to t_end if any.
   std::size_t grid_steps() const { return m_steps; }
   double dt() const { return m_options.dt; }
-  /// t_k, computed from k (not accumulated, so no drift over long runs).
+  /// t_k, computed from k (not accumulated, so no drift over long runs); the point after the
+  /// last whole step is t_end itself.
   double grid_time(std::size_t k) const {
+    if (k > m_whole_steps) return m_options.t_end;
     return m_options.t_start + static_cast<double>(k) * m_options.dt;
+  }
+  /// The length of output step k (from t_(k-1) to t_k): dt, or what is left to t_end.
+  double step_length(std::size_t k) const {
+    return k > m_whole_steps ? m_options.t_end - grid_time(m_whole_steps) : m_options.dt;
   }
   double min_step() const { return m_options.min_step_ratio * std::fabs(m_options.dt); }
   integration_result& result() { return m_result; }
@@ -132,6 +140,7 @@ class integration_run {
   const observer_function& m_observer;
   const step_observer_function& m_step_observer;
   stepper_label m_label;
+  std::size_t m_whole_steps;
   std::size_t m_steps;
   integration_result m_result;
 };
@@ -219,7 +228,7 @@ void run_fixed(Stepper& stepper, System system, const Rhs& rhs, std::vector<doub
   for (std::size_t k = 1; k <= run.grid_steps(); ++k) {
     const double t = run.grid_time(k - 1);
     if (run.watches_steps()) begin = x;
-    stepper.do_step(system, x, t, run.dt());
+    stepper.do_step(system, x, t, run.step_length(k));
     ++run.result().steps;
     run.check_finite(x, t, run.grid_time(k));
     if (run.watches_steps()) {
