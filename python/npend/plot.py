@@ -23,7 +23,7 @@ import importlib.util
 import math
 import os
 import re
-import tempfile
+import secrets
 
 import matplotlib
 import matplotlib.animation as mpl_animation
@@ -226,7 +226,7 @@ def animation(chain, t, X=None, *, fps=25, trail=2.0, speed=1.0, ax=None):
     ax.set_ylim(-reach, reach)
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
-    ax.set_ylabel("height -y (m)")
+    ax.set_ylabel("height \u2212y (m)")
 
     bars = _has_distributed_mass(chain)
     trail_line = LineCollection([], linewidths=1.5, zorder=1, label="trail")
@@ -291,6 +291,20 @@ def _writer(out, suffix, fps):
     return mpl_animation.FFMpegWriter(fps=fps)
 
 
+def _temporary_sibling(folder, stem, suffix):
+    """Creates an empty file of a new name in `folder` and returns its path. It keeps the
+    suffix (the writers choose the format by it) and, unlike tempfile.mkstemp's private
+    0600, gets the permissions of any new file (0666 less the umask), which it keeps when
+    renamed into place."""
+    while True:
+        partial = os.path.join(folder, f".{stem}.{secrets.token_hex(4)}.partial{suffix}")
+        try:
+            os.close(os.open(partial, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+            return partial
+        except FileExistsError:
+            continue
+
+
 def save_animation(chain, t, X, out, *, fps=25, trail=2.0, speed=1.0, dpi=100):
     """Writes the animation of `animation(chain, t, X, ...)` to `out`: an animated GIF
     (out ending in .gif; matplotlib's PillowWriter) or an H.264 MP4 (.mp4; ffmpeg).
@@ -323,9 +337,7 @@ def save_animation(chain, t, X, out, *, fps=25, trail=2.0, speed=1.0, dpi=100):
         plt.close(fig)
         raise
     folder = os.path.dirname(os.path.abspath(path))
-    # The temporary file keeps the suffix: the writers choose the format by it.
-    handle, partial = tempfile.mkstemp(dir=folder, prefix=f".{stem}.", suffix=suffix)
-    os.close(handle)
+    partial = _temporary_sibling(folder, stem, suffix)
     try:
         anim.save(partial, writer=writer, dpi=dpi)
         os.replace(partial, path)
@@ -361,7 +373,7 @@ def trajectory(chain, t, X=None, *, ax=None):
         ax.plot([0.0], [0.0], "s", color="black", markersize=5, label="pivot")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x (m)")
-    ax.set_ylabel("height -y (m)")
+    ax.set_ylabel("height \u2212y (m)")
     ax.legend(loc="best", fontsize="small")
     return fig, ax
 

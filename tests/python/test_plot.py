@@ -226,6 +226,9 @@ def test_save_animation_writes_a_gif_of_every_frame(tmp_path):
     npend.plot.save_animation(chain, Solution(t, X), None, out, fps=10, dpi=20)
     assert gif_frames(out) == 13
     assert os.listdir(tmp_path) == ["double.gif"]
+    umask = os.umask(0o022)
+    os.umask(umask)
+    assert os.stat(out).st_mode & 0o777 == 0o666 & ~umask  # as any new file
 
 
 @pytest.mark.skipif(shutil.which("ffmpeg") is None or shutil.which("ffprobe") is None,
