@@ -85,7 +85,26 @@ bool python_interrupt::stop_requested() {
   m_last_check = now;
   py::gil_scoped_acquire gil;
   if (PyErr_CheckSignals() != 0) m_interrupted.store(true, std::memory_order_relaxed);
+  if (!interrupted()) report_to_python();
   return interrupted();
+}
+
+void python_interrupt::progress(double done, double total) {
+  // Any thread may report (a map's team); only the owner's poll passes it on to Python.
+  m_done.store(done, std::memory_order_relaxed);
+  m_total.store(total, std::memory_order_relaxed);
+}
+
+void python_interrupt::report_to_python() {
+  const double done = m_done.load(std::memory_order_relaxed);
+  if (m_progress.is_none() || done == m_reported) return;
+  m_reported = done;
+  try {
+    m_progress(done, m_total.load(std::memory_order_relaxed));
+  } catch (py::error_already_set& e) {
+    e.restore();  // raised by raise_if_interrupted, as a signal handler's exception is
+    m_interrupted.store(true, std::memory_order_relaxed);
+  }
 }
 
 void python_interrupt::raise_if_interrupted() const {

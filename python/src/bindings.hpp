@@ -53,13 +53,24 @@ integration_options integration_from(double t_end, double dt, const std::string&
 /// asks the computation to stop. Afterwards, with the GIL held, raise_if_interrupted()
 /// raises the handler's exception (KeyboardInterrupt) instead of returning a partial result.
 /// Signals are only handled on Python's main thread; other threads read the flag.
+///
+/// With a `progress` callable (not None), the same poll calls progress(done, total) with the
+/// computation's latest report (its own units: seconds of simulated time, cells, ...) when
+/// it changed; an exception from the callable stops the computation and is raised.
 class python_interrupt final : public run_control {
  public:
+  explicit python_interrupt(py::object progress = py::none()) : m_progress(std::move(progress)) {}
+  void progress(double done, double total) override;
   bool stop_requested() override;
   void raise_if_interrupted() const;
   bool interrupted() const { return m_interrupted.load(std::memory_order_relaxed); }
 
  private:
+  void report_to_python();
+
+  py::object m_progress;
+  std::atomic<double> m_done{0}, m_total{0};
+  double m_reported = -1;
   std::atomic<bool> m_interrupted{false};
   std::thread::id m_owner = std::this_thread::get_id();
   std::chrono::steady_clock::time_point m_last_check = std::chrono::steady_clock::now();

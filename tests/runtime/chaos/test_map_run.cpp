@@ -209,6 +209,33 @@ TEST_CASE("map_values: the whole grid on any number of threads is map_cell's val
   CHECK(same_values(npend::map_values(d.grid, d.cell, 3), reference));
 }
 
+// Progress as map_values reports it, from any thread: the reports seen and the most cells.
+class progress_counter final : public npend::run_control {
+ public:
+  void progress(double done, double total) override {
+    ++reports;
+    double seen = most.load();
+    while (done > seen && !most.compare_exchange_weak(seen, done)) {
+    }
+    cells = total;
+  }
+  std::atomic<int> reports{0};
+  std::atomic<double> most{0}, cells{0};
+};
+
+TEST_CASE("map_values: progress counts the cells done, up to all of them") {
+  const npend::map_run_description d = flip_map(4);
+  for (int threads : {1, 3}) {
+    progress_counter counter;
+    npend::map_values(d.grid, d.cell, threads, &counter);
+    INFO("threads = ", threads);
+    const double cells = static_cast<double>(d.grid.x.count) * d.grid.y.count;
+    CHECK(counter.cells.load() == cells);
+    CHECK(counter.most.load() == cells);
+    CHECK(counter.reports.load() == d.grid.y.count);  // a row at a time
+  }
+}
+
 TEST_CASE("map_cell_values: a list of starts on any number of threads is map_cell's values") {
   const npend::map_run_description d = flip_map(4);
   const npend::chain c(d.grid.parameters);

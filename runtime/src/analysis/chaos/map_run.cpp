@@ -82,7 +82,8 @@ class cells_stop final : public run_control {
 
 // `total` values over `team` OpenMP threads, computed `chunk` at a time by
 // compute(first, count); `control` polled before each chunk (the chunks not started stay
-// NaN). The first exception a chunk throws is rethrown once the threads are done.
+// NaN) and told the cells done after each. The first exception a chunk throws is rethrown
+// once the threads are done.
 template <class Compute>
 std::vector<double> values_in_parallel(std::size_t total, std::size_t chunk, int team,
                                        run_control* control, const Compute& compute) {
@@ -90,6 +91,7 @@ std::vector<double> values_in_parallel(std::size_t total, std::size_t chunk, int
   const auto chunks = static_cast<long>((total + chunk - 1) / chunk);
   std::exception_ptr error;
   std::atomic<bool> failed{false};
+  std::atomic<std::size_t> done{0};
 #pragma omp parallel for schedule(dynamic, 1) num_threads(team)
   for (long k = 0; k < chunks; ++k) {
     if (failed.load() || stop_requested(control)) continue;
@@ -97,6 +99,9 @@ std::vector<double> values_in_parallel(std::size_t total, std::size_t chunk, int
       const std::size_t first = static_cast<std::size_t>(k) * chunk;
       const std::vector<double> values = compute(first, std::min(chunk, total - first));
       std::copy(values.begin(), values.end(), out.begin() + static_cast<long>(first));
+      const std::size_t cells = done += values.size();
+      if (control != nullptr)
+        control->progress(static_cast<double>(cells), static_cast<double>(total));
     } catch (...) {
 #pragma omp critical(npend_map_values_error)
       if (!error) error = std::current_exception();

@@ -231,7 +231,8 @@ int map_team_size(int threads);
 /// The map over `grid`, computed on `threads` OpenMP threads (0: every core), a row at a
 /// time (the cells of one chain together, so that they fill the batch lanes): row-major,
 /// (y count) × (x count), the values of map_grid_values. `control` (may be null) is polled
-/// between rows; once it asks to stop, the rows not started stay NaN. Throws
+/// between rows and hears progress(cells done, cells) after each, from whichever thread
+/// finished it; once it asks to stop, the rows not started stay NaN. Throws
 /// std::invalid_argument as map_grid::validate (checked first) and for threads < 0.
 /// With map_device::cuda, every cell on the GPU (map_grid_values; `threads` unused).
 std::vector<double> map_values(const map_grid& grid, const map_cell_options& options,
