@@ -101,7 +101,9 @@ def energy_from_epsilon(chain: Chain, epsilon: float) -> float:
     return _npend.energy_from_epsilon(chain, epsilon)
 
 
-def deflected_state(chain: Chain, energy: float, direction: Optional[ArrayLike] = None) -> np.ndarray:
+def deflected_state(
+    chain: Chain, energy: float, direction: Optional[ArrayLike] = None
+) -> np.ndarray:
     """The chain at rest with its angles s * direction, s > 0 chosen so that H = energy.
 
     This is the paper's excitation by deflecting the arms.
@@ -136,7 +138,9 @@ def deflected_state(chain: Chain, energy: float, direction: Optional[ArrayLike] 
     return _npend.deflected_state(chain, energy, direction)
 
 
-def kicked_state(chain: Chain, energy: float, direction: Optional[ArrayLike] = None) -> np.ndarray:
+def kicked_state(
+    chain: Chain, energy: float, direction: Optional[ArrayLike] = None
+) -> np.ndarray:
     """The hanging chain with momenta s * direction, s > 0 chosen so that H = energy.
 
     This is the paper's excitation by a kick.
