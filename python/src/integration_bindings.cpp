@@ -1,7 +1,5 @@
-// npend.simulate, npend.lyapunov, npend.poincare and npend.chaos_indicators: integrations run
-// without the GIL, with Ctrl-C stopping them (KeyboardInterrupt) instead of waiting for the
-// end. python/npend/analysis.py wraps lyapunov, poincare and chaos_indicators (signatures,
-// docstrings, result classes); these return plain dicts whose keys are the classes' fields.
+// npend.simulate, npend.lyapunov and npend.poincare: integrations run without the GIL, with
+// Ctrl-C stopping them (KeyboardInterrupt) instead of waiting for the end.
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 
@@ -177,6 +175,8 @@ cannot go on, KeyboardInterrupt on Ctrl-C.)",
         py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("t_start") = 0.0,
         py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10, py::arg("order") = 0,
         simulate_doc.c_str());
+  // python/npend/analysis.py wraps lyapunov, chaos_indicators and poincare (signatures,
+  // docstrings, result classes): they return plain dicts whose keys are the classes' fields.
   m.def("lyapunov", &lyapunov, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
         py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("maximal") = false,
         py::arg("exponents") = 0, py::arg("renormalise_every") = 0.1, py::arg("transient") = 0.0,
