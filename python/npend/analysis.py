@@ -190,6 +190,8 @@ def lyapunov(
     renormalise_every: float = 0.1,
     transient: float = 0.0,
     blocks: int = 10,
+    atol: float = 1e-10,
+    rtol: float = 1e-10,
 ) -> LyapunovResult:
     """Lyapunov exponents of the trajectory from x0 by Benettin's method, as ``npend lyapunov``.
 
@@ -207,8 +209,9 @@ def lyapunov(
     dt : float, optional
         The step (s).
     stepper : str, optional
-        A fixed-step stepper as for npend.simulate; the Gauss-Legendre ones (gauss6, gauss4)
-        carry the tangent vectors by their exact tangent map.
+        A stepper as for npend.simulate that integrates the variational equations; the
+        Gauss-Legendre ones (gauss6, gauss4) carry the tangent vectors by their exact
+        tangent map, an adaptive one steps under atol and rtol between renormalisations.
     maximal : bool, optional
         Only the largest exponent.
     exponents : int, optional
@@ -219,6 +222,8 @@ def lyapunov(
         The time integrated before the averaging starts (s).
     blocks : int, optional
         The blocks the averaging time is cut into for the standard error (at least 2).
+    atol, rtol : float, optional
+        The absolute and relative tolerances of an adaptive stepper.
 
     Returns
     -------
@@ -243,7 +248,8 @@ def lyapunov(
     """
     d = _npend.lyapunov(
         chain, x0, t_end, dt=dt, stepper=stepper, maximal=maximal, exponents=exponents,
-        renormalise_every=renormalise_every, transient=transient, blocks=blocks)
+        renormalise_every=renormalise_every, transient=transient, blocks=blocks, atol=atol,
+        rtol=rtol)
     return LyapunovResult(**d)
 
 

@@ -54,12 +54,12 @@ py::array_t<double> rows_array(const std::vector<std::vector<double>>& rows, std
 
 py::dict lyapunov(const chain& c, const py::handle& x0_in, double t_end, double dt,
                   const std::string& stepper, bool maximal, int exponents, double renormalise_every,
-                  double transient, std::size_t blocks) {
+                  double transient, std::size_t blocks, double atol, double rtol) {
   const auto x0 = start_state(c, x0_in);
   if (maximal && exponents != 0)
     throw std::invalid_argument("maximal and exponents: ask for the largest exponent or for K");
   lyapunov_options o;
-  o.integration = integration_from(t_end, dt, stepper, 0, 1e-10, 1e-10);
+  o.integration = integration_from(t_end, dt, stepper, 0, atol, rtol);
   o.renormalisation_interval = renormalise_every;
   o.transient = transient;
   o.blocks = blocks;
@@ -180,7 +180,7 @@ cannot go on, KeyboardInterrupt on Ctrl-C.)",
   m.def("lyapunov", &lyapunov, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
         py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("maximal") = false,
         py::arg("exponents") = 0, py::arg("renormalise_every") = 0.1, py::arg("transient") = 0.0,
-        py::arg("blocks") = 10);
+        py::arg("blocks") = 10, py::arg("atol") = 1e-10, py::arg("rtol") = 1e-10);
   m.def("chaos_indicators", &indicators, py::arg("chain"), py::arg("x0"), py::arg("t_end"),
         py::kw_only(), py::arg("dt") = 0.01, py::arg("vectors") = 2,
         py::arg("sample_interval") = 0.0);

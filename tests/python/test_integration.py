@@ -138,3 +138,17 @@ def test_lyapunov_result_is_a_frozen_class_with_a_short_repr():
     assert "exponents=array(shape=(2,), dtype=float64)" in text and f"t={r.t!r}" in text
     with pytest.raises(AttributeError):
         r.t = 0.0
+
+
+def test_lyapunov_takes_the_tolerances_of_an_adaptive_stepper():
+    # dopri5 under atol/rtol: the numbers of npend lyapunov --abs-tol/--rel-tol, and looser
+    # tolerances change them (the keywords reach the stepper).
+    c = npend.Chain(2)
+    x0 = [1.0, 0.5, 0.0, 0.0]
+    r = npend.lyapunov(c, x0, 5.0, dt=0.01, stepper="dopri5", atol=1e-6, rtol=1e-6)
+    ref = npend_json("lyapunov", "--links", 2, "--phi", "1,0.5", "--t-end", 5, "--dt", 0.01,
+                     "--stepper", "dopri5", "--abs-tol", 1e-6, "--rel-tol", 1e-6)
+    assert np.array_equal(r.exponents, ref["exponents"])
+    tight = npend.lyapunov(c, x0, 5.0, dt=0.01, stepper="dopri5")
+    assert not np.array_equal(r.exponents, tight.exponents)
+    assert r.exponents == pytest.approx(tight.exponents, abs=1e-3)
