@@ -44,22 +44,22 @@ def main():
     args = parser.parse_args()
 
     chain = npend.Chain(3)
-    mode_frequencies = npend.modes(chain)["frequencies"]
+    mode_frequencies = npend.modes(chain).frequencies
     figure, axes = plt.subplots(2, 2, figsize=(10, 8), constrained_layout=True)
     for column, (name, epsilon) in enumerate([("weak", 0.01), ("strong", 1.5)]):
         x0 = excitation(chain, epsilon)
         section = npend.poincare(chain, x0, "phi1=0", args.section_time)
-        points = section["states"]
+        points = section.states
         top = axes[0, column]
         top.plot(points[:, 2], points[:, 5], ".", markersize=2)
         top.set(title=f"{name} excitation, $\\varepsilon$ = {epsilon}\n"
                       f"section $\\varphi_1 = 0$: {len(points)} points",
                 xlabel="$\\varphi_3$ (rad)", ylabel="$p_3$ (kg m$^2$/s)")
         spectrum = spectrum_of_phi3(chain, x0)
-        shown = spectrum["omega"] <= OMEGA_MAX
-        power = spectrum["power"][shown]
+        shown = spectrum.omega <= OMEGA_MAX
+        power = spectrum.power[shown]
         bottom = axes[1, column]
-        bottom.semilogy(spectrum["omega"][shown], power)
+        bottom.semilogy(spectrum.omega[shown], power)
         for omega in mode_frequencies:
             bottom.axvline(omega, color="grey", linestyle=":", linewidth=1)
         bottom.set(title="spectral density of $\\varphi_3$ (dotted: the normal modes)",

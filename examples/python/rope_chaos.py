@@ -44,7 +44,7 @@ def exponents_of_one_start(links, seed, energy, t_end, dt):
     direction = np.random.default_rng(seed).normal(size=links)
     x0 = npend.kicked_state(chain, energy * MASS * G * LENGTH, direction)
     r = npend.lyapunov(chain, x0, t_end, dt=dt, stepper="rk4", exponents=links)
-    return r["exponents"], r["max_rel_energy_error"]
+    return r.exponents, r.max_rel_energy_error
 
 
 def mean_and_error(values):

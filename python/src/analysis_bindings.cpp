@@ -1,6 +1,7 @@
-// The analyses that are not integrations: time series (npend.spectrum, npend.autocorrelation,
-// npend.embed, npend.choose_delay), stability (npend.equilibria, npend.modes) and chaos maps
-// (npend.map, npend.map_cells).
+// The analyses that are not integrations: time series (spectrum, autocorrelation, embed,
+// choose_delay), stability (equilibria, modes) and chaos maps (map, map_cells). The package's
+// python/npend/analysis.py wraps them with signatures, docstrings and result classes; these
+// return plain dicts whose keys are the result classes' fields.
 #include <fmt/format.h>
 #include <pybind11/complex.h>
 #include <pybind11/stl.h>
@@ -162,11 +163,11 @@ void check_finite(const state_batch& b) {
 py::array_t<double> map_cells(const chain& c, const py::handle& x, const std::string& quantity,
                               double t_end, double dt, int flip_link, int gali_order,
                               const std::string& component, const std::string& stepper,
-                              double abs_tol, double rel_tol, int threads,
+                              double atol, double rtol, int threads,
                               const std::string& device) {
   const state_batch b = to_states(x, c.state_size(), "x");
   map_cell_options o =
-      make_map_cell_options(quantity, t_end, dt, flip_link, gali_order, stepper, abs_tol, rel_tol);
+      make_map_cell_options(quantity, t_end, dt, flip_link, gali_order, stepper, atol, rtol);
   set_component(o, c, component);
   o.validate(c);
   check_finite(b);
@@ -196,11 +197,18 @@ map_axis axis_from(const py::tuple& spec, int links, const char* what) {
   }
 }
 
-py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
-                        const std::string& quantity, double t_end, double dt, int flip_link,
-                        int gali_order, const std::string& component, const py::object& x0,
-                        const py::object& velocities, const std::string& stepper, double abs_tol,
-                        double rel_tol, int threads, const std::string& device) {
+// The axis's values, the cells' x (or y) coordinates.
+py::array_t<double> axis_values(const map_axis& a) {
+  std::vector<double> v;
+  for (int i = 0; i < a.count; ++i) v.push_back(a.value(i));
+  return to_numpy(std::move(v), {static_cast<py::ssize_t>(a.count)});
+}
+
+py::dict map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
+             const std::string& quantity, double t_end, double dt, int flip_link, int gali_order,
+             const std::string& component, const py::object& x0, const py::object& velocities,
+             const std::string& stepper, double atol, double rtol, int threads,
+             const std::string& device) {
   const auto n = static_cast<std::size_t>(c.links());
   map_grid grid;
   grid.parameters = c.parameters();
@@ -219,7 +227,7 @@ py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple
     grid.velocities = true;
   }
   map_cell_options o =
-      make_map_cell_options(quantity, t_end, dt, flip_link, gali_order, stepper, abs_tol, rel_tol);
+      make_map_cell_options(quantity, t_end, dt, flip_link, gali_order, stepper, atol, rtol);
   set_component(o, c, component);
   grid.validate(o);
   spec::check_thread_count(threads, "threads");
@@ -231,72 +239,43 @@ py::array_t<double> map(const chain& c, const py::tuple& x_axis, const py::tuple
     values = map_values(grid, o, threads, &interrupt, where);
   }
   interrupt.raise_if_interrupted();
-  return to_numpy(std::move(values),
-                  {static_cast<py::ssize_t>(grid.y.count), static_cast<py::ssize_t>(grid.x.count)});
+  py::dict d;
+  d["values"] = to_numpy(std::move(values), {static_cast<py::ssize_t>(grid.y.count),
+                                             static_cast<py::ssize_t>(grid.x.count)});
+  d["x"] = axis_values(grid.x);
+  d["y"] = axis_values(grid.y);
+  return d;
 }
 
 }  // namespace
 
 void bind_series(py::module_& m) {
   m.def("spectrum", &spectrum, py::arg("x"), py::arg("dt"), py::kw_only(),
-        py::arg("window") = "hann", py::arg("segment_length") = 0, py::arg("overlap") = 0.5,
-        R"(The one-sided spectral density of x_j = x(j dt) (paper 6.6.2), as `npend spectrum`:
-window none, hann, hamming or blackman; Welch segments of segment_length samples (0: one).
-Returns a dict: omega (rad/s), power, resolution, segment_length, segments.)");
+        py::arg("window") = "hann", py::arg("segment_length") = 0, py::arg("overlap") = 0.5);
   m.def("autocorrelation", &autocorrelation_of, py::arg("x"), py::arg("dt"), py::kw_only(),
-        py::arg("max_lag") = 0, py::arg("estimator") = "biased",
-        R"(The normalised autocorrelation C_xx(tau) of x_j = x(j dt), lags 0..max_lag
-(0: all). Returns a dict: lag (s), value, first_zero and first_minimum (s, or None).)");
-  m.def("embed", &embed, py::arg("x"), py::arg("delay"), py::arg("dimension"),
-        R"(Delay vectors (x_j, x_(j+delay), ..., x_(j+(dimension-1) delay)) of a series, delay
-in samples: an array of shape (N - (dimension-1) delay, dimension).)");
+        py::arg("max_lag") = 0, py::arg("estimator") = "biased");
+  m.def("embed", &embed, py::arg("x"), py::arg("delay"), py::arg("dimension"));
   m.def("choose_delay", &delay_of, py::arg("x"), py::arg("dt"), py::kw_only(),
-        py::arg("method") = "auto",
-        R"(The embedding delay of a series, as `npend embed` chooses it: method auto, T/4,
-acf-zero, acf-min or ami. Returns a dict: found, method, samples, seconds.)");
+        py::arg("method") = "auto");
 }
 
 void bind_stability(py::module_& m) {
-  m.def("equilibria", &equilibria, py::arg("chain"),
-        R"(The 2^n equilibria phi_i in {0, pi}, p = 0, as `npend equilibria`: a list of dicts
-with angles, energy (J), eigenvalues (of the Jacobian), stable, unstable_directions.)");
-  m.def("modes", &modes, py::arg("chain"), py::arg("angles") = py::none(),
-        R"(The normal modes about the equilibrium `angles` (default: hanging), as `npend
-modes`: a dict with omega_squared, frequencies (rad/s), growth_rates, shapes (row k: mode
-k), mass_matrix, stiffness_matrix; modes in ascending omega^2.)");
+  m.def("equilibria", &equilibria, py::arg("chain"));
+  m.def("modes", &modes, py::arg("chain"), py::arg("angles") = py::none());
 }
 
 void bind_maps(py::module_& m) {
   m.def("map_cells", &map_cells, py::arg("chain"), py::arg("x"), py::kw_only(),
         py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
         py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("component") = "phi1",
-        py::arg("stepper") = "rk4", py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10,
-        py::arg("threads") = 0, py::arg("device") = "cpu",
-        R"(One map value per start state (x of shape (2n,) or (k, 2n)), computed on `threads`
-cores (0: all) as `npend map` computes its cells: quantity "flip" (time to the first flip of
-an arm, or arm flip_link; +inf if none by t_end, NaN where the energy rules a flip out),
-"lyapunov" (the maximal exponent, rk4 at dt to t_end), the indicators of chaos_indicators at
-t_end: "fli", "megno" (<Y>), "sali", "gali" (GALI_k, k = gali_order, 0: n + 1), or "state"
-(coordinate `component`, phi1..phin or p1..pn, at t_end; angles not wrapped). NaN for a cell
-whose integration failed. stepper "rk4" steps dt; "dopri5" (flip, lyapunov, state) steps
-adaptively under abs_tol and rel_tol, dt its first trial step, and locates a flip inside the
-step by its dense output. device "cuda" computes the cells on a GPU (rk4 or dopri5) as
-`npend map --device cuda`; `threads` is then unused.)");
+        py::arg("stepper") = "rk4", py::arg("atol") = 1e-10, py::arg("rtol") = 1e-10,
+        py::arg("threads") = 0, py::arg("device") = "cpu");
   m.def("map", &map, py::arg("chain"), py::arg("x"), py::arg("y"), py::kw_only(),
         py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
         py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("component") = "phi1",
         py::arg("x0") = py::none(), py::arg("velocities") = py::none(), py::arg("stepper") = "rk4",
-        py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10, py::arg("threads") = 0,
-        py::arg("device") = "cpu",
-        R"(A chaos map over a grid, as `npend map`: x and y are (name, from, to, count), count
-values from `from` to `to` both included, with name a start coordinate (phi1..phin, p1..pn,
-or dphi1..dphin when `velocities` gives the start's velocities), "energy" (the start's
-momenta scaled to that energy in J), or a parameter of the chain (m1..mn, l1..ln, g,
-k1..kn and b1..bn: the joints' stiffness and damping, drive-amplitude and drive-frequency of
-a chain whose pivot has a built-in drive). The rest of the start comes from x0 (default 0) or, with velocities (n values),
-from x0's angles and those velocities. Returns an array of shape (y count, x count), row 0
-the first y value, NaN where the energy rules a cell out: the same numbers as npend map's
-map.npy. stepper, abs_tol, rel_tol and device as for map_cells.)");
+        py::arg("atol") = 1e-10, py::arg("rtol") = 1e-10, py::arg("threads") = 0,
+        py::arg("device") = "cpu");
 }
 
 }  // namespace npend::python

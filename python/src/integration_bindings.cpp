@@ -54,12 +54,12 @@ py::array_t<double> rows_array(const std::vector<std::vector<double>>& rows, std
 
 py::dict lyapunov(const chain& c, const py::handle& x0_in, double t_end, double dt,
                   const std::string& stepper, bool maximal, int exponents, double renormalise_every,
-                  double transient, std::size_t blocks) {
+                  double transient, std::size_t blocks, double atol, double rtol) {
   const auto x0 = start_state(c, x0_in);
   if (maximal && exponents != 0)
     throw std::invalid_argument("maximal and exponents: ask for the largest exponent or for K");
   lyapunov_options o;
-  o.integration = integration_from(t_end, dt, stepper, 0, 1e-10, 1e-10);
+  o.integration = integration_from(t_end, dt, stepper, 0, atol, rtol);
   o.renormalisation_interval = renormalise_every;
   o.transient = transient;
   o.blocks = blocks;
@@ -92,12 +92,12 @@ py::dict lyapunov(const chain& c, const py::handle& x0_in, double t_end, double 
 
 py::dict poincare(const chain& c, const py::handle& x0_in, const std::string& section_text,
                   double t_end, double dt, const std::string& stepper, const std::string& direction,
-                  std::size_t max_crossings, bool unwrapped, double abs_tol, double rel_tol) {
+                  std::size_t max_crossings, bool unwrapped, double atol, double rtol) {
   const auto x0 = start_state(c, x0_in);
   const auto section = spec::section_from_spec(
       spec::parse_section_spec(section_text, "section"), c.links(), "section",
       unwrapped ? spec::angle_mode::unwrapped : spec::angle_mode::circle);
-  auto o = integration_from(t_end, dt, stepper, 0, abs_tol, rel_tol);
+  auto o = integration_from(t_end, dt, stepper, 0, atol, rtol);
   poincare_options po;
   po.direction = spec::parse_direction(direction, "direction");
   po.max_crossings = max_crossings;
@@ -175,38 +175,19 @@ cannot go on, KeyboardInterrupt on Ctrl-C.)",
         py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("t_start") = 0.0,
         py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10, py::arg("order") = 0,
         simulate_doc.c_str());
+  // python/npend/analysis.py wraps lyapunov, chaos_indicators and poincare (signatures,
+  // docstrings, result classes): they return plain dicts whose keys are the classes' fields.
   m.def("lyapunov", &lyapunov, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
         py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("maximal") = false,
         py::arg("exponents") = 0, py::arg("renormalise_every") = 0.1, py::arg("transient") = 0.0,
-        py::arg("blocks") = 10,
-        R"(Lyapunov exponents of the trajectory from x0 by Benettin's method, as
-`npend lyapunov` computes them: the full spectrum of 2n exponents (descending), with
-maximal=True the largest alone, or with exponents=K the K largest (`--exponents K`: K
-tangent vectors, O(n) each on a long chain's loop kernels).
-
-Returns a dict: exponents (1/s), sum, pair_sums (lambda_i + lambda_(2n+1-i), 0 for a
-Hamiltonian flow), standard_error (from the blocks), spread, history_t and history (the
-running estimates), t, averaging_time, renormalisations, max_rel_energy_error, method,
-state (the final state).)");
+        py::arg("blocks") = 10, py::arg("atol") = 1e-10, py::arg("rtol") = 1e-10);
   m.def("chaos_indicators", &indicators, py::arg("chain"), py::arg("x0"), py::arg("t_end"),
         py::kw_only(), py::arg("dt") = 0.01, py::arg("vectors") = 2,
-        py::arg("sample_interval") = 0.0,
-        R"(The fast chaos indicators of the trajectory from x0 (rk4 at dt with `vectors`
-deviation vectors): FLI, MEGNO Y and <Y>, SALI and GALI_2..GALI_vectors, sampled every
-sample_interval seconds (0: at t_end only). Returns a dict of arrays over the samples: t,
-fli, megno, mean_megno, sali, gali (shape (samples, vectors - 1)), and the final state.
-On a torus <Y> -> 2 and SALI stays away from 0; on a chaotic orbit <Y> ~ lambda_1 t / 2
-and SALI ~ exp(-(lambda_1 - lambda_2) t).)");
+        py::arg("sample_interval") = 0.0);
   m.def("poincare", &poincare, py::arg("chain"), py::arg("x0"), py::arg("section"),
         py::arg("t_end"), py::kw_only(), py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6",
         py::arg("direction") = "up", py::arg("max_crossings") = 0, py::arg("unwrapped") = false,
-        py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10,
-        R"(The crossings of a Poincare section by the trajectory from x0, as
-`npend poincare`: section as on the command line ("phi1=0", "p2=0.5", "phi2=phi3"),
-direction "up", "down" or "both".
-
-Returns a dict: t (crossing times, shape (k,)), states (shape (k, 2n)), t_end (how far the
-integration went).)");
+        py::arg("atol") = 1e-10, py::arg("rtol") = 1e-10);
 }
 
 }  // namespace npend::python

@@ -50,20 +50,20 @@ def test_lyapunov_equals_npend_lyapunov_and_pairs_up():
     x0 = [2.0, 1.5, 0.0, 0.0]
     r = npend.lyapunov(c, x0, 20.0, dt=0.005)
     ref = npend_json("lyapunov", "--links", 2, "--phi", "2,1.5", "--t-end", 20, "--dt", 0.005)
-    assert np.array_equal(r["exponents"], ref["exponents"])
+    assert np.array_equal(r.exponents, ref["exponents"])
     # A Hamiltonian flow: the exponents come in pairs +-lambda (to round-off with gauss6).
-    assert np.max(np.abs(r["pair_sums"])) < 1e-10
-    assert r["history"].shape == (len(r["history_t"]), 4)
+    assert np.max(np.abs(r.pair_sums)) < 1e-10
+    assert r.history.shape == (len(r.history_t), 4)
     m = npend.lyapunov(c, x0, 20.0, dt=0.005, maximal=True)
-    assert m["exponents"].shape == (1,)
+    assert m.exponents.shape == (1,)
     # The K largest: npend lyapunov --exponents K, and with rk4 the first K of the spectrum's
     # frame (Gram-Schmidt leaves the first vectors alone), so the spectrum's first K.
     k = npend.lyapunov(c, x0, 20.0, dt=0.005, stepper="rk4", exponents=2)
     ref = npend_json("lyapunov", "--links", 2, "--phi", "2,1.5", "--t-end", 20, "--dt", 0.005,
                      "--stepper", "rk4", "--exponents", 2)
-    assert np.array_equal(k["exponents"], ref["exponents"])
+    assert np.array_equal(k.exponents, ref["exponents"])
     full = npend.lyapunov(c, x0, 20.0, dt=0.005, stepper="rk4")
-    assert k["exponents"] == pytest.approx(full["exponents"][:2], rel=1e-6, abs=1e-9)
+    assert k.exponents == pytest.approx(full.exponents[:2], rel=1e-6, abs=1e-9)
     with pytest.raises(ValueError, match="maximal and exponents"):
         npend.lyapunov(c, x0, 1.0, maximal=True, exponents=2)
 
@@ -75,11 +75,11 @@ def test_poincare_equals_npend_poincare_and_lies_on_the_section():
     ref = npend_json("poincare", "--links", 3, "--phi", "0.1,-0.1,0.1", "--t-end", 30,
                      "--section", "phi1=0")
     times = [p["t"] for p in ref["points"]]
-    assert np.array_equal(r["t"], times)
-    assert r["states"].shape == (len(times), 6)
-    assert np.max(np.abs(r["states"][:, 0])) < 1e-9
-    assert np.all(c.velocities(r["states"])[:, 0] > 0)  # "up": phi1 increasing
-    energy = c.hamiltonian(r["states"])
+    assert np.array_equal(r.t, times)
+    assert r.states.shape == (len(times), 6)
+    assert np.max(np.abs(r.states[:, 0])) < 1e-9
+    assert np.all(c.velocities(r.states)[:, 0] > 0)  # "up": phi1 increasing
+    energy = c.hamiltonian(r.states)
     assert np.max(np.abs(energy - c.hamiltonian(x0))) < 1e-9
 
 
@@ -104,12 +104,51 @@ def test_chaos_indicators_of_the_single_pendulum():
     amplitude, so deviations grow linearly) and GALI_2 = SALI falls like t^-2 (until rk4's
     error in the two vectors' angle, near 1e-7 at dt = 0.01, stops it after t = 1000 s)."""
     r = npend.chaos_indicators(npend.Chain(1), [2.0, 0.0], 2000, sample_interval=100)
-    assert r["t"].shape == (20,) and r["gali"].shape == (20, 1)
-    assert abs(r["mean_megno"][-1] - 2) < 0.05
+    assert r.t.shape == (20,) and r.gali.shape == (20, 1)
+    assert abs(r.mean_megno[-1] - 2) < 0.05
     # For two unit vectors, GALI_2 = |sin angle| and SALI = 2 sin(angle/2) agree as they -> 0.
-    assert np.allclose(r["gali"][:, 0], r["sali"], rtol=1e-6)
-    early = r["t"] <= 600
-    slope = np.polyfit(np.log(r["t"][early]), np.log(r["sali"][early]), 1)[0]
+    assert np.allclose(r.gali[:, 0], r.sali, rtol=1e-6)
+    early = r.t <= 600
+    slope = np.polyfit(np.log(r.t[early]), np.log(r.sali[early]), 1)[0]
     assert abs(slope + 2) < 0.2
     with pytest.raises(ValueError, match="vectors"):
         npend.chaos_indicators(npend.Chain(1), [2.0, 0.0], 10, vectors=3)
+
+
+def test_poincare_takes_scipys_tolerance_names():
+    # An adaptive stepper under atol/rtol: the crossings lie on the section and keep H; the
+    # library's names abs_tol/rel_tol are not a second spelling.
+    c = npend.Chain(2)
+    x0 = [0.5, -0.3, 0, 0]
+    r = npend.poincare(c, x0, "phi1=0", 20.0, stepper="dopri5", atol=1e-12, rtol=1e-12)
+    assert len(r.t) >= 5 and r.t_end == 20.0
+    assert np.max(np.abs(r.states[:, 0])) < 1e-9
+    assert np.max(np.abs(c.hamiltonian(r.states) - c.hamiltonian(x0))) < 1e-9
+    with pytest.raises(TypeError, match="abs_tol"):
+        npend.poincare(c, x0, "phi1=0", 1.0, abs_tol=1e-9)
+
+
+def test_lyapunov_result_is_a_frozen_class_with_a_short_repr():
+    r = npend.lyapunov(npend.Chain(1), [1.0, 0.0], 5.0, dt=0.01)
+    assert isinstance(r, npend.results.LyapunovResult)
+    # A single pendulum's flow keeps volume: the two exponents sum to 0.
+    assert r.sum == pytest.approx(0, abs=1e-10) and r.exponents.shape == (2,)
+    assert r.history.shape == (len(r.history_t), 2) and r.state.shape == (2,)
+    text = repr(r)
+    assert "exponents=array(shape=(2,), dtype=float64)" in text and f"t={r.t!r}" in text
+    with pytest.raises(AttributeError):
+        r.t = 0.0
+
+
+def test_lyapunov_takes_the_tolerances_of_an_adaptive_stepper():
+    # dopri5 under atol/rtol: the numbers of npend lyapunov --abs-tol/--rel-tol, and looser
+    # tolerances change them (the keywords reach the stepper).
+    c = npend.Chain(2)
+    x0 = [1.0, 0.5, 0.0, 0.0]
+    r = npend.lyapunov(c, x0, 5.0, dt=0.01, stepper="dopri5", atol=1e-6, rtol=1e-6)
+    ref = npend_json("lyapunov", "--links", 2, "--phi", "1,0.5", "--t-end", 5, "--dt", 0.01,
+                     "--stepper", "dopri5", "--abs-tol", 1e-6, "--rel-tol", 1e-6)
+    assert np.array_equal(r.exponents, ref["exponents"])
+    tight = npend.lyapunov(c, x0, 5.0, dt=0.01, stepper="dopri5")
+    assert not np.array_equal(r.exponents, tight.exponents)
+    assert r.exponents == pytest.approx(tight.exponents, abs=1e-3)

@@ -13,13 +13,15 @@ from conftest import run_npend
 
 def test_map_equals_npend_map(tmp_path):
     c = npend.Chain(2)
-    m = npend.map(c, ("phi1", -3, 3, 12), ("phi2", -2.5, 3, 10), t_end=10, dt=0.01, threads=2)
+    m = npend.map(c, ("phi1", -3, 3, 12), ("phi2", -2.5, 3, 10), t_end=10, dt=0.01,
+                  threads=2).values
     assert m.shape == (10, 12) and m.dtype == np.float64
     run_npend("map", "--links", 2, "--x", "phi1:-3:3:12", "--y", "phi2:-2.5:3:10", "--t-end", 10,
               "--dt", 0.01, "--out", tmp_path / "m")
     ref = np.load(tmp_path / "m" / "map.npy")
     assert np.array_equal(m, ref, equal_nan=True)
-    one_thread = npend.map(c, ("phi1", -3, 3, 12), ("phi2", -2.5, 3, 10), t_end=10, threads=1)
+    one_thread = npend.map(c, ("phi1", -3, 3, 12), ("phi2", -2.5, 3, 10), t_end=10,
+                           threads=1).values
     assert np.array_equal(m, one_thread, equal_nan=True)
 
 
@@ -40,7 +42,7 @@ def test_energy_and_mass_axes(tmp_path):
     # kinetic energy s^2 / (2 m2), so the energy axis must start each cell at s = sqrt(2 m2 E).
     c = npend.Chain(2)
     x_axis, y_axis = ("energy", 0, 30, 6), ("m2", 0.5, 2, 4)
-    m = npend.map(c, x_axis, y_axis, quantity="state", component="p1", t_end=2, threads=2)
+    m = npend.map(c, x_axis, y_axis, quantity="state", component="p1", t_end=2, threads=2).values
     for row, m2 in enumerate(np.linspace(0.5, 2, 4)):
         for col, energy in enumerate(np.linspace(0, 30, 6)):
             s = math.sqrt(2 * m2 * energy)
@@ -69,7 +71,7 @@ def test_lyapunov_map_cells_are_maximal_exponents():
         r = npend.lyapunov(c, row, 20, dt=0.005, stepper="rk4", maximal=True)
         # The cells run on the batch lanes, with SLEEF's sines instead of std::sin's: the
         # same rk4 and renormalisations, equal up to round-off grown over 20 s.
-        assert value == pytest.approx(r["exponents"][0], rel=1e-9, abs=1e-12)
+        assert value == pytest.approx(r.exponents[0], rel=1e-9, abs=1e-12)
 
 
 def test_bad_map_input():
@@ -101,7 +103,7 @@ def test_thread_counts_beyond_the_bound_are_refused():
         with pytest.raises(ValueError, match="threads"):
             npend.map_cells(c, [0.5, 0.5, 0, 0], t_end=1, threads=threads)
     m = npend.map(c, ("phi1", 0, 1, 2), ("phi2", 0, 1, 2), t_end=1, threads=bound)
-    assert m.shape == (2, 2)
+    assert m.values.shape == (2, 2)
 
 
 def test_axes_that_do_not_increase_or_overflow_are_refused():
@@ -120,8 +122,8 @@ def test_indicator_cells_are_the_indicators_at_t_end():
     # The cells run on the batch lanes (SLEEF's sines): over 3 s the chaotic start's round-off
     # has not grown, so the lanes give the library's indicators to round-off.
     runs = [npend.chaos_indicators(c, row, 3, dt=0.01, vectors=3) for row in x]
-    for quantity, pick in [("fli", lambda r: r["fli"][-1]), ("megno", lambda r: r["mean_megno"][-1]),
-                           ("sali", lambda r: r["sali"][-1]), ("gali", lambda r: r["gali"][-1, -1])]:
+    for quantity, pick in [("fli", lambda r: r.fli[-1]), ("megno", lambda r: r.mean_megno[-1]),
+                           ("sali", lambda r: r.sali[-1]), ("gali", lambda r: r.gali[-1, -1])]:
         values = npend.map_cells(c, x, quantity=quantity, t_end=3, dt=0.01)
         assert values == pytest.approx([pick(r) for r in runs], rel=1e-9), quantity
     # MEGNO tells the chaotic start (<Y> ~ lambda t / 2) from the regular one (<Y> -> 2).
@@ -136,7 +138,7 @@ def test_drive_axes_match_npend_map(tmp_path):
     # and no cell ruled out by the energy (the drive feeds energy in).
     c = npend.Chain(2, pivot="vertical:0.1:20")
     m = npend.map(c, ("drive-amplitude", 0, 0.3, 4), ("drive-frequency", 10, 40, 3),
-                  x0=[1.2, 0, 0, 0], t_end=15, threads=2)
+                  x0=[1.2, 0, 0, 0], t_end=15, threads=2).values
     run_npend("map", "--links", 2, "--pivot", "vertical:0.1:20", "--phi", "1.2,0",
               "--x", "drive-amplitude:0:0.3:4", "--y", "drive-frequency:10:40:3",
               "--t-end", 15, "--out", tmp_path / "d")
@@ -149,8 +151,8 @@ def test_dopri5_maps(tmp_path):
     # dopri5 on the batch lanes: the numbers of `npend map --stepper dopri5`, and the single
     # pendulum's flip time located inside the step, where rk4 reports the end of a step.
     c = npend.Chain(2)
-    kw = dict(t_end=10, stepper="dopri5", abs_tol=1e-9, rel_tol=1e-9, threads=2)
-    m = npend.map(c, ("phi1", -3, 3, 8), ("phi2", -2.5, 3, 6), **kw)
+    kw = dict(t_end=10, stepper="dopri5", atol=1e-9, rtol=1e-9, threads=2)
+    m = npend.map(c, ("phi1", -3, 3, 8), ("phi2", -2.5, 3, 6), **kw).values
     run_npend("map", "--links", 2, "--x", "phi1:-3:3:8", "--y", "phi2:-2.5:3:6", "--t-end", 10,
               "--stepper", "dopri5", "--abs-tol", 1e-9, "--rel-tol", 1e-9, "--out", tmp_path / "m")
     assert np.array_equal(m, np.load(tmp_path / "m" / "map.npy"), equal_nan=True)
@@ -161,8 +163,8 @@ def test_dopri5_maps(tmp_path):
     phi = np.linspace(0, math.pi, 200001)
     exact = np.trapz(1 / np.sqrt(rate0 ** 2 - 2 * g * (1 - np.cos(phi))), phi)
     one = npend.Chain(1, g=g)
-    located = npend.map_cells(one, [0, rate0], t_end=5, stepper="dopri5", abs_tol=1e-12,
-                              rel_tol=1e-12)
+    located = npend.map_cells(one, [0, rate0], t_end=5, stepper="dopri5", atol=1e-12,
+                              rtol=1e-12)
     stepped = npend.map_cells(one, [0, rate0], t_end=5, dt=0.01)
     assert located == pytest.approx(exact, abs=1e-9)
     assert exact <= stepped < exact + 0.01
@@ -196,3 +198,49 @@ def test_gpu_device_is_refused_by_name_where_it_cannot_run():
     else:  # a GPU: the same values as the CPU's on this short, regular run
         assert np.allclose(npend.map_cells(c, x, t_end=1, device="cuda"),
                            npend.map_cells(c, x, t_end=1), rtol=1e-9, equal_nan=True)
+
+
+def test_map_result_carries_its_axes():
+    c = npend.Chain(2)
+    m = npend.map(c, ("phi1", -1, 2, 4), ("p2", 0, 0.5, 3), quantity="state", component="phi1",
+                  t_end=0.5)
+    # The cells' coordinates: count values from FROM to TO, both included, equally spaced.
+    assert m.x[0] == -1 and m.x[-1] == 2 and np.diff(m.x) == pytest.approx([1.0] * 3)
+    assert m.y[0] == 0 and m.y[-1] == 0.5 and np.diff(m.y) == pytest.approx([0.25] * 2)
+    assert (m.x_name, m.y_name, m.quantity) == ("phi1", "p2", "state")
+    assert m.options["t_end"] == 0.5 and m.options["component"] == "phi1"
+    # Cell (i, j) starts at phi1 = x[j], p2 = y[i]: its own map_cells value.
+    want = npend.map_cells(c, [m.x[2], 0, 0, m.y[1]], quantity="state", component="phi1",
+                           t_end=0.5)
+    assert m.values[1, 2] == pytest.approx(float(want), rel=1e-12, abs=1e-12)
+    assert np.asarray(m) is m.values and np.asarray(m, dtype=np.float32).dtype == np.float32
+    assert "array(shape=(3, 4), dtype=float64)" in repr(m) and "nan" not in repr(m)
+    with pytest.raises(AttributeError):
+        m.values = None
+
+
+def test_map_axes_given_as_lists_just_work():
+    c = npend.Chain(2)
+    as_tuples = npend.map(c, ("phi1", -3, 3, 5), ("phi2", -3, 3, 4), t_end=2)
+    as_lists = npend.map(c, ["phi1", -3, 3, 5], ["phi2", -3.0, 3.0, np.int64(4)], t_end=2)
+    assert np.array_equal(as_tuples.values, as_lists.values, equal_nan=True)
+    assert np.array_equal(as_tuples.y, as_lists.y)
+
+
+def test_map_axes_of_the_wrong_type_name_the_axis_and_field():
+    c = npend.Chain(2)
+    good = ("phi2", 0, 1, 2)
+    with pytest.raises(TypeError, match=r"x: count must be an integer, got 64\.5"):
+        npend.map(c, ("phi1", -3, 3, 64.5), good)
+    with pytest.raises(TypeError, match="x: count must be an integer, got 64.0"):
+        npend.map(c, ("phi1", -3, 3, 64.0), good)
+    with pytest.raises(TypeError, match="y: from must be a number, got 'a'"):
+        npend.map(c, good, ("phi1", "a", 3, 64))
+    with pytest.raises(TypeError, match="x: to must be a number, got None"):
+        npend.map(c, ("phi1", 0, None, 64), good)
+    with pytest.raises(TypeError, match="y: name must be a string"):
+        npend.map(c, good, (1, 0, 1, 2))
+    with pytest.raises(ValueError, match=r"x: expected \(name, from, to, count\)"):
+        npend.map(c, ("phi1", 0, 1), good)
+    with pytest.raises(ValueError, match=r"y: expected \(name, from, to, count\)"):
+        npend.map(c, good, "phi1:0:1:2")

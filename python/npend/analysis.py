@@ -1,0 +1,782 @@
+"""The analyses of npend: start states, Lyapunov exponents, Poincare sections, chaos
+indicators, time series, stability and chaos maps.
+
+Each function calls the compiled module npend._npend, which runs the C++ library's code (the
+command line's), and returns numpy arrays or a result class of npend.results. Bad input
+raises ValueError with the command line's message, naming the keyword; an integration that
+cannot go on raises npend.IntegrationError; Ctrl-C raises KeyboardInterrupt.
+"""
+
+from __future__ import annotations
+
+import operator
+from numbers import Real
+from typing import TYPE_CHECKING, Any, List, Optional, Sequence
+
+import numpy as np
+
+from . import _npend
+from .results import (
+    AutocorrelationResult,
+    DelayResult,
+    Equilibrium,
+    IndicatorsResult,
+    LyapunovResult,
+    MapResult,
+    ModesResult,
+    PoincareResult,
+    SpectrumResult,
+)
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from ._npend import Chain
+
+__all__ = [
+    "autocorrelation",
+    "built_link_counts",
+    "chaos_indicators",
+    "choose_delay",
+    "deflected_state",
+    "embed",
+    "energy_from_epsilon",
+    "equilibria",
+    "kicked_state",
+    "lyapunov",
+    "map",
+    "map_cells",
+    "modes",
+    "poincare",
+    "spectrum",
+]
+
+
+# Start states
+
+
+def built_link_counts() -> List[int]:
+    """The link counts whose generated kernels are compiled into this build.
+
+    Returns
+    -------
+    list of int
+        Ascending; a Chain takes only these link counts.
+
+    Examples
+    --------
+    >>> import npend
+    >>> 3 in npend.built_link_counts()
+    True
+    """
+    return _npend.built_link_counts()
+
+
+def energy_from_epsilon(chain: Chain, epsilon: float) -> float:
+    """The paper's dimensionless energy epsilon as an energy: E = epsilon m g l.
+
+    Parameters
+    ----------
+    chain : Chain
+        A chain with equal masses m and equal lengths l.
+    epsilon : float
+        The dimensionless energy (the paper's weak start is 0.01, its strong one 1.5).
+
+    Returns
+    -------
+    float
+        E in J.
+
+    Raises
+    ------
+    ValueError
+        If the chain's masses or lengths differ.
+
+    Examples
+    --------
+    >>> import npend
+    >>> print(f"{npend.energy_from_epsilon(npend.Chain(3, masses=2.0), 1.5):.3f}")  # 1.5*2*9.81
+    29.430
+    """
+    return _npend.energy_from_epsilon(chain, epsilon)
+
+
+def deflected_state(
+    chain: Chain, energy: float, direction: Optional[ArrayLike] = None
+) -> np.ndarray:
+    """The chain at rest with its angles s * direction, s > 0 chosen so that H = energy.
+
+    This is the paper's excitation by deflecting the arms.
+
+    Parameters
+    ----------
+    chain : Chain
+        The chain.
+    energy : float
+        H of the state (J), at least 0 and below what the direction allows.
+    direction : array_like, shape (n,), optional
+        The direction of the angles; default all ones.
+
+    Returns
+    -------
+    ndarray, shape (2n,)
+        The state [phi, p], p = 0.
+
+    Raises
+    ------
+    ValueError
+        For a direction of another shape, a negative energy or one the direction cannot reach.
+
+    Examples
+    --------
+    >>> import npend
+    >>> chain = npend.Chain(3)
+    >>> x = npend.deflected_state(chain, 2.0)
+    >>> print(f"{chain.hamiltonian(x):.9f}", x[3:], bool(x[0] == x[1] == x[2] > 0))
+    2.000000000 [0. 0. 0.] True
+    """
+    return _npend.deflected_state(chain, energy, direction)
+
+
+def kicked_state(
+    chain: Chain, energy: float, direction: Optional[ArrayLike] = None
+) -> np.ndarray:
+    """The hanging chain with momenta s * direction, s > 0 chosen so that H = energy.
+
+    This is the paper's excitation by a kick.
+
+    Parameters
+    ----------
+    chain : Chain
+        The chain.
+    energy : float
+        H of the state (J), at least 0.
+    direction : array_like, shape (n,), optional
+        The direction of the momenta; default a horizontal kick on the lowest bob.
+
+    Returns
+    -------
+    ndarray, shape (2n,)
+        The state [phi, p], phi = 0.
+
+    Raises
+    ------
+    ValueError
+        For a direction of another shape or a negative energy.
+
+    Examples
+    --------
+    >>> import npend
+    >>> chain = npend.Chain(2)
+    >>> x = npend.kicked_state(chain, 1.0, direction=[1.0, 0.0])
+    >>> print(f"{chain.hamiltonian(x):.9f}", x[:2], x[3])
+    1.000000000 [0. 0.] 0.0
+    """
+    return _npend.kicked_state(chain, energy, direction)
+
+
+# Integrations
+
+
+def lyapunov(
+    chain: Chain,
+    x0: ArrayLike,
+    t_end: float,
+    *,
+    dt: float = 1e-3,
+    stepper: str = "gauss6",
+    maximal: bool = False,
+    exponents: int = 0,
+    renormalise_every: float = 0.1,
+    transient: float = 0.0,
+    blocks: int = 10,
+    atol: float = 1e-10,
+    rtol: float = 1e-10,
+) -> LyapunovResult:
+    """Lyapunov exponents of the trajectory from x0 by Benettin's method, as ``npend lyapunov``.
+
+    The full spectrum of 2n exponents, the largest alone (maximal=True) or the K largest
+    (exponents=K: K tangent vectors, O(n) each per step on a long chain's loop kernels).
+
+    Parameters
+    ----------
+    chain : Chain
+        The chain.
+    x0 : array_like, shape (2n,)
+        The start state.
+    t_end : float
+        The end of the integration (s).
+    dt : float, optional
+        The step (s).
+    stepper : str, optional
+        A stepper as for npend.simulate that integrates the variational equations; the
+        Gauss-Legendre ones (gauss6, gauss4) carry the tangent vectors by their exact
+        tangent map, an adaptive one steps under atol and rtol between renormalisations.
+    maximal : bool, optional
+        Only the largest exponent.
+    exponents : int, optional
+        K > 0: the K largest exponents; 0: all 2n (or the largest with maximal).
+    renormalise_every : float, optional
+        The interval between the tangent vectors' re-orthonormalisations (s).
+    transient : float, optional
+        The time integrated before the averaging starts (s).
+    blocks : int, optional
+        The blocks the averaging time is cut into for the standard error (at least 2).
+    atol, rtol : float, optional
+        The absolute and relative tolerances of an adaptive stepper.
+
+    Returns
+    -------
+    LyapunovResult
+        The exponents (1/s, descending), their errors and running estimates, the final state.
+
+    Raises
+    ------
+    ValueError
+        For bad input, also for maximal=True with exponents.
+    IntegrationError
+        When the integration cannot go on.
+
+    Examples
+    --------
+    >>> import numpy as np, npend
+    >>> r = npend.lyapunov(npend.Chain(2), [2.0, 1.5, 0.0, 0.0], 20.0, dt=0.005)
+    >>> r.exponents.shape, bool(np.all(np.diff(r.exponents) <= 0))
+    ((4,), True)
+    >>> bool(np.all(np.abs(r.pair_sums) < 1e-10))  # a Hamiltonian flow: pairs +-lambda
+    True
+    """
+    d = _npend.lyapunov(
+        chain, x0, t_end, dt=dt, stepper=stepper, maximal=maximal, exponents=exponents,
+        renormalise_every=renormalise_every, transient=transient, blocks=blocks, atol=atol,
+        rtol=rtol)
+    return LyapunovResult(**d)
+
+
+def poincare(
+    chain: Chain,
+    x0: ArrayLike,
+    section: str,
+    t_end: float,
+    *,
+    dt: float = 1e-3,
+    stepper: str = "gauss6",
+    direction: str = "up",
+    max_crossings: int = 0,
+    unwrapped: bool = False,
+    atol: float = 1e-10,
+    rtol: float = 1e-10,
+) -> PoincareResult:
+    """The crossings of a Poincare section by the trajectory from x0, as ``npend poincare``.
+
+    Parameters
+    ----------
+    chain : Chain
+        The chain.
+    x0 : array_like, shape (2n,)
+        The start state.
+    section : str
+        The section as on the command line: "phi1=0", "p2=0.5", "phi2=phi3".
+    t_end : float
+        The end of the integration (s).
+    dt : float, optional
+        The step (s); an adaptive stepper's first trial step.
+    stepper : str, optional
+        A stepper as for npend.simulate.
+    direction : {"up", "down", "both"}, optional
+        The crossings counted: the section's coordinate increasing, decreasing, or both.
+    max_crossings : int, optional
+        Stop after this many crossings (0: run to t_end).
+    unwrapped : bool, optional
+        Compare the angles as they are, not modulo 2 pi.
+    atol, rtol : float, optional
+        The absolute and relative tolerances of an adaptive stepper.
+
+    Returns
+    -------
+    PoincareResult
+        The crossing times, the states there, and how far the integration went.
+
+    Raises
+    ------
+    ValueError
+        For bad input: a section, direction or stepper that does not parse, a bad x0.
+    IntegrationError
+        When the integration cannot go on.
+
+    Examples
+    --------
+    A small swing of the single pendulum crosses phi1 = 0 upwards once a period,
+    2 pi sqrt(l/g) = 2.006 s:
+
+    >>> import numpy as np, npend
+    >>> r = npend.poincare(npend.Chain(1), [0.01, 0.0], "phi1=0", 10.0)
+    >>> print(np.round(np.diff(r.t), 3), r.states.shape)
+    [2.006 2.006 2.006 2.006] (5, 2)
+    """
+    d = _npend.poincare(
+        chain, x0, section, t_end, dt=dt, stepper=stepper, direction=direction,
+        max_crossings=max_crossings, unwrapped=unwrapped, atol=atol, rtol=rtol)
+    return PoincareResult(**d)
+
+
+def chaos_indicators(
+    chain: Chain,
+    x0: ArrayLike,
+    t_end: float,
+    *,
+    dt: float = 0.01,
+    vectors: int = 2,
+    sample_interval: float = 0.0,
+) -> IndicatorsResult:
+    """The fast chaos indicators of the trajectory from x0: FLI, MEGNO, SALI and GALI.
+
+    The trajectory and `vectors` deviation vectors run with rk4 at dt; the vectors are
+    renormalised after every step. On a torus <Y> -> 2 and SALI stays away from 0; on a
+    chaotic orbit <Y> ~ lambda_1 t / 2 and SALI ~ exp(-(lambda_1 - lambda_2) t).
+
+    Parameters
+    ----------
+    chain : Chain
+        The chain.
+    x0 : array_like, shape (2n,)
+        The start state.
+    t_end : float
+        The end of the integration (s).
+    dt : float, optional
+        The rk4 step (s).
+    vectors : int, optional
+        The deviation vectors, 2..2n.
+    sample_interval : float, optional
+        The time between samples (s); 0: one sample at t_end.
+
+    Returns
+    -------
+    IndicatorsResult
+        The indicators over the samples and the final state.
+
+    Raises
+    ------
+    ValueError
+        For bad input, such as more vectors than 2n.
+    IntegrationError
+        When the integration cannot go on.
+
+    Examples
+    --------
+    A single pendulum's orbit is a torus, so <Y> tends to 2:
+
+    >>> import npend
+    >>> r = npend.chaos_indicators(npend.Chain(1), [2.0, 0.0], 2000.0, sample_interval=100.0)
+    >>> print(r.t.shape, r.gali.shape, f"{r.mean_megno[-1]:.1f}")
+    (20,) (20, 1) 2.0
+    """
+    d = _npend.chaos_indicators(
+        chain, x0, t_end, dt=dt, vectors=vectors, sample_interval=sample_interval)
+    return IndicatorsResult(**d)
+
+
+# Time series
+
+
+def spectrum(
+    x: ArrayLike,
+    dt: float,
+    *,
+    window: str = "hann",
+    segment_length: int = 0,
+    overlap: float = 0.5,
+) -> SpectrumResult:
+    """The one-sided spectral density of x_j = x(j dt) (paper 6.6.2), as ``npend spectrum``.
+
+    Parameters
+    ----------
+    x : array_like, shape (N,)
+        The samples.
+    dt : float
+        The sampling interval (s).
+    window : {"hann", "none", "hamming", "blackman"}, optional
+        The window; with "none", sum(power) * resolution is the variance of x (Parseval).
+    segment_length : int, optional
+        Welch segments of this many samples; 0: one segment of all N.
+    overlap : float, optional
+        The segments' overlap, a fraction in [0, 1).
+
+    Returns
+    -------
+    SpectrumResult
+        omega (rad/s), power, resolution, segment_length, segments.
+
+    Raises
+    ------
+    ValueError
+        For x not 1-D, an unknown window or bad segments.
+
+    Examples
+    --------
+    >>> import numpy as np, npend
+    >>> dt = 0.01
+    >>> r = npend.spectrum(np.sin(3.0 * dt * np.arange(4096)), dt)
+    >>> r.power.shape, bool(abs(r.omega[np.argmax(r.power)] - 3.0) <= r.resolution)
+    ((2049,), True)
+    """
+    return SpectrumResult(**_npend.spectrum(
+        x, dt, window=window, segment_length=segment_length, overlap=overlap))
+
+
+def autocorrelation(
+    x: ArrayLike,
+    dt: float,
+    *,
+    max_lag: int = 0,
+    estimator: str = "biased",
+) -> AutocorrelationResult:
+    """The normalised autocorrelation C(tau) of x_j = x(j dt), as ``npend autocorrelation``.
+
+    Parameters
+    ----------
+    x : array_like, shape (N,)
+        The samples.
+    dt : float
+        The sampling interval (s).
+    max_lag : int, optional
+        The largest lag in samples; 0: all, N - 1.
+    estimator : {"biased", "unbiased"}, optional
+        Divide the sums by N (biased) or by the number of terms.
+
+    Returns
+    -------
+    AutocorrelationResult
+        lag (s), value (C(0) = 1), first_zero and first_minimum (s, or None).
+
+    Raises
+    ------
+    ValueError
+        For x not 1-D, an unknown estimator or a lag beyond the samples.
+
+    Examples
+    --------
+    C of cos(2 t) is cos(2 tau), first zero at pi/4:
+
+    >>> import numpy as np, npend
+    >>> r = npend.autocorrelation(np.cos(2.0 * 0.001 * np.arange(100000)), 0.001, max_lag=2000)
+    >>> print(r.lag.shape, f"{r.first_zero:.3f}")
+    (2001,) 0.785
+    """
+    return AutocorrelationResult(**_npend.autocorrelation(
+        x, dt, max_lag=max_lag, estimator=estimator))
+
+
+def embed(x: ArrayLike, delay: int, dimension: int) -> np.ndarray:
+    """The delay vectors of a series: rows (x_j, x_(j-delay), ..., x_(j-(dimension-1) delay)).
+
+    Parameters
+    ----------
+    x : array_like, shape (N,)
+        The samples.
+    delay : int
+        The delay in samples, at least 1.
+    dimension : int
+        The embedding dimension m, at least 1.
+
+    Returns
+    -------
+    ndarray, shape (N - (m-1) delay, m)
+        Row i ends at sample j = i + (m-1) delay and reaches back from there.
+
+    Raises
+    ------
+    ValueError
+        For a delay or dimension of 0, or N <= (m-1) delay.
+
+    Examples
+    --------
+    >>> import numpy as np, npend
+    >>> print(npend.embed(np.arange(6.0), 2, 3))
+    [[4. 2. 0.]
+     [5. 3. 1.]]
+    """
+    return _npend.embed(x, delay, dimension)
+
+
+def choose_delay(x: ArrayLike, dt: float, *, method: str = "auto") -> DelayResult:
+    """The embedding delay of a series, chosen as ``npend embed`` chooses it.
+
+    Parameters
+    ----------
+    x : array_like, shape (N,)
+        The samples, N >= 4.
+    dt : float
+        The sampling interval (s).
+    method : {"auto", "T/4", "acf-zero", "acf-min", "ami"}, optional
+        A quarter of the dominant period, the autocorrelation's first zero or minimum, the
+        first minimum of the average mutual information; auto tries ami, then the others.
+
+    Returns
+    -------
+    DelayResult
+        found, the method that gave the delay, the delay in samples and in s.
+
+    Raises
+    ------
+    ValueError
+        For x not 1-D, too short or constant, or an unknown method.
+
+    Examples
+    --------
+    A quarter period of sin(t) is pi/2:
+
+    >>> import numpy as np, npend
+    >>> d = npend.choose_delay(np.sin(0.01 * np.arange(10000)), 0.01, method="T/4")
+    >>> print(d.found, d.method, f"{d.seconds:.2f}")
+    True T/4 1.57
+    """
+    return DelayResult(**_npend.choose_delay(x, dt, method=method))
+
+
+# Stability
+
+
+def equilibria(chain: Chain) -> List[Equilibrium]:
+    """The 2^n equilibria phi_i in {0, pi}, p = 0, as ``npend equilibria``.
+
+    Parameters
+    ----------
+    chain : Chain
+        The chain.
+
+    Returns
+    -------
+    list of Equilibrium
+        Ordered as binary numbers, phi_n's 0 or pi the last digit: hanging first.
+
+    Examples
+    --------
+    The double pendulum hangs stably; standing upright it has two unstable directions:
+
+    >>> import npend
+    >>> found = npend.equilibria(npend.Chain(2))
+    >>> [(e.stable, e.unstable_directions) for e in found]
+    [(True, 0), (False, 1), (False, 1), (False, 2)]
+    >>> print(f"{found[3].energy:.2f}")  # 2 (m1 + m2) g l1 + 2 m2 g l2
+    58.86
+    """
+    return [Equilibrium(**e) for e in _npend.equilibria(chain)]
+
+
+def modes(chain: Chain, angles: Optional[ArrayLike] = None) -> ModesResult:
+    """The normal modes about an equilibrium, as ``npend modes``.
+
+    Parameters
+    ----------
+    chain : Chain
+        The chain.
+    angles : array_like, shape (n,), optional
+        The equilibrium's angles (each 0 or pi); default the hanging chain.
+
+    Returns
+    -------
+    ModesResult
+        The modes in ascending omega^2: frequencies, growth rates, shapes and the matrices.
+
+    Raises
+    ------
+    ValueError
+        For angles of another shape or not an equilibrium.
+
+    Examples
+    --------
+    The double pendulum's omega^2 = g (2 -+ sqrt 2):
+
+    >>> import numpy as np, npend
+    >>> print(np.round(npend.modes(npend.Chain(2)).omega_squared, 3))
+    [ 5.747 33.493]
+    """
+    return ModesResult(**_npend.modes(chain, angles))
+
+
+# Chaos maps
+
+
+def _axis(spec: Any, what: str) -> tuple:
+    """An axis (name, from, to, count) as the binding takes it; a TypeError or ValueError
+    naming the axis and the field otherwise (the binding's own message names neither)."""
+    if isinstance(spec, str) or not isinstance(spec, Sequence) or len(spec) != 4:
+        raise ValueError(
+            f"{what}: expected (name, from, to, count), e.g. ('phi1', -3.14, 3.14, 256)"
+            f", got {spec!r}")
+    name, start, stop, count = spec
+    if not isinstance(name, str):
+        raise TypeError(f"{what}: name must be a string such as 'phi1', got {name!r}")
+    for field, value in (("from", start), ("to", stop)):
+        if isinstance(value, bool) or not isinstance(value, Real):
+            raise TypeError(f"{what}: {field} must be a number, got {value!r}")
+    if isinstance(count, bool):
+        raise TypeError(f"{what}: count must be an integer, got {count!r}")
+    try:
+        count = operator.index(count)
+    except TypeError:
+        raise TypeError(f"{what}: count must be an integer, got {count!r}") from None
+    return (name, float(start), float(stop), count)
+
+
+def map(
+    chain: Chain,
+    x: Sequence,
+    y: Sequence,
+    *,
+    quantity: str = "flip",
+    t_end: float = 100.0,
+    dt: float = 0.01,
+    flip_link: int = 0,
+    gali_order: int = 0,
+    component: str = "phi1",
+    x0: Optional[ArrayLike] = None,
+    velocities: Optional[ArrayLike] = None,
+    stepper: str = "rk4",
+    atol: float = 1e-10,
+    rtol: float = 1e-10,
+    threads: int = 0,
+    device: str = "cpu",
+) -> MapResult:
+    """A chaos map over a grid of starts or parameters, as ``npend map``.
+
+    Parameters
+    ----------
+    chain : Chain
+        The chain.
+    x, y : sequence (name, from, to, count)
+        The axes (a tuple or a list): count values from `from` to `to`, both included. name
+        is a start coordinate (phi1..phin, p1..pn, or dphi1..dphin with `velocities`),
+        "energy" (the start's momenta scaled to that energy, J), or a parameter of the
+        chain (m1..mn, l1..ln, g, k1..kn and b1..bn: the joints' stiffness and damping,
+        drive-amplitude and drive-frequency of a chain whose pivot has a built-in drive).
+    quantity : {"flip", "lyapunov", "fli", "megno", "sali", "gali", "state"}, optional
+        What each cell holds: the time to the first flip of an arm (or of arm flip_link; +inf
+        if none by t_end, located inside its step), the largest Lyapunov exponent (rk4), an
+        indicator of chaos_indicators at t_end ("megno": <Y>; "gali": GALI_k, k =
+        gali_order, 0: n + 1), or coordinate `component` at t_end (angles not wrapped).
+    t_end : float, optional
+        The end of each cell's integration (s).
+    dt : float, optional
+        The step (s); dopri5's first trial step.
+    flip_link : int, optional
+        The arm whose flip counts (1..n); 0: any.
+    gali_order : int, optional
+        k of GALI_k for quantity "gali" (0: n + 1).
+    component : str, optional
+        The coordinate of quantity "state": phi1..phin or p1..pn.
+    x0 : array_like, shape (2n,), optional
+        The rest of each start (default 0).
+    velocities : array_like, shape (n,), optional
+        The start's angular velocities instead of x0's momenta.
+    stepper : {"rk4", "dopri5", "gauss4", "gauss6"}, optional
+        rk4 steps dt; dopri5 (flip, lyapunov, state) steps adaptively under atol and rtol;
+        gauss4 and gauss6 (flip, lyapunov, state) are symplectic with steps dt.
+    atol, rtol : float, optional
+        dopri5's absolute and relative tolerances.
+    threads : int, optional
+        The OpenMP threads (0: every core); the values do not depend on it.
+    device : {"cpu", "cuda"}, optional
+        "cuda" computes the cells on a GPU (rk4 or dopri5) as ``npend map --device cuda``.
+
+    Returns
+    -------
+    MapResult
+        values of shape (len(y), len(x)), row 0 at the first y value, the same numbers as
+        ``npend map``'s map.npy; NaN where the energy rules a cell out or its integration
+        failed. np.asarray(result) gives values.
+
+    Raises
+    ------
+    TypeError
+        For an axis whose name is not a string, a bound not a number or a count not an
+        integer (the message names the axis and the field).
+    ValueError
+        For other bad input: an unknown axis or quantity, a count outside 1..16384, ...
+    RuntimeError
+        For device="cuda" where no GPU, CUDA driver or NVRTC is found.
+
+    Examples
+    --------
+    Where 2 cos phi1 + cos phi2 > 1 the double pendulum's energy rules a flip out:
+
+    >>> import numpy as np, npend
+    >>> r = npend.map(npend.Chain(2), ("phi1", -1, 1, 3), ("phi2", 0, 0.5, 2), t_end=1.0)
+    >>> print(r.x, r.y, np.asarray(r).shape, bool(np.isnan(r.values).all()))
+    [-1.  0.  1.] [0.  0.5] (2, 3) True
+    >>> r  # doctest: +ELLIPSIS
+    MapResult(
+        values=array(shape=(2, 3), dtype=float64),
+        x=array(shape=(3,), dtype=float64),
+        y=array(shape=(2,), dtype=float64),
+        x_name='phi1',
+        y_name='phi2',
+        quantity='flip',
+        options={'t_end': 1.0, 'dt': 0.01, ...},
+    )
+    """
+    x_axis, y_axis = _axis(x, "x"), _axis(y, "y")
+    options = dict(
+        t_end=t_end, dt=dt, flip_link=flip_link, gali_order=gali_order, component=component,
+        x0=x0, velocities=velocities, stepper=stepper, atol=atol, rtol=rtol, threads=threads,
+        device=device)
+    d = _npend.map(chain, x_axis, y_axis, quantity=quantity, **options)
+    return MapResult(values=d["values"], x=d["x"], y=d["y"], x_name=x_axis[0],
+                     y_name=y_axis[0], quantity=quantity, options=options)
+
+
+def map_cells(
+    chain: Chain,
+    x: ArrayLike,
+    *,
+    quantity: str = "flip",
+    t_end: float = 100.0,
+    dt: float = 0.01,
+    flip_link: int = 0,
+    gali_order: int = 0,
+    component: str = "phi1",
+    stepper: str = "rk4",
+    atol: float = 1e-10,
+    rtol: float = 1e-10,
+    threads: int = 0,
+    device: str = "cpu",
+) -> np.ndarray:
+    """One map value per start state, computed as ``npend map`` computes its cells.
+
+    Parameters
+    ----------
+    chain : Chain
+        The chain.
+    x : array_like, shape (2n,) or (k, 2n)
+        The start states, one per row.
+    quantity, t_end, dt, flip_link, gali_order, component, stepper, atol, rtol, threads, device
+        As for npend.map.
+
+    Returns
+    -------
+    float64 ndarray, shape () or (k,)
+        The cells' values: a 0-d array for one state.
+
+    Raises
+    ------
+    ValueError
+        For bad input, such as a non-finite start.
+    RuntimeError
+        For device="cuda" where no GPU, CUDA driver or NVRTC is found.
+
+    Examples
+    --------
+    Starts of too little energy for a flip, and a start at rest, which stays there:
+
+    >>> import npend
+    >>> chain = npend.Chain(2)
+    >>> print(npend.map_cells(chain, [[0.1, 0.1, 0.0, 0.0], [0.2, 0.0, 0.0, 0.0]], t_end=1.0))
+    [nan nan]
+    >>> print(npend.map_cells(chain, [0.0] * 4, quantity="state", component="p2", t_end=1.0))
+    0.0
+    """
+    return _npend.map_cells(
+        chain, x, quantity=quantity, t_end=t_end, dt=dt, flip_link=flip_link,
+        gali_order=gali_order, component=component, stepper=stepper, atol=atol, rtol=rtol,
+        threads=threads, device=device)

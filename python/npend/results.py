@@ -1,0 +1,316 @@
+"""The results of npend's analyses: small frozen classes whose attributes are numpy arrays
+and numbers, printed with their scalars and with their arrays summarised by shape and dtype.
+
+    >>> import numpy as np
+    >>> from npend.results import DelayResult, PoincareResult
+    >>> DelayResult(found=True, method="T/4", samples=157, seconds=1.57)
+    DelayResult(found=True, method='T/4', samples=157, seconds=1.57)
+    >>> PoincareResult(t=np.zeros(3), states=np.zeros((3, 4)), t_end=10.0)
+    PoincareResult(
+        t=array(shape=(3,), dtype=float64),
+        states=array(shape=(3, 4), dtype=float64),
+        t_end=10.0,
+    )
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any, Mapping, Optional
+
+import numpy as np
+
+__all__ = [
+    "AutocorrelationResult",
+    "DelayResult",
+    "Equilibrium",
+    "IndicatorsResult",
+    "LyapunovResult",
+    "MapResult",
+    "ModesResult",
+    "PoincareResult",
+    "SpectrumResult",
+]
+
+# One line while it fits (a dataclass's repr), one field a line beyond.
+_REPR_WIDTH = 88
+
+
+def _summary(value: Any) -> str:
+    if isinstance(value, np.ndarray):
+        return f"array(shape={value.shape}, dtype={value.dtype})"
+    if isinstance(value, Mapping):
+        return "{" + ", ".join(f"{k!r}: {_summary(v)}" for k, v in value.items()) + "}"
+    return repr(value)
+
+
+class _Result:
+    """What every result class shares: the repr (arrays would print in full in a dataclass's)."""
+
+    def __repr__(self) -> str:
+        fields = [f"{f.name}={_summary(getattr(self, f.name))}" for f in dataclasses.fields(self)]
+        name = type(self).__name__
+        line = f"{name}({', '.join(fields)})"
+        if len(line) <= _REPR_WIDTH:
+            return line
+        return name + "(\n" + "".join(f"    {field},\n" for field in fields) + ")"
+
+
+# eq=False: == on arrays gives arrays, so a field-wise == would not be a bool.
+_result = dataclasses.dataclass(frozen=True, repr=False, eq=False)
+
+
+@_result
+class LyapunovResult(_Result):
+    """The Lyapunov exponents of npend.lyapunov.
+
+    Attributes
+    ----------
+    exponents : ndarray, shape (k,)
+        The exponents in 1/s, descending: k = 2n (the spectrum), 1 (maximal) or K.
+    sum : float
+        Their sum (0 for a Hamiltonian flow's full spectrum).
+    pair_sums : ndarray, shape (n,)
+        lambda_i + lambda_(2n+1-i), i = 1..n: 0 for a Hamiltonian flow, to round-off with a
+        symplectic stepper. Empty unless the full spectrum was asked for.
+    standard_error : ndarray, shape (k,)
+        Per exponent: the standard deviation of the blocks' exponents / sqrt(blocks) (1/s),
+        NaN with fewer than two blocks.
+    spread : ndarray, shape (k,)
+        Per exponent: max - min of its running value over the last part of the averaging
+        time (1/s), the convergence estimate.
+    history_t : ndarray, shape (h,)
+        The times of the running estimates (s).
+    history : ndarray, shape (h, k)
+        The running estimates, row i at history_t[i].
+    t : float
+        Where the integration ended (s).
+    averaging_time : float
+        The time the exponents average over (t minus the transient, s).
+    renormalisations : int
+        How many times the tangent vectors were renormalised.
+    max_rel_energy_error : float
+        The largest |H - H(0)| / |H(0)| at the renormalisations.
+    method : str
+        "tangent map" (Gauss-Legendre steppers) or "variational equations".
+    state : ndarray, shape (2n,)
+        The final state.
+    """
+
+    exponents: np.ndarray
+    sum: float
+    pair_sums: np.ndarray
+    standard_error: np.ndarray
+    spread: np.ndarray
+    history_t: np.ndarray
+    history: np.ndarray
+    t: float
+    averaging_time: float
+    renormalisations: int
+    max_rel_energy_error: float
+    method: str
+    state: np.ndarray
+
+
+@_result
+class PoincareResult(_Result):
+    """The crossings of a Poincare section found by npend.poincare.
+
+    Attributes
+    ----------
+    t : ndarray, shape (k,)
+        The crossing times (s), ascending.
+    states : ndarray, shape (k, 2n)
+        The states at the crossings, row i at t[i].
+    t_end : float
+        How far the integration went (s): t_end, or less with max_crossings.
+    """
+
+    t: np.ndarray
+    states: np.ndarray
+    t_end: float
+
+
+@_result
+class IndicatorsResult(_Result):
+    """The fast chaos indicators of npend.chaos_indicators, one entry per sample.
+
+    Attributes
+    ----------
+    t : ndarray, shape (s,)
+        The sample times (s).
+    fli : ndarray, shape (s,)
+        The fast Lyapunov indicator.
+    megno : ndarray, shape (s,)
+        MEGNO Y.
+    mean_megno : ndarray, shape (s,)
+        Its running mean <Y>.
+    sali : ndarray, shape (s,)
+        The smaller alignment index.
+    gali : ndarray, shape (s, vectors - 1)
+        GALI_2..GALI_vectors.
+    state : ndarray, shape (2n,)
+        The final state.
+    """
+
+    t: np.ndarray
+    fli: np.ndarray
+    megno: np.ndarray
+    mean_megno: np.ndarray
+    sali: np.ndarray
+    gali: np.ndarray
+    state: np.ndarray
+
+
+@_result
+class SpectrumResult(_Result):
+    """The one-sided spectral density of npend.spectrum.
+
+    Attributes
+    ----------
+    omega : ndarray, shape (m,)
+        The angular frequencies (rad/s), 0 to the Nyquist frequency.
+    power : ndarray, shape (m,)
+        The spectral density at omega.
+    resolution : float
+        The spacing of omega (rad/s).
+    segment_length : int
+        The samples per Welch segment.
+    segments : int
+        How many segments were averaged.
+    """
+
+    omega: np.ndarray
+    power: np.ndarray
+    resolution: float
+    segment_length: int
+    segments: int
+
+
+@_result
+class AutocorrelationResult(_Result):
+    """The normalised autocorrelation of npend.autocorrelation.
+
+    Attributes
+    ----------
+    lag : ndarray, shape (L + 1,)
+        The lags (s).
+    value : ndarray, shape (L + 1,)
+        C(lag), C(0) = 1.
+    first_zero : float or None
+        The first lag where C falls to 0 (s, interpolated between lags), None if it does not.
+    first_minimum : float or None
+        The first local minimum of C (s, a parabola through three lags), None if none.
+    """
+
+    lag: np.ndarray
+    value: np.ndarray
+    first_zero: Optional[float]
+    first_minimum: Optional[float]
+
+
+@_result
+class DelayResult(_Result):
+    """The embedding delay chosen by npend.choose_delay.
+
+    Attributes
+    ----------
+    found : bool
+        Whether a method gave a delay.
+    method : str
+        The method that gave it (auto tries several).
+    samples : int
+        The delay in samples.
+    seconds : float
+        The delay in s.
+    """
+
+    found: bool
+    method: str
+    samples: int
+    seconds: float
+
+
+@_result
+class Equilibrium(_Result):
+    """One equilibrium of npend.equilibria.
+
+    Attributes
+    ----------
+    angles : ndarray, shape (n,)
+        The angles, each 0 or pi (rad).
+    energy : float
+        H there (J).
+    eigenvalues : ndarray of complex, shape (2n,)
+        The eigenvalues of the Jacobian there.
+    stable : bool
+        Whether it is (linearly) stable.
+    unstable_directions : int
+        How many of its modes grow.
+    """
+
+    angles: np.ndarray
+    energy: float
+    eigenvalues: np.ndarray
+    stable: bool
+    unstable_directions: int
+
+
+@_result
+class ModesResult(_Result):
+    """The normal modes of npend.modes, in ascending omega^2.
+
+    Attributes
+    ----------
+    omega_squared : ndarray, shape (n,)
+        The squared angular frequencies (1/s^2); negative for a growing mode.
+    frequencies : ndarray, shape (n,)
+        sqrt(omega^2) (rad/s) for the oscillating modes, 0 for the growing ones.
+    growth_rates : ndarray, shape (n,)
+        sqrt(-omega^2) (1/s) for the growing modes, 0 for the oscillating ones.
+    shapes : ndarray, shape (n, n)
+        Row k: the shape of mode k.
+    mass_matrix : ndarray, shape (n, n)
+        The mass matrix at the equilibrium.
+    stiffness_matrix : ndarray, shape (n, n)
+        The Hessian of the potential there.
+    """
+
+    omega_squared: np.ndarray
+    frequencies: np.ndarray
+    growth_rates: np.ndarray
+    shapes: np.ndarray
+    mass_matrix: np.ndarray
+    stiffness_matrix: np.ndarray
+
+
+@_result
+class MapResult(_Result):
+    """A chaos map of npend.map, with its axes; np.asarray(result) is `values`.
+
+    Attributes
+    ----------
+    values : ndarray, shape (len(y), len(x))
+        The map, row i at y[i], column j at x[j]: the same numbers as npend map's map.npy.
+    x, y : ndarray
+        The axes' values, each from `from` to `to`, both included.
+    x_name, y_name : str
+        The axes' names ("phi1", "energy", "m2", ...).
+    quantity : str
+        What the cells hold ("flip", "lyapunov", "fli", ...).
+    options : dict
+        The other options the map was computed with (t_end, dt, stepper, ...).
+    """
+
+    values: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    x_name: str
+    y_name: str
+    quantity: str
+    options: Mapping[str, Any]
+
+    def __array__(self, dtype=None, copy=None):
+        if copy:
+            return np.array(self.values, dtype=dtype, copy=True)
+        return np.asarray(self.values, dtype=dtype)
