@@ -6,8 +6,9 @@ sections, spectra and chaos maps.
 
     >>> import npend, npend.plot
     >>> chain = npend.Chain(2)
-    >>> t, X = npend.simulate(chain, [2.0, 2.5, 0, 0], t_end=10)
-    >>> npend.plot.save_animation(chain, t, X, "double.gif")
+    >>> t, X = npend.simulate(chain, [2.0, 2.5, 0, 0], t_end=2)
+    >>> npend.plot.save_animation(chain, t, X, "double.gif")  # 2 s at 25 frames/s
+    'double.gif'
     >>> fig, ax = npend.plot.energy_error(chain, t, X)
 
 A trajectory is given as the arrays `t` (N,) and `X` (N, state size), as `simulate` returns
@@ -430,14 +431,12 @@ def poincare_section(points, i, j, *, chain=None, ax=None, **scatter):
     """A Poincare section: coordinate j against coordinate i of the section's states.
 
     points: the states at the crossings, shape (k, 2n) (npend.poincare's "states"), or the
-        poincare result itself (a dict or an object with `states`).
+        poincare result itself (npend.PoincareResult).
     i, j: the coordinates, as indices into the state (0..2n-1) or names ("phi3", "p3").
     chain: needed only on a cart, for the labels of its state [x_c, phi, p_x, p].
     scatter: passed to ax.scatter (default: points of size 1).
     Returns (fig, ax); the points are ax.collections[0]."""
-    if isinstance(points, dict):
-        points = points["states"]
-    elif hasattr(points, "states"):
+    if hasattr(points, "states"):
         points = points.states
     points = np.asarray(points, dtype=float)
     if points.ndim != 2:
@@ -461,9 +460,7 @@ def spectrum(omega, power=None, *, ax=None):
     (rad/s), as npend.spectrum gives them (its result may be passed alone, as `omega`).
     Zero power is not drawn on the log scale. Returns (fig, ax); the curve is ax.lines[0]."""
     if power is None:
-        if isinstance(omega, dict):
-            omega, power = omega["omega"], omega["power"]
-        elif hasattr(omega, "omega") and hasattr(omega, "power"):
+        if hasattr(omega, "omega") and hasattr(omega, "power"):
             omega, power = omega.omega, omega.power
         else:
             raise ValueError("power: missing (pass omega and power, or a spectrum result)")
@@ -523,11 +520,14 @@ def _map_axis(axis, count, name):
     return str(label), start - half, stop + half
 
 
-def chaos_map(values, x, y, *, quantity="flip", component="phi1", ax=None, cmap="viridis"):
+def chaos_map(values, x=None, y=None, *, quantity="flip", component="phi1", ax=None,
+              cmap="viridis"):
     """A chaos map as the command line's map.png: the values as an image with a colour bar,
     each cell centred on its grid point, row 0 at the first y value.
 
-    values: npend.map's array, shape (y count, x count).
+    values: npend.map's result (npend.MapResult: its axes, quantity and component are used,
+        and x, y, quantity and component are not given), or an array of shape
+        (y count, x count) with x and y.
     x, y: the axes as given to npend.map, (name, from, to, count); the image spans from - d/2
         to to + d/2 (d the grid step), and the axes are labelled with their units.
     quantity: npend.map's quantity (flip, lyapunov, fli, megno, sali, gali, state): the
@@ -535,6 +535,15 @@ def chaos_map(values, x, y, *, quantity="flip", component="phi1", ax=None, cmap=
     component: for quantity="state", the coordinate the values are (phi1, p2, ...).
     NaN cells (ruled out by the energy, or failed) are grey, +inf (no flip by t_end) white.
     Returns (fig, ax); the image is ax.images[0], its colour bar fig.axes[-1]."""
+    if hasattr(values, "x_name"):  # a MapResult carries its axes
+        result = values
+        x = (result.x_name, result.x[0], result.x[-1], len(result.x))
+        y = (result.y_name, result.y[0], result.y[-1], len(result.y))
+        quantity = result.quantity
+        component = result.options.get("component", component)
+        values = result.values
+    if x is None or y is None:
+        raise ValueError("x, y: give the axes (name, from, to, count) with an array of values")
     if quantity not in _QUANTITIES:
         raise ValueError(f"quantity: '{quantity}' is not one of {', '.join(_QUANTITIES)}")
     values = np.asarray(values, dtype=float)

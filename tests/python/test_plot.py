@@ -370,7 +370,7 @@ def test_poincare_section_scatters_two_coordinates():
     chain = npend.Chain(3)
     x0 = npend.deflected_state(chain, npend.energy_from_epsilon(chain, 0.5), [1, -1, 1])
     section = npend.poincare(chain, x0, "phi1=0", 30.0)
-    states = section["states"]
+    states = section.states
     assert len(states) > 5
     _, ax = npend.plot.poincare_section(states, 2, 5)
     np.testing.assert_array_equal(ax.collections[0].get_offsets(), states[:, [2, 5]])
@@ -393,14 +393,14 @@ def test_spectrum_plots_log_power_against_omega():
     dt = 0.01
     x = np.sin(3.0 * np.arange(4096) * dt)
     s = npend.spectrum(x, dt)
-    _, ax = npend.plot.spectrum(s["omega"], s["power"])
-    np.testing.assert_array_equal(ax.lines[0].get_xdata(), s["omega"])
-    np.testing.assert_array_equal(ax.lines[0].get_ydata(), s["power"])
+    _, ax = npend.plot.spectrum(s.omega, s.power)
+    np.testing.assert_array_equal(ax.lines[0].get_xdata(), s.omega)
+    np.testing.assert_array_equal(ax.lines[0].get_ydata(), s.power)
     assert ax.get_yscale() == "log" and ax.get_xlabel().endswith("(rad/s)")
     omega_peak = ax.lines[0].get_xdata()[np.argmax(ax.lines[0].get_ydata())]
-    assert omega_peak == pytest.approx(3.0, abs=s["resolution"])
+    assert omega_peak == pytest.approx(3.0, abs=s.resolution)
     _, alone = npend.plot.spectrum(s)
-    np.testing.assert_array_equal(alone.lines[0].get_ydata(), s["power"])
+    np.testing.assert_array_equal(alone.lines[0].get_ydata(), s.power)
 
 
 def pixel(fig, ax, x, y):
@@ -417,7 +417,8 @@ def test_chaos_map_draws_the_grid_with_its_extents():
     on a log colour bar, axes labelled in rad."""
     chain = npend.Chain(2)
     x, y = ("phi1", -3.0, 3.0, 13), ("phi2", -2.0, 2.0, 9)
-    values = npend.map(chain, x, y, t_end=3.0)
+    result = npend.map(chain, x, y, t_end=3.0)
+    values = result.values
     phi1, phi2 = np.meshgrid(np.linspace(-3, 3, 13), np.linspace(-2, 2, 9))
     forbidden = 2 * np.cos(phi1) + np.cos(phi2) > 1
     np.testing.assert_array_equal(np.isnan(values), forbidden)
@@ -436,6 +437,10 @@ def test_chaos_map_draws_the_grid_with_its_extents():
         assert pixel(fig, ax, phi1[i, j], phi2[i, j]) == grey
     for i, j in zip(*np.nonzero(finite)):
         assert pixel(fig, ax, phi1[i, j], phi2[i, j]) != grey
+    # The map's result alone carries its axes and quantity.
+    _, alone = npend.plot.chaos_map(result)
+    assert alone.images[0].get_extent() == pytest.approx([-3.25, 3.25, -2.25, 2.25])
+    assert alone.get_xlabel() == ax.get_xlabel()
 
 
 def test_chaos_map_shows_no_flip_white_and_names_units():
