@@ -34,8 +34,10 @@ from ._npend import (  # noqa: F401  (the package's API)
     simulate,
     spectrum,
 )
+from ._version import __version__
 
 __all__ = [
+    "__version__",
     "Chain",
     "IntegrationError",
     "autocorrelation",
