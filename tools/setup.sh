@@ -36,6 +36,10 @@ test_packages=(
   # the Python module (pybind11 on Debian's python3 and numpy), its pytest suite, the
   # example's plots and bench/run's work-precision diagram (matplotlib)
   python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
+  # the package installed by pip into a venv (setup.py: setuptools and wheel), its type stubs
+  # checked by mypy (stubgen writes them), the notebook run headless, tqdm's progress bars
+  python3-venv python3-pip python3-setuptools python3-wheel python3-mypy
+  jupyter-nbconvert python3-nbconvert python3-nbformat python3-ipykernel python3-tqdm
   # npend animate encodes MP4 with ffmpeg (GIF with gnuplot)
   ffmpeg
   # the format check of the hand-written C++ (tools/check_format.sh, a ctest test)

@@ -145,14 +145,14 @@ def main():
     write_atomically(args.out + ".md", lambda p: open(p, "w").write("\n".join(table) + "\n"))
 
     figure, axis = plt.subplots(figsize=(7, 4.5), constrained_layout=True)
-    n = [r["links"] for r in rows]
+    link_counts = [r["links"] for r in rows]
     for key, label in [("lambda_max", r"$\lambda_{\max}$"), ("h_ks", r"$h_{KS}$")]:
-        axis.errorbar(n, [r[key][0] for r in rows], yerr=[r[key][1] for r in rows], marker="o",
+        axis.errorbar(link_counts, [r[key][0] for r in rows], yerr=[r[key][1] for r in rows], marker="o",
                       capsize=3, label=label)
     axis.set(xscale="log", yscale="log", xlabel="links n (fixed total length, mass, energy)",
              ylabel=r"rate in units of $\sqrt{g/L}$",
              title=f"E = {args.energy} M g L, random kicks; T and starts per n in the table")
-    axis.set_xticks(n, [str(v) for v in n])
+    axis.set_xticks(link_counts, [str(v) for v in link_counts])
     axis.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
     axis.legend()
     write_atomically(args.out + ".png", lambda p: figure.savefig(p, dpi=100))

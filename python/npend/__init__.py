@@ -38,6 +38,7 @@ from .analysis import (
     poincare,
     spectrum,
 )
+from ._version import __version__
 
 IntegrationError.__doc__ = """An integration that cannot go on: a non-finite state, a step size
 that collapsed, or a Newton iteration (implicit steppers) that did not converge.
@@ -47,6 +48,7 @@ map's cells give NaN instead). Its `time` attribute is the time (s) where it hap
 """
 
 __all__ = [
+    "__version__",
     "Chain",
     "IntegrationError",
     "autocorrelation",
