@@ -19,8 +19,9 @@ Bad input raises ValueError with the command line's message; npend.IntegrationEr
 RuntimeError) when an integration cannot go on; Ctrl-C interrupts long computations.
 """
 
-from ._npend import Chain, IntegrationError
+from ._npend import IntegrationError
 from ._npend import simulate
+from .chain import Chain
 from .analysis import (
     autocorrelation,
     built_link_counts,

@@ -31,7 +31,7 @@ from .results import (
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
-    from ._npend import Chain
+    from .chain import Chain
 
 __all__ = [
     "autocorrelation",

@@ -33,7 +33,7 @@ std::vector<double> per_link(const py::handle& value, int links, const char* wha
 chain make_chain(int links, const py::object& masses, const py::object& lengths, double g,
                  const py::object& com, const py::object& inertia, bool rods,
                  const py::object& stiffness, const py::object& rest_angles,
-                 const py::object& damping, const std::string& pivot,
+                 const py::object& damping, const py::object& pivot_in,
                  const std::optional<double>& cart, const std::optional<double>& cart_damping) {
   spec::check_links(links, spec::naming::keywords);
   spec::chain_spec s;
@@ -47,7 +47,11 @@ chain make_chain(int links, const py::object& masses, const py::object& lengths,
   s.stiffness = per_link(stiffness, links, "stiffness");
   s.rest_angles = per_link(rest_angles, links, "rest_angles");
   s.damping = per_link(damping, links, "damping");
-  // parameters["pivot"] says "fixed" for a fixed pivot: that text reads back.
+  // None or parameters["pivot"]'s "fixed" for a fixed pivot: that text reads back.
+  if (!pivot_in.is_none() && !py::isinstance<py::str>(pivot_in))
+    throw py::type_error("pivot: expected None, \"fixed\" or a drive such as "
+                         "\"vertical:A:OMEGA\", got " + std::string(py::repr(pivot_in)));
+  const std::string pivot = pivot_in.is_none() ? "" : pivot_in.cast<std::string>();
   s.pivot = pivot == "fixed" ? "" : pivot;
   s.cart = cart;
   s.cart_damping = cart_damping;
@@ -60,10 +64,16 @@ py::array_t<double> over_states(const chain& c, const py::handle& x, std::size_t
                                 const std::function<void(const double* x, double* out)>& fill) {
   const state_batch b = to_states(x, c.state_size(), "x");
   std::vector<double> out(b.count * out_per_state);
+  python_interrupt interrupt;
   {
     py::gil_scoped_release no_gil;
-    for (std::size_t i = 0; i < b.count; ++i) fill(b.row(i), out.data() + i * out_per_state);
+    // Ctrl-C reaches a batch of millions of rows: polled every 4096 of them.
+    for (std::size_t i = 0; i < b.count; ++i) {
+      if (i % 4096 == 4095 && interrupt.stop_requested()) break;
+      fill(b.row(i), out.data() + i * out_per_state);
+    }
   }
+  interrupt.raise_if_interrupted();
   if (!b.single) out_shape.insert(out_shape.begin(), static_cast<py::ssize_t>(b.count));
   return to_numpy(std::move(out), std::move(out_shape));
 }
@@ -79,11 +89,16 @@ py::dict parameters_dict(const chain_parameters& p) {
   d["masses"] = p.masses;
   d["lengths"] = p.lengths;
   d["g"] = p.g;
-  d["com"] = p.com;
-  d["inertia"] = p.inertia;
-  d["stiffness"] = p.stiffness;
-  d["rest_angles"] = p.rest_angles;
-  d["damping"] = p.damping;
+  // A per-link list that was not given reads None, as the constructor's default: the dict
+  // passed back as keywords (Chain(**parameters)) builds the same chain.
+  const auto given = [](const std::vector<double>& v) {
+    return v.empty() ? py::object(py::none()) : py::object(py::cast(v));
+  };
+  d["com"] = given(p.com);
+  d["inertia"] = given(p.inertia);
+  d["stiffness"] = given(p.stiffness);
+  d["rest_angles"] = given(p.rest_angles);
+  d["damping"] = given(p.damping);
   d["pivot"] = p.pivot.describe();
   d["cart"] = p.cart_mass ? py::object(py::float_(*p.cart_mass)) : py::object(py::none());
   d["cart_damping"] = p.cart_mass ? py::object(py::float_(p.cart_damping)) : py::object(py::none());
@@ -140,7 +155,7 @@ pivot ("vertical:A:OMEGA" or "horizontal:A:OMEGA") make it a physical chain.)")
            py::arg("lengths") = py::none(), py::arg("g") = standard_gravity,
            py::arg("com") = py::none(), py::arg("inertia") = py::none(), py::arg("rods") = false,
            py::arg("stiffness") = py::none(), py::arg("rest_angles") = py::none(),
-           py::arg("damping") = py::none(), py::arg("pivot") = "", py::arg("cart") = py::none(),
+           py::arg("damping") = py::none(), py::arg("pivot") = py::none(), py::arg("cart") = py::none(),
            py::arg("cart_damping") = py::none())
       .def_property_readonly("links", &chain::links)
       .def_property_readonly("state_size", &chain::state_size)
@@ -215,18 +230,33 @@ pivot ("vertical:A:OMEGA" or "horizontal:A:OMEGA") make it a physical chain.)")
           "state_from_velocities",
           [](const chain& c, const py::handle& phi, const py::handle& dphi) {
             const auto n = static_cast<std::size_t>(c.coordinates());
-            const auto a = to_vector(phi, n, "phi");
-            const auto v = to_vector(dphi, n, "dphi");
-            return to_numpy(c.state_from_velocities(a, v), {static_cast<py::ssize_t>(2 * n)});
+            // Angles and velocities side by side as the rows of one batch, (k, 2n) or (2n,).
+            const double_array a = as_array(phi, "phi"), v = as_array(dphi, "dphi");
+            const bool same_shape =
+                a.ndim() == v.ndim() && a.ndim() >= 1 && a.ndim() <= 2 &&
+                std::equal(a.shape(), a.shape() + a.ndim(), v.shape());
+            if (!same_shape || static_cast<std::size_t>(a.shape(a.ndim() - 1)) != n)
+              throw std::invalid_argument(fmt::format(
+                  "phi, dphi: expected two arrays of shape ({},) or (k, {}) alike", n, n));
+            const auto rows = static_cast<std::size_t>(a.ndim() == 2 ? a.shape(0) : 1);
+            std::vector<double> joined(rows * 2 * n);
+            for (std::size_t r = 0; r < rows; ++r) {
+              std::copy_n(a.data() + r * n, n, joined.begin() + static_cast<long>(2 * r * n));
+              std::copy_n(v.data() + r * n, n, joined.begin() + static_cast<long>((2 * r + 1) * n));
+            }
+            const auto batch = a.ndim() == 2
+                                   ? to_numpy(std::move(joined), {static_cast<py::ssize_t>(rows),
+                                                                  static_cast<py::ssize_t>(2 * n)})
+                                   : to_numpy(std::move(joined), {static_cast<py::ssize_t>(2 * n)});
+            return over_states(c, batch, 2 * n, {static_cast<py::ssize_t>(2 * n)},
+                               [&](const double* s, double* out) {
+                                 const auto x = c.state_from_velocities({s, n}, {s + n, n});
+                                 std::copy(x.begin(), x.end(), out);
+                               });
           },
           py::arg("phi"), py::arg("dphi"),
-          "The state [phi, A(phi) dphi] for angles phi and angular velocities dphi.")
-      .def("__repr__", [](const chain& c) {
-        return fmt::format("npend.Chain({} links, {})", c.links(),
-                           c.has_cart()      ? "on a cart"
-                           : c.is_physical() ? "physical"
-                                             : "point masses");
-      });
+          "The state [phi, A(phi) dphi] for angles phi and angular velocities dphi (shape (n,), "
+          "or (k, n) each for k states).");
 }
 
 }  // namespace npend::python
