@@ -20,7 +20,7 @@ RuntimeError) when an integration cannot go on; Ctrl-C interrupts long computati
 """
 
 from ._npend import IntegrationError
-from ._npend import simulate
+from .results import Solution
 from .chain import Chain
 from .analysis import (
     autocorrelation,
@@ -37,6 +37,7 @@ from .analysis import (
     map_cells,
     modes,
     poincare,
+    simulate,
     spectrum,
 )
 from ._version import __version__
@@ -67,5 +68,6 @@ __all__ = [
     "modes",
     "poincare",
     "simulate",
+    "Solution",
     "spectrum",
 ]

@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import operator
 from numbers import Real
-from typing import TYPE_CHECKING, Any, List, Optional, Sequence
+import math
+import os
+from typing import TYPE_CHECKING, Any, Callable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -25,6 +27,7 @@ from .results import (
     MapResult,
     ModesResult,
     PoincareResult,
+    Solution,
     SpectrumResult,
 )
 
@@ -34,6 +37,7 @@ if TYPE_CHECKING:
     from .chain import Chain
 
 __all__ = [
+    "simulate",
     "autocorrelation",
     "built_link_counts",
     "chaos_indicators",
@@ -176,6 +180,215 @@ def kicked_state(
 
 
 # Integrations
+
+
+# --- Integration ------------------------------------------------------------------------
+
+# A run whose output would take more than this share of the memory available is refused
+# before it starts (it would otherwise grow until MemoryError, or the machine swaps).
+_MEMORY_SHARE = 0.5
+
+
+def _memory_available() -> float:
+    """Bytes of memory available now (Linux's MemAvailable; all physical memory elsewhere)."""
+    try:
+        with open("/proc/meminfo") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+
+
+def _time_span(t_end: Any, t_span: Any) -> Tuple[float, float]:
+    if isinstance(t_end, (tuple, list)):  # simulate(chain, x0, (0, 10)): SciPy's t_span
+        t_end, t_span = t_span, t_end
+        if t_end is not None:
+            raise ValueError("t_span: given twice (as the third argument and as t_span=)")
+    if (t_end is None) == (t_span is None):
+        raise ValueError("t_end, t_span: give one of them (t_end=T, or t_span=(t0, t1))")
+    if t_span is None:
+        return 0.0, _real(t_end, "t_end")
+    try:
+        t0, t1 = t_span
+    except (TypeError, ValueError):
+        raise ValueError(f"t_span: expected (t0, t1), got {t_span!r}") from None
+    return _real(t0, "t_span"), _real(t1, "t_span")
+
+
+def _real(value: Any, what: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, Real):
+        raise TypeError(f"{what}: expected a number, got {value!r}")
+    return float(value)
+
+
+def _progress_callback(progress: Any) -> Tuple[Optional[Callable[[float, float], None]],
+                                               Callable[[], None]]:
+    """The callable the C++ run reports to (done, total), and what closes it afterwards:
+    None (no report), True (a tqdm bar, python3-tqdm), or the user's callable."""
+    if progress is None or progress is False:
+        return None, lambda: None
+    if progress is True:
+        try:
+            from tqdm.auto import tqdm
+        except ImportError:
+            raise ValueError("progress: True needs tqdm (python3-tqdm); or pass a callable "
+                             "progress(done, total)") from None
+        bar = tqdm(total=1.0, unit="", bar_format="{l_bar}{bar}| {elapsed}<{remaining}")
+
+        def report(done: float, total: float) -> None:
+            bar.total = total
+            bar.n = done
+            bar.refresh()
+
+        def close() -> None:
+            if bar.total:
+                bar.n = bar.total
+            bar.close()
+
+        return report, close
+    if callable(progress):
+        return progress, lambda: None
+    raise TypeError(f"progress: expected None, True or a callable progress(done, total), "
+                    f"got {progress!r}")
+
+
+def _output_rows(t0: float, t1: float, dt: float, every: int, t_eval: Any) -> float:
+    if t_eval is not None:
+        return float(len(t_eval))
+    if dt == 0 or not math.isfinite((t1 - t0) / dt):
+        return 0.0  # the library says what is wrong with dt
+    intervals = max(0.0, math.floor((t1 - t0) / dt + 1e-9)) + 1
+    return math.ceil((intervals + 1) / every)
+
+
+def simulate(
+    chain: Chain,
+    x0: ArrayLike,
+    t_end: Union[float, Tuple[float, float], None] = None,
+    *,
+    t_span: Optional[Tuple[float, float]] = None,
+    dt: float = 1e-3,
+    stepper: str = "gauss6",
+    atol: float = 1e-10,
+    rtol: float = 1e-10,
+    order: int = 0,
+    t_eval: Optional[ArrayLike] = None,
+    every: int = 1,
+    events: Union[Callable[..., float], Sequence[Callable[..., float]], None] = None,
+    progress: Any = None,
+) -> Solution:
+    """Integrates Hamilton's equations from x0, as ``npend simulate`` does.
+
+    Parameters
+    ----------
+    chain : Chain
+        The chain.
+    x0 : array_like, shape (2n,)
+        The start state [phi, p].
+    t_end : float, or (t0, t1)
+        The end of the run (from t = 0); a pair is taken as t_span.
+    t_span : (float, float), optional
+        The run from t0 to t1, as SciPy's solve_ivp (t1 < t0 with dt < 0: backwards).
+    dt : float, optional
+        The output grid t0 + k dt, which ends at t1 itself (a shorter last step when t1 is
+        not a multiple of dt); the step of the fixed-step steppers (rk4, gauss4, gauss6),
+        the first trial step of the adaptive ones.
+    stepper : str, optional
+        gauss6 (default), gauss4, rk4, dopri5, rkf78, bs, rosenbrock4 or taylor.
+    atol, rtol : float, optional
+        The tolerances of the adaptive steppers (|err_i| <= atol + rtol |x_i|).
+    order : int, optional
+        The taylor stepper's order, 2..60 (0: from the tolerances); refused for the others.
+    t_eval : array_like, optional
+        Output at these times only (sorted in the run's direction, within the span), taken
+        from the stepper's dense output (see the library's integration_step: the stepper's
+        own interpolant, or a cubic Hermite one for rk4, rkf78 and the Gauss steppers), not
+        by shortening the steps.
+    every : int, optional
+        Keep every k-th grid row (not with t_eval).
+    events : callable or list of callables, optional
+        g(t, y) -> float, as SciPy's: an event is where g crosses zero, located on the dense
+        output to rounding in t. Attributes read from the function: ``terminal`` (True ends
+        the run there) and ``direction`` (> 0: only rising, < 0: only falling crossings).
+    progress : None, True or callable, optional
+        True shows a tqdm bar; a callable hears progress(done, total) in seconds of
+        simulated time, about every 20 ms.
+
+    Returns
+    -------
+    Solution
+        t, X (and y = X.T), status, events, energy error and the options; unpacks as
+        ``t, X``.
+
+    Raises
+    ------
+    ValueError
+        For bad input, naming the keyword; also when the output would take more than half
+        of the memory available (use every= or t_eval=).
+    IntegrationError
+        When the integration cannot go on.
+
+    Examples
+    --------
+    A small swing of the single pendulum, and its turning points as events (p = 0 falling
+    through zero), half a period 2 pi sqrt(l/g) / 2 = 1.003 s apart:
+
+    >>> import numpy as np, npend
+    >>> chain = npend.Chain(1)
+    >>> def turning(t, y):
+    ...     return y[1]
+    >>> turning.direction = -1
+    >>> sol = npend.simulate(chain, [0.0, 0.05], t_span=(0, 5), events=turning)
+    >>> sol.t.shape, sol.X.shape, sol.status
+    ((5001,), (5001, 2), 0)
+    >>> print(np.round(np.diff(sol.t_events[0]), 4))
+    [2.0061 2.0061]
+    >>> t, X = sol  # unpacks as (t, X)
+    """
+    t0, t1 = _time_span(t_end, t_span)
+    if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
+        raise ValueError(f"every: expected an integer of 1 or more, got {every!r}")
+    direction = 1.0 if t1 >= t0 else -1.0
+    if t_eval is not None:
+        if every != 1:
+            raise ValueError("every: not with t_eval (the output is at t_eval's times)")
+        t_eval = np.asarray(t_eval, dtype=float).ravel()
+        if not np.all(np.isfinite(t_eval)):
+            raise ValueError("t_eval: the times must be finite")
+        if np.any(direction * np.diff(t_eval) < 0):
+            raise ValueError("t_eval: the times must be sorted in the run's direction")
+        if t_eval.size and (min(t_eval[0], t_eval[-1]) < min(t0, t1)
+                            or max(t_eval[0], t_eval[-1]) > max(t0, t1)):
+            raise ValueError(f"t_eval: the times must lie within the span [{t0}, {t1}]")
+    if events is None:
+        events = []
+    elif callable(events):
+        events = [events]
+    for g in events:
+        if not callable(g):
+            raise TypeError(f"events: expected callables g(t, y), got {g!r}")
+    rows = _output_rows(t0, t1, _real(dt, "dt"), int(every), t_eval)
+    need = rows * (chain.state_size + 1) * 8
+    available = _memory_available()
+    if need > _MEMORY_SHARE * available:
+        raise ValueError(
+            f"t_end: the output would take {need / 1e9:.3g} GB ({rows:.3g} rows), more than "
+            f"half of the {available / 1e9:.3g} GB available: keep fewer rows with every=K, "
+            f"or ask for t_eval=[...]")
+    report, close = _progress_callback(progress)
+    try:
+        d = _npend.simulate(chain, x0, t0, t1, dt, stepper, atol, rtol, order, int(every),
+                            t_eval, list(events), report)
+    finally:
+        close()
+    terminated = d.pop("terminated")
+    return Solution(
+        status=1 if terminated else 0,
+        message="a terminal event ended the run" if terminated else "the run reached t_end",
+        stepper=stepper, dt=float(dt), atol=float(atol), rtol=float(rtol), order=int(order),
+        **d)
 
 
 def lyapunov(

@@ -153,7 +153,7 @@ def _reach(chain):
 
 def _has_distributed_mass(chain):
     p = chain.parameters
-    com, inertia = p["com"], p["inertia"]
+    com, inertia = p["com"] or [], p["inertia"] or []  # None: point masses
     return any(c != length for c, length in zip(com, p["lengths"])) or any(j > 0 for j in inertia)
 
 

@@ -29,6 +29,7 @@ __all__ = [
     "MapResult",
     "ModesResult",
     "PoincareResult",
+    "Solution",
     "SpectrumResult",
 ]
 
@@ -314,3 +315,66 @@ class MapResult(_Result):
         if copy:
             return np.array(self.values, dtype=dtype, copy=True)
         return np.asarray(self.values, dtype=dtype)
+
+
+@_result
+class Solution(_Result):
+    """A trajectory of npend.simulate. It unpacks as ``t, X = npend.simulate(...)``.
+
+    Attributes
+    ----------
+    t : ndarray, shape (N,)
+        The output times (s): the grid t_start + k dt up to t_end (every `every`-th), or
+        t_eval; up to the terminal event where one ended the run.
+    X : ndarray, shape (N, 2n)
+        Row k the state at t[k].
+    status : int
+        0: the run reached t_end; 1: a terminal event ended it. (A failed integration raises
+        npend.IntegrationError instead of returning.)
+    message : str
+        What `status` says, in words.
+    nsteps : int
+        The steps the stepper took (accepted steps for an adaptive one). The right-hand
+        side's evaluations are not counted (the steppers call the kernels directly), so
+        there is no `nfev`.
+    t_events, y_events : list of ndarray
+        Per event function: the times (k,) and states (k, 2n) where it fired, in order.
+    energy_error : float
+        The largest |H(t) - H(t_start)| / |H(t_start)| over the output (absolute, in J, when
+        H(t_start) = 0). A measure of the stepper's error for a conservative chain; for a
+        damped or driven one, H changes physically.
+    stepper : str
+    dt, atol, rtol : float
+    order : int
+        The options the run used.
+
+    Notes
+    -----
+    `y` is X.T, SciPy's layout (a view, not a copy).
+    """
+
+    t: np.ndarray
+    X: np.ndarray
+    status: int
+    message: str
+    nsteps: int
+    t_events: list
+    y_events: list
+    energy_error: float
+    stepper: str
+    dt: float
+    atol: float
+    rtol: float
+    order: int
+
+    @property
+    def y(self) -> np.ndarray:
+        return self.X.T
+
+    @property
+    def success(self) -> bool:
+        """True: the run ended at t_end or at a terminal event (as SciPy's)."""
+        return self.status >= 0
+
+    def __iter__(self):
+        return iter((self.t, self.X))

@@ -3,6 +3,9 @@
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
+#include <limits>
+
 #include "bindings.hpp"
 #include "npend/analysis/chaos/chaos_indicators.hpp"
 #include "npend/analysis/chaos/lyapunov.hpp"
@@ -17,31 +20,162 @@ std::vector<double> start_state(const chain& c, const py::handle& x0) {
   return to_vector(x0, static_cast<std::size_t>(c.state_size()), "x0");
 }
 
-py::tuple simulate(const chain& c, const py::handle& x0_in, double t_end, double dt,
-                   const std::string& stepper, double t_start, double abs_tol, double rel_tol,
-                   int order) {
+// A Python event function g(t, y) of simulate's, with SciPy's `terminal` and `direction`.
+struct python_event {
+  py::object g;
+  bool terminal = false;
+  double direction = 0;  ///< > 0: only g rising through 0, < 0: only falling, 0: both
+  double last = 0;       ///< g at the end of the previous step
+  std::vector<double> times, states;
+
+  double operator()(double t, std::span<const double> x) const {
+    py::array_t<double> y(static_cast<py::ssize_t>(x.size()));
+    std::copy(x.begin(), x.end(), y.mutable_data());
+    return g(t, y).cast<double>();
+  }
+  bool fires(double before, double after) const {
+    const bool rising = before < 0 && after >= 0, falling = before > 0 && after <= 0;
+    return direction > 0 ? rising : direction < 0 ? falling : rising || falling;
+  }
+};
+
+// Where g crosses zero inside `step`, from g_begin at its start to g_end at its end (of
+// opposite signs, or g_end = 0): the Illinois variant of regula falsi on the step's dense
+// output, to a few units of rounding in t. `x` receives the state there.
+double locate_event(const python_event& e, const integration_step& step, double g_begin,
+                    double g_end, std::vector<double>& x) {
+  double a = step.t_begin(), b = step.t_end(), ga = g_begin, gb = g_end;
+  int side = 0;
+  for (int i = 0; i < 100 && gb != 0; ++i) {
+    if (std::fabs(b - a) <= 4 * std::numeric_limits<double>::epsilon() *
+                               std::max(std::fabs(a), std::fabs(b)))
+      break;
+    const double t = (a * gb - b * ga) / (gb - ga);
+    step.state_at(t, x);
+    const double gt = e(t, x);
+    if ((gt < 0) == (gb < 0) && gt != 0) {
+      b = t, gb = gt;
+      if (side == -1) ga /= 2;  // Illinois: halve the stale end's weight
+      side = -1;
+    } else {
+      a = t, ga = gt;
+      if (side == +1) gb /= 2;
+      side = +1;
+      if (gt == 0) b = t, gb = 0;
+    }
+  }
+  step.state_at(b, x);
+  return b;
+}
+
+// npend.simulate's run: the grid's rows (every `every`-th) or the states at `t_eval` from the
+// stepper's dense output, the events located on it, the energy's largest change.
+py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, double t_end,
+                  double dt, const std::string& stepper, double atol, double rtol, int order,
+                  std::size_t every, const py::object& t_eval_in, const py::list& event_functions,
+                  const py::object& progress) {
   const auto x0 = start_state(c, x0_in);
-  auto o = integration_from(t_end, dt, stepper, t_start, abs_tol, rel_tol, order);
-  // The arrays grow as the run goes: memory for what was computed, not for what was asked.
-  const std::size_t rows_asked = output_intervals(o) + 1;
+  auto o = integration_from(t_end, dt, stepper, t_start, atol, rtol, order);
+  if (every == 0) throw std::invalid_argument("every: must be 1 or more");
+  std::vector<double> t_eval;
+  const bool at_times = !t_eval_in.is_none();
+  if (at_times) {
+    const double_array a = as_array(t_eval_in, "t_eval");
+    t_eval.assign(a.data(), a.data() + a.size());
+  }
+  std::vector<python_event> events;
+  for (const auto& g : event_functions) {
+    python_event e{py::reinterpret_borrow<py::object>(g)};
+    e.terminal = py::bool_(py::getattr(g, "terminal", py::bool_(false)));
+    e.direction = py::getattr(g, "direction", py::float_(0.0)).cast<double>();
+    events.push_back(std::move(e));
+  }
   const auto d = static_cast<std::size_t>(c.state_size());
+  const std::size_t whole_steps = output_steps(o);
+  const double h0 = c.hamiltonian(x0, t_start);
+  double energy_change = 0;
+
+  // The arrays grow as the run goes: memory for what was computed, not for what was asked.
   std::vector<double> t, states;
-  t.reserve(std::min<std::size_t>(rows_asked, 1 << 16));
-  states.reserve(t.capacity() * d);
-  python_interrupt interrupt;
+  const auto record = [&](double time, std::span<const double> x) {
+    t.push_back(time);
+    states.insert(states.end(), x.begin(), x.end());
+    const double h = c.hamiltonian(x, time);
+    energy_change = std::max(energy_change, std::fabs(h - h0) / (h0 != 0 ? std::fabs(h0) : 1.0));
+  };
+  const double direction = dt > 0 ? 1.0 : -1.0;
+  const auto before = [&](double a, double b) { return direction * (b - a) > 0; };
+  std::size_t grid_k = 0, next_eval = 0;  // the next grid point and t_eval entry to record
+  const auto grid_time = [&](std::size_t k) {
+    return k > whole_steps ? t_end : t_start + static_cast<double>(k) * dt;
+  };
+  bool terminated = false;
+  std::vector<double> x(d);
+
+  observer_function on_grid;
+  if (!at_times)
+    on_grid = [&](double time, std::span<const double> state) {
+      if (grid_k++ % every == 0) record(time, state);
+      return observer_action::proceed;
+    };
+  step_observer_function on_step;
+  if (at_times || !events.empty())
+    on_step = [&](const integration_step& step) {
+      double stop_at = step.t_end();
+      if (!events.empty()) {
+        py::gil_scoped_acquire gil;
+        for (auto& e : events) {
+          const double g_end = e(step.t_end(), step.x_end());
+          if (e.fires(e.last, g_end)) {
+            const double te = locate_event(e, step, e.last, g_end, x);
+            e.times.push_back(te);
+            e.states.insert(e.states.end(), x.begin(), x.end());
+            if (e.terminal && (!terminated || before(te, stop_at))) terminated = true, stop_at = te;
+          }
+          e.last = g_end;
+        }
+      }
+      // The outputs up to a terminal event come from the dense output: the grid observer
+      // does not see the step that ends the run.
+      while (at_times && next_eval < t_eval.size() && !before(stop_at, t_eval[next_eval])) {
+        step.state_at(t_eval[next_eval], x);
+        record(t_eval[next_eval++], x);
+      }
+      if (terminated && !at_times)
+        for (; before(grid_time(grid_k), stop_at); ++grid_k)
+          if (grid_k % every == 0) {
+            step.state_at(grid_time(grid_k), x);
+            record(grid_time(grid_k), x);
+          }
+      return terminated ? observer_action::stop : observer_action::proceed;
+    };
+  for (auto& e : events) e.last = e(t_start, x0);
+
+  python_interrupt interrupt(progress);
   o.control = &interrupt;
+  integration_result r;
   {
     py::gil_scoped_release no_gil;
-    integrate(c, x0, o, [&](double time, std::span<const double> x) {
-      t.push_back(time);
-      states.insert(states.end(), x.begin(), x.end());
-    });
+    r = integrate(c, x0, o, on_grid, on_step);
   }
   interrupt.raise_if_interrupted();
   const std::size_t rows = t.size();
-  return py::make_tuple(
-      to_numpy(std::move(t), {static_cast<py::ssize_t>(rows)}),
-      to_numpy(std::move(states), {static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(d)}));
+  py::dict out;
+  out["t"] = to_numpy(std::move(t), {static_cast<py::ssize_t>(rows)});
+  out["X"] = to_numpy(std::move(states),
+                      {static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(d)});
+  out["terminated"] = terminated;
+  out["nsteps"] = r.steps;
+  out["energy_error"] = energy_change;
+  py::list t_events, y_events;
+  for (auto& e : events) {
+    const auto k = static_cast<py::ssize_t>(e.times.size());
+    t_events.append(to_numpy(std::move(e.times), {k}));
+    y_events.append(to_numpy(std::move(e.states), {k, static_cast<py::ssize_t>(d)}));
+  }
+  out["t_events"] = t_events;
+  out["y_events"] = y_events;
+  return out;
 }
 
 py::array_t<double> rows_array(const std::vector<std::vector<double>>& rows, std::size_t width) {
@@ -160,21 +294,11 @@ py::dict indicators(const chain& c, const py::handle& x0_in, double t_end, doubl
 }  // namespace
 
 void bind_integration(py::module_& m) {
-  // The stepper names come from the one list in stepper_kind.cpp; pybind11 copies the text.
-  const std::string simulate_doc =
-      fmt::format(R"(Integrates Hamilton's equations from x0 (shape (2n,)) on the grid
-t_k = t_start + k dt up to t_end, as `npend simulate` does.
-
-Returns (t, X): t of shape (N+1,), X of shape (N+1, 2n), row k the state at t_k.
-stepper: one of {} (default gauss6); the adaptive ones ({})
-use abs_tol and rel_tol; order fixes the taylor stepper's order (2..{}; 0: from the
-tolerances). Raises ValueError for bad input, RuntimeError when the integration
-cannot go on, KeyboardInterrupt on Ctrl-C.)",
-                  stepper_names(), stepper_names(stepper_use::adaptive), taylor_max_order);
-  m.def("simulate", &simulate, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),
-        py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6", py::arg("t_start") = 0.0,
-        py::arg("abs_tol") = 1e-10, py::arg("rel_tol") = 1e-10, py::arg("order") = 0,
-        simulate_doc.c_str());
+  // python/npend/analysis.py wraps it (npend.simulate: SciPy's keywords, checks, Solution).
+  m.def("simulate", &simulate, py::arg("chain"), py::arg("x0"), py::arg("t_start"),
+        py::arg("t_end"), py::arg("dt"), py::arg("stepper"), py::arg("atol"), py::arg("rtol"),
+        py::arg("order"), py::arg("every"), py::arg("t_eval"), py::arg("events"),
+        py::arg("progress"));
   // python/npend/analysis.py wraps lyapunov, chaos_indicators and poincare (signatures,
   // docstrings, result classes): they return plain dicts whose keys are the classes' fields.
   m.def("lyapunov", &lyapunov, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),

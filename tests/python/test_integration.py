@@ -38,10 +38,10 @@ def test_every_stepper_keeps_the_energy(stepper):
 
 def test_simulate_starts_at_t_start_and_can_go_backwards():
     c = npend.Chain(2)
-    t, X = npend.simulate(c, X0[:2] + X0[3:5], 1.0, dt=0.01, t_start=0.5)
+    t, X = npend.simulate(c, X0[:2] + X0[3:5], t_span=(0.5, 1.0), dt=0.01)
     assert t[0] == 0.5 and t[-1] == pytest.approx(1.0) and len(t) == 51
     # Integrating back from the end returns to the start (gauss6 is time-symmetric).
-    _, back = npend.simulate(c, X[-1], 0.5, dt=-0.01, t_start=1.0)
+    _, back = npend.simulate(c, X[-1], t_span=(1.0, 0.5), dt=-0.01)
     assert back[-1] == pytest.approx(X[0], abs=1e-10)
 
 
