@@ -313,8 +313,8 @@ def simulate(
         output to rounding in t. Attributes read from the function: ``terminal`` (True ends
         the run there) and ``direction`` (> 0: only rising, < 0: only falling crossings).
     progress : None, True or callable, optional
-        True shows a tqdm bar; a callable hears progress(done, total) in seconds of
-        simulated time, about every 20 ms.
+        True shows a tqdm bar; a callable hears progress(done, total), the output steps
+        done of all of them, about every 20 ms and at the end.
 
     Returns
     -------
@@ -851,6 +851,7 @@ def map(
     rtol: float = 1e-10,
     threads: int = 0,
     device: str = "cpu",
+    progress: Any = None,
 ) -> MapResult:
     """A chaos map over a grid of starts or parameters, as ``npend map``.
 
@@ -892,6 +893,9 @@ def map(
         The OpenMP threads (0: every core); the values do not depend on it.
     device : {"cpu", "cuda"}, optional
         "cuda" computes the cells on a GPU (rk4 or dopri5) as ``npend map --device cuda``.
+    progress : None, True or callable, optional
+        True shows a tqdm bar; a callable hears progress(cells done, cells) about every
+        20 ms and at the end (not on the GPU).
 
     Returns
     -------
@@ -934,7 +938,11 @@ def map(
         t_end=t_end, dt=dt, flip_link=flip_link, gali_order=gali_order, component=component,
         x0=x0, velocities=velocities, stepper=stepper, atol=atol, rtol=rtol, threads=threads,
         device=device)
-    d = _npend.map(chain, x_axis, y_axis, quantity=quantity, **options)
+    report, close = _progress_callback(progress)
+    try:
+        d = _npend.map(chain, x_axis, y_axis, quantity=quantity, progress=report, **options)
+    finally:
+        close()
     return MapResult(values=d["values"], x=d["x"], y=d["y"], x_name=x_axis[0],
                      y_name=y_axis[0], quantity=quantity, options=options)
 
@@ -954,6 +962,7 @@ def map_cells(
     rtol: float = 1e-10,
     threads: int = 0,
     device: str = "cpu",
+    progress: Any = None,
 ) -> np.ndarray:
     """One map value per start state, computed as ``npend map`` computes its cells.
 
@@ -963,7 +972,7 @@ def map_cells(
         The chain.
     x : array_like, shape (2n,) or (k, 2n)
         The start states, one per row.
-    quantity, t_end, dt, flip_link, gali_order, component, stepper, atol, rtol, threads, device
+    quantity, t_end, dt, flip_link, gali_order, component, stepper, atol, rtol, threads, device, progress
         As for npend.map.
 
     Returns
@@ -989,7 +998,11 @@ def map_cells(
     >>> print(npend.map_cells(chain, [0.0] * 4, quantity="state", component="p2", t_end=1.0))
     0.0
     """
-    return _npend.map_cells(
-        chain, x, quantity=quantity, t_end=t_end, dt=dt, flip_link=flip_link,
-        gali_order=gali_order, component=component, stepper=stepper, atol=atol, rtol=rtol,
-        threads=threads, device=device)
+    report, close = _progress_callback(progress)
+    try:
+        return _npend.map_cells(
+            chain, x, quantity=quantity, t_end=t_end, dt=dt, flip_link=flip_link,
+            gali_order=gali_order, component=component, stepper=stepper, atol=atol,
+            rtol=rtol, threads=threads, device=device, progress=report)
+    finally:
+        close()

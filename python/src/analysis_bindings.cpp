@@ -164,7 +164,7 @@ py::array_t<double> map_cells(const chain& c, const py::handle& x, const std::st
                               double t_end, double dt, int flip_link, int gali_order,
                               const std::string& component, const std::string& stepper,
                               double atol, double rtol, int threads,
-                              const std::string& device) {
+                              const std::string& device, const py::object& progress) {
   const state_batch b = to_states(x, c.state_size(), "x");
   map_cell_options o =
       make_map_cell_options(quantity, t_end, dt, flip_link, gali_order, stepper, atol, rtol);
@@ -173,13 +173,14 @@ py::array_t<double> map_cells(const chain& c, const py::handle& x, const std::st
   check_finite(b);
   spec::check_thread_count(threads, "threads");
   const map_device where = device_of(device, c, o);
-  python_interrupt interrupt;
+  python_interrupt interrupt(progress);
   std::vector<double> values;
   {
     py::gil_scoped_release no_gil;
     values = map_cell_values(c, {b.row(0), b.count * b.width}, o, threads, &interrupt, where);
   }
   interrupt.raise_if_interrupted();
+  interrupt.report_last();
   std::vector<py::ssize_t> shape;
   if (!b.single) shape.push_back(static_cast<py::ssize_t>(b.count));
   return to_numpy(std::move(values), shape);
@@ -208,7 +209,7 @@ py::dict map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
              const std::string& quantity, double t_end, double dt, int flip_link, int gali_order,
              const std::string& component, const py::object& x0, const py::object& velocities,
              const std::string& stepper, double atol, double rtol, int threads,
-             const std::string& device) {
+             const std::string& device, const py::object& progress) {
   const auto n = static_cast<std::size_t>(c.links());
   map_grid grid;
   grid.parameters = c.parameters();
@@ -232,13 +233,14 @@ py::dict map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
   grid.validate(o);
   spec::check_thread_count(threads, "threads");
   const map_device where = device_of(device, c, o);
-  python_interrupt interrupt;
+  python_interrupt interrupt(progress);
   std::vector<double> values;
   {
     py::gil_scoped_release no_gil;
     values = map_values(grid, o, threads, &interrupt, where);
   }
   interrupt.raise_if_interrupted();
+  interrupt.report_last();
   py::dict d;
   d["values"] = to_numpy(std::move(values), {static_cast<py::ssize_t>(grid.y.count),
                                              static_cast<py::ssize_t>(grid.x.count)});
@@ -269,13 +271,13 @@ void bind_maps(py::module_& m) {
         py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
         py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("component") = "phi1",
         py::arg("stepper") = "rk4", py::arg("atol") = 1e-10, py::arg("rtol") = 1e-10,
-        py::arg("threads") = 0, py::arg("device") = "cpu");
+        py::arg("threads") = 0, py::arg("device") = "cpu", py::arg("progress") = py::none());
   m.def("map", &map, py::arg("chain"), py::arg("x"), py::arg("y"), py::kw_only(),
         py::arg("quantity") = "flip", py::arg("t_end") = 100.0, py::arg("dt") = 0.01,
         py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("component") = "phi1",
         py::arg("x0") = py::none(), py::arg("velocities") = py::none(), py::arg("stepper") = "rk4",
         py::arg("atol") = 1e-10, py::arg("rtol") = 1e-10, py::arg("threads") = 0,
-        py::arg("device") = "cpu");
+        py::arg("device") = "cpu", py::arg("progress") = py::none());
 }
 
 }  // namespace npend::python

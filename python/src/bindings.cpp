@@ -95,6 +95,11 @@ void python_interrupt::progress(double done, double total) {
   m_total.store(total, std::memory_order_relaxed);
 }
 
+void python_interrupt::report_last() {
+  report_to_python();
+  raise_if_interrupted();
+}
+
 void python_interrupt::report_to_python() {
   const double done = m_done.load(std::memory_order_relaxed);
   if (m_progress.is_none() || done == m_reported) return;

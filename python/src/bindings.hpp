@@ -63,6 +63,9 @@ class python_interrupt final : public run_control {
   void progress(double done, double total) override;
   bool stop_requested() override;
   void raise_if_interrupted() const;
+  /// With the GIL held, after the run: passes the last progress report on to Python (the
+  /// polls see only some of them), raising what the callable raises.
+  void report_last();
   bool interrupted() const { return m_interrupted.load(std::memory_order_relaxed); }
 
  private:

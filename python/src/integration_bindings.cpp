@@ -159,6 +159,7 @@ py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, doubl
     r = integrate(c, x0, o, on_grid, on_step);
   }
   interrupt.raise_if_interrupted();
+  interrupt.report_last();
   const std::size_t rows = t.size();
   py::dict out;
   out["t"] = to_numpy(std::move(t), {static_cast<py::ssize_t>(rows)});

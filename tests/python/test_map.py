@@ -244,3 +244,15 @@ def test_map_axes_of_the_wrong_type_name_the_axis_and_field():
         npend.map(c, ("phi1", 0, 1), good)
     with pytest.raises(ValueError, match=r"y: expected \(name, from, to, count\)"):
         npend.map(c, good, "phi1:0:1:2")
+
+
+def test_map_progress_counts_the_cells_up_to_all():
+    seen = []
+    npend.map(npend.Chain(2), ("phi1", -3, 3, 24), ("phi2", -3, 3, 20), t_end=5.0,
+              progress=lambda done, total: seen.append((done, total)))
+    assert seen[-1] == (24 * 20, 24 * 20)
+    assert all(total == 480 for _, total in seen)
+    seen.clear()
+    npend.map_cells(npend.Chain(2), np.tile([2.0, 2.0, 0.0, 0.0], (50, 1)), t_end=5.0,
+                    progress=lambda done, total: seen.append((done, total)))
+    assert seen[-1] == (50, 50)

@@ -132,6 +132,21 @@ def test_progress_hears_the_simulated_time():
     assert seen, "a 20 s run of the triple pendulum takes more than one 20 ms poll"
     assert all(total == pytest.approx(20000) for _, total in seen)  # grid points
     assert [d for d, _ in seen] == sorted(d for d, _ in seen)
+    assert seen[-1] == (20000, 20000)  # the end is reported
+
+
+def test_progress_true_draws_a_tqdm_bar(capsys):
+    pytest.importorskip("tqdm")
+    npend.simulate(npend.Chain(2), [0.5, 0.5, 0, 0], t_end=1.0, progress=True)
+    assert "100%" in capsys.readouterr().err
+
+
+def test_an_exception_in_the_progress_callable_stops_the_run():
+    def impatient(done, total):
+        raise RuntimeError("enough")
+
+    with pytest.raises(RuntimeError, match="enough"):
+        npend.simulate(npend.Chain(3), [0.5, 0.5, 0.5, 0, 0, 0], t_end=20.0, progress=impatient)
 
 
 def test_a_run_that_would_not_fit_in_memory_is_refused_before_it_starts():
