@@ -162,9 +162,9 @@ void check_finite(const state_batch& b) {
 
 py::array_t<double> map_cells(const chain& c, const py::handle& x, const std::string& quantity,
                               double t_end, double dt, int flip_link, int gali_order,
-                              const std::string& component, const std::string& stepper,
-                              double atol, double rtol, int threads,
-                              const std::string& device, const py::object& progress) {
+                              const std::string& component, const std::string& stepper, double atol,
+                              double rtol, int threads, const std::string& device,
+                              const py::object& progress) {
   const state_batch b = to_states(x, c.state_size(), "x");
   map_cell_options o =
       make_map_cell_options(quantity, t_end, dt, flip_link, gali_order, stepper, atol, rtol);

@@ -49,8 +49,10 @@ chain make_chain(int links, const py::object& masses, const py::object& lengths,
   s.damping = per_link(damping, links, "damping");
   // None or parameters["pivot"]'s "fixed" for a fixed pivot: that text reads back.
   if (!pivot_in.is_none() && !py::isinstance<py::str>(pivot_in))
-    throw py::type_error("pivot: expected None, \"fixed\" or a drive such as "
-                         "\"vertical:A:OMEGA\", got " + std::string(py::repr(pivot_in)));
+    throw py::type_error(
+        "pivot: expected None, \"fixed\" or a drive such as "
+        "\"vertical:A:OMEGA\", got " +
+        std::string(py::repr(pivot_in)));
   const std::string pivot = pivot_in.is_none() ? "" : pivot_in.cast<std::string>();
   s.pivot = pivot == "fixed" ? "" : pivot;
   s.cart = cart;
@@ -155,8 +157,8 @@ pivot ("vertical:A:OMEGA" or "horizontal:A:OMEGA") make it a physical chain.)")
            py::arg("lengths") = py::none(), py::arg("g") = standard_gravity,
            py::arg("com") = py::none(), py::arg("inertia") = py::none(), py::arg("rods") = false,
            py::arg("stiffness") = py::none(), py::arg("rest_angles") = py::none(),
-           py::arg("damping") = py::none(), py::arg("pivot") = py::none(), py::arg("cart") = py::none(),
-           py::arg("cart_damping") = py::none())
+           py::arg("damping") = py::none(), py::arg("pivot") = py::none(),
+           py::arg("cart") = py::none(), py::arg("cart_damping") = py::none())
       .def_property_readonly("links", &chain::links)
       .def_property_readonly("state_size", &chain::state_size)
       .def_property_readonly("is_physical", &chain::is_physical)
@@ -232,9 +234,8 @@ pivot ("vertical:A:OMEGA" or "horizontal:A:OMEGA") make it a physical chain.)")
             const auto n = static_cast<std::size_t>(c.coordinates());
             // Angles and velocities side by side as the rows of one batch, (k, 2n) or (2n,).
             const double_array a = as_array(phi, "phi"), v = as_array(dphi, "dphi");
-            const bool same_shape =
-                a.ndim() == v.ndim() && a.ndim() >= 1 && a.ndim() <= 2 &&
-                std::equal(a.shape(), a.shape() + a.ndim(), v.shape());
+            const bool same_shape = a.ndim() == v.ndim() && a.ndim() >= 1 && a.ndim() <= 2 &&
+                                    std::equal(a.shape(), a.shape() + a.ndim(), v.shape());
             if (!same_shape || static_cast<std::size_t>(a.shape(a.ndim() - 1)) != n)
               throw std::invalid_argument(fmt::format(
                   "phi, dphi: expected two arrays of shape ({},) or (k, {}) alike", n, n));

@@ -47,8 +47,8 @@ double locate_event(const python_event& e, const integration_step& step, double 
   double a = step.t_begin(), b = step.t_end(), ga = g_begin, gb = g_end;
   int side = 0;
   for (int i = 0; i < 100 && gb != 0; ++i) {
-    if (std::fabs(b - a) <= 4 * std::numeric_limits<double>::epsilon() *
-                               std::max(std::fabs(a), std::fabs(b)))
+    if (std::fabs(b - a) <=
+        4 * std::numeric_limits<double>::epsilon() * std::max(std::fabs(a), std::fabs(b)))
       break;
     const double t = (a * gb - b * ga) / (gb - ga);
     step.state_at(t, x);
@@ -70,8 +70,8 @@ double locate_event(const python_event& e, const integration_step& step, double 
 
 // npend.simulate's run: the grid's rows (every `every`-th) or the states at `t_eval` from the
 // stepper's dense output, the events located on it, the energy's largest change.
-py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, double t_end,
-                  double dt, const std::string& stepper, double atol, double rtol, int order,
+py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, double t_end, double dt,
+                  const std::string& stepper, double atol, double rtol, int order,
                   std::size_t every, const py::object& t_eval_in, const py::list& event_functions,
                   const py::object& progress) {
   const auto x0 = start_state(c, x0_in);
@@ -163,8 +163,8 @@ py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, doubl
   const std::size_t rows = t.size();
   py::dict out;
   out["t"] = to_numpy(std::move(t), {static_cast<py::ssize_t>(rows)});
-  out["X"] = to_numpy(std::move(states),
-                      {static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(d)});
+  out["X"] =
+      to_numpy(std::move(states), {static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(d)});
   out["terminated"] = terminated;
   out["nsteps"] = r.steps;
   out["energy_error"] = energy_change;
