@@ -14,7 +14,7 @@ rebuilds the chain.
 from __future__ import annotations
 
 import numbers
-from typing import Any, Dict, Optional, Sequence, Union
+from typing import Any, Dict, Optional, Sequence, Union, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -183,7 +183,7 @@ class Chain(_npend.Chain):
 
     def hamiltonian(self, x: ArrayLike, t: float = 0.0) -> Union[float, NDArray[np.float64]]:
         """The energy H = T + V in J: a float for one state, shape (k,) for k states."""
-        return super().hamiltonian(x, _number(t, "t"))
+        return cast(Union[float, NDArray[np.float64]], super().hamiltonian(x, _number(t, "t")))
 
     def positions(self, x: ArrayLike) -> NDArray[np.float64]:
         """The link ends (bobs) relative to the pivot, shape (n, 2) per state: rows

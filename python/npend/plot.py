@@ -575,7 +575,9 @@ def chaos_map(values, x=None, y=None, *, quantity="flip", component="phi1", ax=N
     # imshow takes +inf for a missing value (grey): it gets a stand-in above the colour
     # bar's top, drawn in the colour map's `over` colour, white.
     shown = np.where(np.isposinf(shown), high * 10 if logarithmic else high + (high - low), shown)
-    colours = matplotlib.colormaps[cmap].with_extremes(bad=NAN_COLOUR, over="white")
+    # (matplotlib 3.6 sets the registry up at import; mypy cannot see it there)
+    colours = matplotlib.colormaps[cmap].with_extremes(  # type: ignore[attr-defined]
+        bad=NAN_COLOUR, over="white")
     if np.isnan(values).any():
         title += "; grey: no value (NaN)"
 

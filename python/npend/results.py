@@ -57,11 +57,9 @@ class _Result:
         return name + "(\n" + "".join(f"    {field},\n" for field in fields) + ")"
 
 
-# eq=False: == on arrays gives arrays, so a field-wise == would not be a bool.
-_result = dataclasses.dataclass(frozen=True, repr=False, eq=False)
 
 
-@_result
+@dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool
 class LyapunovResult(_Result):
     """The Lyapunov exponents of npend.lyapunov.
 
@@ -113,7 +111,7 @@ class LyapunovResult(_Result):
     state: np.ndarray
 
 
-@_result
+@dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool
 class PoincareResult(_Result):
     """The crossings of a Poincare section found by npend.poincare.
 
@@ -132,7 +130,7 @@ class PoincareResult(_Result):
     t_end: float
 
 
-@_result
+@dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool
 class IndicatorsResult(_Result):
     """The fast chaos indicators of npend.chaos_indicators, one entry per sample.
 
@@ -163,7 +161,7 @@ class IndicatorsResult(_Result):
     state: np.ndarray
 
 
-@_result
+@dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool
 class SpectrumResult(_Result):
     """The one-sided spectral density of npend.spectrum.
 
@@ -188,7 +186,7 @@ class SpectrumResult(_Result):
     segments: int
 
 
-@_result
+@dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool
 class AutocorrelationResult(_Result):
     """The normalised autocorrelation of npend.autocorrelation.
 
@@ -210,7 +208,7 @@ class AutocorrelationResult(_Result):
     first_minimum: Optional[float]
 
 
-@_result
+@dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool
 class DelayResult(_Result):
     """The embedding delay chosen by npend.choose_delay.
 
@@ -232,7 +230,7 @@ class DelayResult(_Result):
     seconds: float
 
 
-@_result
+@dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool
 class Equilibrium(_Result):
     """One equilibrium of npend.equilibria.
 
@@ -257,7 +255,7 @@ class Equilibrium(_Result):
     unstable_directions: int
 
 
-@_result
+@dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool
 class ModesResult(_Result):
     """The normal modes of npend.modes, in ascending omega^2.
 
@@ -285,7 +283,7 @@ class ModesResult(_Result):
     stiffness_matrix: np.ndarray
 
 
-@_result
+@dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool
 class MapResult(_Result):
     """A chaos map of npend.map, with its axes; np.asarray(result) is `values`.
 
@@ -317,7 +315,7 @@ class MapResult(_Result):
         return np.asarray(self.values, dtype=dtype)
 
 
-@_result
+@dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool
 class Solution(_Result):
     """A trajectory of npend.simulate. It unpacks as ``t, X = npend.simulate(...)``.
 
