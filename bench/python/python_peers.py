@@ -9,7 +9,8 @@
    interpolation of npend's time over its sweep.
 2. A flip-time map of the equal double pendulum, one thread: npend.map (rk4 lanes) against
    the same rk4 at the same dt vectorised over the cells in NumPy (the double pendulum's
-   equations written out, its 2 x 2 mass matrix inverted in closed form), the flip located by
+   equations written out, its 2 x 2 mass matrix inverted in closed form, a cell dropped once
+   it flips), the flip located by
    linear interpolation in the step (npend locates it with the step's cubic). The cells the
    energy rules out are skipped by both.
 
@@ -146,20 +147,23 @@ def numpy_flip_map(count, t_end, dt):
     result = np.full(phi1.shape, np.nan)
     y = np.stack([phi1[allowed], phi2[allowed], np.zeros(allowed.sum()), np.zeros(allowed.sum())])
     flip = np.full(y.shape[1], np.inf)
+    active = np.arange(y.shape[1])  # the cells still integrated: a flipped cell is dropped
     rhs = double_pendulum_rhs(9.81)
     steps = int(round(t_end / dt))
     for k in range(steps):
+        if active.size == 0:
+            break
         k1 = rhs(0, y)
         k2 = rhs(0, y + 0.5 * dt * k1)
         k3 = rhs(0, y + 0.5 * dt * k2)
         k4 = rhs(0, y + dt * k3)
         new = y + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
         over = np.max(np.abs(new[:2]), axis=0) > np.pi
-        fresh = over & np.isinf(flip)
-        if fresh.any():
-            before = np.max(np.abs(y[:2, fresh]), axis=0)
-            after = np.max(np.abs(new[:2, fresh]), axis=0)
-            flip[fresh] = (k + (np.pi - before) / (after - before)) * dt
+        if over.any():
+            before = np.max(np.abs(y[:2, over]), axis=0)
+            after = np.max(np.abs(new[:2, over]), axis=0)
+            flip[active[over]] = (k + (np.pi - before) / (after - before)) * dt
+            new, active = new[:, ~over], active[~over]
         y = new
     result[allowed] = flip
     return result
