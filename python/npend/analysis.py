@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any, Callable, List, Optional, Sequence, Tuple
 import numpy as np
 
 from . import _npend
+from .chain import _number
 from .results import (
     AutocorrelationResult,
     DelayResult,
@@ -218,9 +219,9 @@ def _time_span(t_end: Any, t_span: Any) -> Tuple[float, float]:
 
 
 def _real(value: Any, what: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, Real):
-        raise TypeError(f"{what}: expected a number, got {value!r}")
-    return float(value)
+    if value is None:
+        raise TypeError(f"{what}: expected a number, got None")
+    return float(_number(value, what))
 
 
 def _progress_callback(progress: Any) -> Tuple[Optional[Callable[[float, float], None]],
@@ -257,10 +258,8 @@ def _progress_callback(progress: Any) -> Tuple[Optional[Callable[[float, float],
 def _output_rows(t0: float, t1: float, dt: float, every: int, t_eval: Any) -> float:
     if t_eval is not None:
         return float(len(t_eval))
-    if dt == 0 or not math.isfinite((t1 - t0) / dt):
-        return 0.0  # the library says what is wrong with dt
-    intervals = max(0.0, math.floor((t1 - t0) / dt + 1e-9)) + 1
-    return math.ceil((intervals + 1) / every)
+    # The library's grid (it also says what is wrong with t0, t1 or dt).
+    return math.ceil(_npend.output_points(t0, t1, dt) / every)
 
 
 def simulate(

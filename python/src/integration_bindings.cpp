@@ -295,6 +295,14 @@ py::dict indicators(const chain& c, const py::handle& x0_in, double t_end, doubl
 }  // namespace
 
 void bind_integration(py::module_& m) {
+  // The rows of simulate's grid, for its memory estimate before the run.
+  m.def("output_points", [](double t_start, double t_end, double dt) {
+    integration_options o;
+    o.t_start = t_start;
+    o.t_end = t_end;
+    o.dt = dt;
+    return output_intervals(o) + 1;
+  });
   // python/npend/analysis.py wraps it (npend.simulate: SciPy's keywords, checks, Solution).
   m.def("simulate", &simulate, py::arg("chain"), py::arg("x0"), py::arg("t_start"),
         py::arg("t_end"), py::arg("dt"), py::arg("stepper"), py::arg("atol"), py::arg("rtol"),
