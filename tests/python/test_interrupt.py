@@ -55,3 +55,21 @@ def test_other_threads_run_during_a_computation():
     assert finished - started > 0.5
     assert len(during) > 0.3 * (finished - started - 0.2) / 0.01
     assert np.isfinite(c.hamiltonian([1.0, 1.0, 1.0, 0, 0, 0]))
+
+
+def test_ctrl_c_stops_a_batch_of_chain_states():
+    # A batch method on millions of rows polls Ctrl-C between rows: interrupted at a fifth of
+    # its run, it stops long before the batch's end. Without the poll the KeyboardInterrupt
+    # would still come, but only after the whole batch, so the time tells the two apart.
+    c = npend.Chain(10)
+    rows = np.random.default_rng(1).uniform(-1.0, 1.0, (1_500_000, c.state_size))
+    started = time.monotonic()
+    c.hamiltonian(rows)
+    whole = time.monotonic() - started
+    started = time.monotonic()
+    timer = interrupt_after(0.2 * whole)
+    with pytest.raises(KeyboardInterrupt):
+        c.hamiltonian(rows)
+    stopped_after = time.monotonic() - started
+    timer.join()
+    assert stopped_after < 0.7 * whole
