@@ -11,11 +11,11 @@
 #include <cstring>
 #include <fstream>
 #include <mutex>
-#include <random>
 #include <stdexcept>
 #include <vector>
 
 #include "input_parsing.hpp"
+#include "npend/atomic_file.hpp"
 
 namespace npend::cli {
 
@@ -26,24 +26,6 @@ namespace {
 // The folder `path` is in.
 fs::path folder_of(const fs::path& path) {
   return path.has_parent_path() ? path.parent_path() : fs::path(".");
-}
-
-// "<dir>/.<name>.npend-XXXXXX", the template of mkdtemp.
-std::string hidden_pattern(const fs::path& path) {
-  std::string name = ".";  // built by appending: GCC 12 misreports `"." + s` (-Wrestrict)
-  name += path.filename().string();
-  name += ".npend-XXXXXX";
-  return (folder_of(path) / name).string();
-}
-
-// Six random letters and digits in place of the pattern's XXXXXX.
-void fill_random_suffix(std::string& pattern) {
-  static constexpr std::string_view letters =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
-  thread_local std::mt19937_64 rng{std::random_device{}() ^
-                                   (static_cast<std::uint64_t>(::getpid()) << 32)};
-  std::uniform_int_distribution<std::size_t> pick(0, letters.size() - 1);
-  for (std::size_t k = pattern.size() - 6; k < pattern.size(); ++k) pattern[k] = letters[pick(rng)];
 }
 
 // Whether `a` and `b` name the same file: the same inode where both exist (hard links and
@@ -116,27 +98,7 @@ std::string output_path_problem(const fs::path& path) {
   return input_collision(path);
 }
 
-namespace {
-
-// A new empty file ".<name>.npend-XXXXXX" next to `path`. Not mkstemp: it creates the file
-// 0600, and widening that needs the umask, which can only be read by setting it, a race
-// between threads that left files 0666. open() with 0666 applies the umask itself.
-fs::path create_hidden_sibling(const fs::path& path) {
-  std::string pattern = hidden_pattern(path);
-  for (int attempt = 0;; ++attempt) {
-    fill_random_suffix(pattern);
-    const int fd = ::open(pattern.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd >= 0) {
-      ::close(fd);
-      return pattern;
-    }
-    if (errno != EEXIST || attempt == 100)
-      throw std::runtime_error(fmt::format("cannot create a file in '{}': {}",
-                                           folder_of(path).string(), std::strerror(errno)));
-  }
-}
-
-}  // namespace
+namespace {}  // namespace
 
 std::filesystem::path temporary_sibling(const std::filesystem::path& path) {
   // Checked up front: otherwise the rename at the end, after all the work, is what fails (or,
@@ -260,7 +222,7 @@ void check_written_image(const std::filesystem::path& file, const std::filesyste
 }
 
 temporary_folder::temporary_folder(const std::filesystem::path& path) {
-  std::string pattern = hidden_pattern(path);
+  std::string pattern = hidden_sibling_template(path);
   if (::mkdtemp(pattern.data()) == nullptr)
     throw std::runtime_error(fmt::format("cannot create a folder in '{}': {}",
                                          folder_of(path).string(), std::strerror(errno)));

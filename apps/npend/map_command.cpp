@@ -3,14 +3,12 @@
 // across the ranks of an MPI job, or the jobs of an array with --part and `npend map merge`),
 // written as .npy, PNG and JSON, and resumable after an interruption. The run itself — its
 // identity, tiles, resume, parallel computation and assembly — is the library's map_run
-// (npend/analysis/chaos/map_run.hpp); this file parses, prints, writes the result files and
-// keeps the output folder's policy.
+// (npend/analysis/chaos/map_run.hpp), which also keeps the output folder's rules; this file
+// parses, prints and writes the result files.
 #include <fmt/format.h>
 #include <omp.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -360,10 +358,6 @@ map_job prepare_run(const map_command_options& o) {
   return {o, map_run({std::move(grid), cell, o.tile, part, device}, fs::path(o.out))};
 }
 
-std::string run_file_text(const map_job& job) {
-  return job.run.run_file_text(options_record(job.o).dump());
-}
-
 // run.json of a folder; input_error naming `option` if it is not readable.
 map_run_record read_run_file(const fs::path& file, std::string_view option) {
   std::optional<map_run_record> record = read_map_run_record(file);
@@ -371,79 +365,18 @@ map_run_record read_run_file(const fs::path& file, std::string_view option) {
   return *record;
 }
 
-void check_same_map(const map_job& job, std::string_view option) {
-  if (!job.run.same_map(read_run_file(job.run.run_file(), option)))
-    throw cli::input_error(fmt::format(
-        "{}: {} holds a different map (other chain, axes, quantity or times)", option, job.o.out));
-}
-
-// A new run: run.json says which map the new tiles belong to. A tiles folder that holds
-// anything (an interrupted run of this or another map, a part of a job array, files of the
-// user's) is refused, and with --force only npend's own files are removed from it.
-void start_fresh_folder(const map_job& job) {
-  const map_run& run = job.run;
-  std::error_code ec;
-  fs::create_directories(run.folder(), ec);
-  if (ec)
-    throw cli::input_error(fmt::format("--out: cannot create '{}': {}", job.o.out, ec.message()));
-  if (fs::is_directory(run.tiles_folder(), ec) && !fs::is_empty(run.tiles_folder(), ec)) {
-    if (!job.o.force) {
-      std::optional<map_run_record> record;
-      if (fs::exists(run.run_file(), ec)) record = read_map_run_record(run.run_file());
-      if (record && run.same_map(*record))
-        throw cli::input_error(fmt::format(
-            "--out: {} holds an unfinished run of this map: finish it with --resume, or start "
-            "afresh with --force",
-            run.tiles_folder().string()));
-      throw cli::input_error(fmt::format(
-          "--out: {} holds another run's tiles or other files: give another --out, or --force "
-          "to remove npend's tiles from it (other files stay)",
-          run.tiles_folder().string()));
-    }
-    run.remove_own_tiles();
-  }
-  fs::create_directories(run.tiles_folder(), ec);
-  if (ec)
-    throw cli::input_error(fmt::format("--out: cannot write in '{}': {}", job.o.out, ec.message()));
-  cli::write_file_atomically(run.run_file(), run_file_text(job));
-}
-
-// The parts of a job array may start at the same moment on one shared folder, so none of
-// them clears it: the first to get there writes run.json — complete under a temporary name,
-// then hard-linked into place, which fails atomically (also on NFS) when another part was
-// first — and every part checks that run.json describes its own map.
-void claim_run_file(const map_job& job) {
-  const map_run& run = job.run;
-  std::error_code ec;
-  fs::create_directories(run.tiles_folder(), ec);
-  if (ec)
-    throw cli::input_error(fmt::format("--out: cannot write in '{}': {}", job.o.out, ec.message()));
-  const fs::path temporary = cli::temporary_sibling(run.run_file());
-  {
-    std::ofstream out(temporary);
-    out << run_file_text(job);
-    out.close();
-    if (!out) {
-      fs::remove(temporary, ec);
-      throw std::runtime_error(fmt::format("writing '{}' failed", temporary.string()));
-    }
-  }
-  const int linked = ::link(temporary.c_str(), run.run_file().c_str());
-  const int error = errno;
-  fs::remove(temporary, ec);
-  if (linked != 0 && error != EEXIST)
-    throw std::runtime_error(
-        fmt::format("cannot create '{}': {}", run.run_file().string(), std::strerror(error)));
-  if (linked != 0) check_same_map(job, "--part");
-}
-
+// The folder made ready as the options say (map_run::open_folder); its refusals are bad
+// input.
 void prepare_folder(const map_job& job) {
-  if (job.parted()) return claim_run_file(job);
-  if (!job.o.resume) return start_fresh_folder(job);
-  if (!fs::exists(job.run.run_file()))
-    throw cli::input_error(fmt::format("--resume: {} holds no interrupted map (no {})", job.o.out,
-                                       job.run.run_file().string()));
-  check_same_map(job, "--resume");
+  const map_folder_start start = job.parted()   ? map_folder_start::part
+                                 : job.o.resume ? map_folder_start::resume
+                                 : job.o.force  ? map_folder_start::force
+                                                : map_folder_start::fresh;
+  try {
+    job.run.open_folder(start, options_record(job.o).dump());
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(e.what());
+  }
 }
 
 // A tile that is not sound, with what to do about it: a folder in a tile's place is bad

@@ -126,6 +126,22 @@ bool is_map_run_file(std::string name);
 /// map_run::run_file_text wrote.
 std::optional<map_run_record> read_map_run_record(const std::filesystem::path& file);
 
+/// How a front end opens a run's folder (map_run::open_folder).
+enum class map_folder_start {
+  fresh,   ///< a new run: refused where the tiles folder holds anything
+  force,   ///< a new run that first removes the run files (is_map_run_file) from the tiles folder
+  resume,  ///< finishing an interrupted run: its run.json must describe the same map
+  part,    ///< a part of a job array: the first part writes run.json, the others check it
+};
+
+/// A front end's names for its options, as open_folder's messages cite them: the command
+/// line's "--out", Python's "out" and so on.
+struct map_folder_words {
+  std::string out = "--out", resume = "--resume", force = "--force", part = "--part";
+  /// How the messages tell a user to resume or to start afresh ("--resume", "resume=True").
+  std::string resume_hint = "--resume", force_hint = "--force";
+};
+
 /// One map run in `folder`. Tiles go to <folder>/tiles/, with run.json beside them saying
 /// which map they belong to; the tile files start with the run's tag (a hash of its
 /// identity) and a checksum of their data, and are checked when read back.
@@ -154,6 +170,15 @@ class map_run {
   /// from which it can rebuild the run from the folder alone).
   std::string run_file_text(std::string_view options) const;
 
+  /// Makes the folder ready for the run's tiles, as `start` says, writing run.json (its
+  /// text from run_file_text(options)) where the run is new. Bad input throws
+  /// std::invalid_argument naming the option in `words`: a folder that cannot be created, a
+  /// fresh run over a tiles folder that holds anything (an unfinished run of this map: resume
+  /// or force it; another map's or other files: another folder, or force), a resume without
+  /// run.json or of another map, a part whose run.json describes another map. A file that
+  /// cannot be written throws std::runtime_error.
+  void open_folder(map_folder_start start, std::string_view options,
+                   const map_folder_words& words = {}) const;
   const std::filesystem::path& folder() const { return m_folder; }
   std::filesystem::path tiles_folder() const { return m_folder / "tiles"; }
   std::filesystem::path run_file() const { return tiles_folder() / "run.json"; }
