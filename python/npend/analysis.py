@@ -13,6 +13,7 @@ import operator
 from numbers import Real
 import math
 import os
+import re
 from typing import TYPE_CHECKING, Any, Callable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -851,6 +852,10 @@ def map(
     threads: int = 0,
     device: str = "cpu",
     progress: Any = None,
+    out: Union[str, "os.PathLike[str]", None] = None,
+    resume: bool = False,
+    force: bool = False,
+    tile: int = 16,
 ) -> MapResult:
     """A chaos map over a grid of starts or parameters, as ``npend map``.
 
@@ -894,7 +899,21 @@ def map(
         "cuda" computes the cells on a GPU (rk4 or dopri5) as ``npend map --device cuda``.
     progress : None, True or callable, optional
         True shows a tqdm bar; a callable hears progress(cells done, cells) about every
-        20 ms and at the end (not on the GPU).
+        20 ms and at the end (not on the GPU); with `out`, progress(tiles done, tiles).
+    out : str or os.PathLike, optional
+        A folder for the run, as ``npend map --out``: the grid is cut into tiles of
+        tile x tile cells, each written to out/tiles/ as soon as it is done, with
+        out/tiles/run.json saying which map they belong to. Ctrl-C (KeyboardInterrupt) keeps
+        the finished tiles, and the same call with resume=True computes only the others.
+        The tiles stay afterwards, so such a call also returns a finished map at once from
+        them. The values are those of a run without `out`, bit for bit.
+    resume : bool, optional
+        Finish the run in `out` (its run.json must describe the same map).
+    force : bool, optional
+        Start afresh in an `out` that holds tiles, removing npend's own files from
+        out/tiles/ (other files stay).
+    tile : int, optional
+        Cells per tile side with `out` (1..1024); part of the run's identity.
 
     Returns
     -------
@@ -909,7 +928,11 @@ def map(
         For an axis whose name is not a string, a bound not a number or a count not an
         integer (the message names the axis and the field).
     ValueError
-        For other bad input: an unknown axis or quantity, a count outside 1..16384, ...
+        For other bad input: an unknown axis or quantity, a count outside 1..16384, an
+        `out` that holds an unfinished run (resume or force it) or another map's tiles, a
+        resume=True whose `out` holds no run or another map's, ...
+    KeyboardInterrupt
+        On Ctrl-C; with `out`, its message says how many tiles are done.
     RuntimeError
         For device="cuda" where no GPU, CUDA driver or NVRTC is found.
 
@@ -937,11 +960,23 @@ def map(
         t_end=t_end, dt=dt, flip_link=flip_link, gali_order=gali_order, component=component,
         x0=x0, velocities=velocities, stepper=stepper, atol=atol, rtol=rtol, threads=threads,
         device=device)
+    folder = dict(out=out, resume=resume, force=force, tile=tile)
     report, close = _progress_callback(progress)
     try:
-        d = _npend.map(chain, x_axis, y_axis, quantity=quantity, progress=report, **options)
+        d = _npend.map(chain, x_axis, y_axis, quantity=quantity, progress=report, **options,
+                       **folder)
+    except KeyboardInterrupt as interrupt:
+        if out is None:
+            raise
+        tiles = os.path.join(os.fspath(out), "tiles")
+        done = len([f for f in os.listdir(tiles) if re.fullmatch(r"tile_\d+\.bin", f)])
+        raise KeyboardInterrupt(
+            f"npend.map: interrupted; {done} tiles are in {tiles}: the same call with "
+            "resume=True finishes the map") from interrupt
     finally:
         close()
+    if out is not None:
+        options.update(folder)
     return MapResult(values=d["values"], x=d["x"], y=d["y"], x_name=x_axis[0],
                      y_name=y_axis[0], quantity=quantity, options=options)
 

@@ -7,7 +7,9 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <limits>
+#include <optional>
 
 #include "bindings.hpp"
 #include "npend/analysis/chaos/chaos_map.hpp"
@@ -18,6 +20,7 @@
 #include "npend/analysis/series/power_spectrum.hpp"
 #include "npend/analysis/stability/equilibria.hpp"
 #include "npend/analysis/stability/normal_modes.hpp"
+#include "npend/atomic_file.hpp"
 #include "npend/spec/section_spec.hpp"
 #include "npend/spec/thread_count.hpp"
 
@@ -205,11 +208,56 @@ py::array_t<double> axis_values(const map_axis& a) {
   return to_numpy(std::move(v), {static_cast<py::ssize_t>(a.count)});
 }
 
+// The folder of a map run from Python: its messages cite the keywords of npend.map.
+const map_folder_words python_folder_words{.out = "out",
+                                           .resume = "resume",
+                                           .force = "force",
+                                           .part = "part",
+                                           .resume_hint = "resume=True",
+                                           .force_hint = "force=True"};
+
+// The map as a run in `folder` (map_run): its tiles written there as they finish, those a
+// resumed run finds done read back. The tiles stay, so the same call with resume=True
+// returns the map from them. Called without the GIL.
+std::vector<double> map_in_folder(map_run_description description, const std::string& folder,
+                                  bool resume, bool force, int threads,
+                                  python_interrupt& interrupt) {
+  const map_run run(std::move(description), folder);
+  // run.json's record of how the run was asked for: by Python, whose folders the command
+  // line's `npend map merge` does not rebuild.
+  run.open_folder(resume  ? map_folder_start::resume
+                  : force ? map_folder_start::force
+                          : map_folder_start::fresh,
+                  R"json({"front_end": "npend.map (Python)"})json", python_folder_words);
+  try {
+    const std::vector<int> pending = run.pending_tiles(resume, [](const std::string&) {});
+    local_map_tile_queue queue(pending);
+    const map_tiles_outcome outcome = run.compute_tiles(
+        queue, map_team_size(threads), interrupt,
+        [](const std::filesystem::path& path, std::string_view bytes) {
+          write_file_whole(path, bytes, false);  // checked when read back, as the CLI's tiles
+        },
+        static_cast<long>(pending.size()), true);
+    if (outcome.error) std::rethrow_exception(outcome.error);
+    if (outcome.stopped) return {};
+    std::optional<std::vector<double>> values = run.assemble(&interrupt);
+    return values ? std::move(*values) : std::vector<double>{};
+  } catch (const map_tile_error& e) {
+    if (e.is_folder())
+      throw std::invalid_argument(
+          fmt::format("out: {}; remove it and call again with "
+                      "resume=True",
+                      e.what()));
+    throw;
+  }
+}
+
 py::dict map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
              const std::string& quantity, double t_end, double dt, int flip_link, int gali_order,
              const std::string& component, const py::object& x0, const py::object& velocities,
              const std::string& stepper, double atol, double rtol, int threads,
-             const std::string& device, const py::object& progress) {
+             const std::string& device, const py::object& progress, const py::object& out,
+             bool resume, bool force, int tile) {
   const auto n = static_cast<std::size_t>(c.links());
   map_grid grid;
   grid.parameters = c.parameters();
@@ -233,11 +281,23 @@ py::dict map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
   grid.validate(o);
   spec::check_thread_count(threads, "threads");
   const map_device where = device_of(device, c, o);
+  if (out.is_none() && (resume || force))
+    throw std::invalid_argument(resume ? "resume: only with out, the folder of the run"
+                                       : "force: only with out, the folder of the run");
+  if (resume && force)
+    throw std::invalid_argument("force: only for a fresh run (resume keeps the folder's tiles)");
+  const std::string folder =
+      out.is_none() ? ""
+                    : py::str(py::module_::import("os").attr("fspath")(out)).cast<std::string>();
+  if (!out.is_none() && folder.empty())
+    throw std::invalid_argument("out: the folder name is empty");
   python_interrupt interrupt(progress);
   std::vector<double> values;
   {
     py::gil_scoped_release no_gil;
-    values = map_values(grid, o, threads, &interrupt, where);
+    values = out.is_none() ? map_values(grid, o, threads, &interrupt, where)
+                           : map_in_folder({grid, o, tile, {}, where}, folder, resume, force,
+                                           threads, interrupt);
   }
   interrupt.raise_if_interrupted();
   interrupt.report_last();
@@ -277,7 +337,8 @@ void bind_maps(py::module_& m) {
         py::arg("flip_link") = 0, py::arg("gali_order") = 0, py::arg("component") = "phi1",
         py::arg("x0") = py::none(), py::arg("velocities") = py::none(), py::arg("stepper") = "rk4",
         py::arg("atol") = 1e-10, py::arg("rtol") = 1e-10, py::arg("threads") = 0,
-        py::arg("device") = "cpu", py::arg("progress") = py::none());
+        py::arg("device") = "cpu", py::arg("progress") = py::none(), py::arg("out") = py::none(),
+        py::arg("resume") = false, py::arg("force") = false, py::arg("tile") = 16);
 }
 
 }  // namespace npend::python

@@ -23,7 +23,6 @@ std::filesystem::path create_hidden_sibling(const std::filesystem::path& path);
 /// on the disk) before it is renamed into place; an existing file at `path` stays untouched
 /// until then. On failure the temporary file is removed and std::runtime_error says
 /// "writing '<path>' failed: <reason>" or "cannot rename the output to '<path>': <reason>".
-void write_file_whole(const std::filesystem::path& path, std::string_view content,
-                           bool sync);
+void write_file_whole(const std::filesystem::path& path, std::string_view content, bool sync);
 
 }  // namespace npend

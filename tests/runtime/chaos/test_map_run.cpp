@@ -189,6 +189,59 @@ TEST_CASE("map_run: the identity ties the tiles to their run") {
   CHECK_FALSE(npend::is_map_run_file("notes.txt"));
 }
 
+TEST_CASE(
+    "map_run::open_folder: fresh, resumed, forced and parted runs, in the front end's words") {
+  const fs::path dir(npend::test::temporary_directory("map-run-folder"));
+  using start = npend::map_folder_start;
+  const npend::map_folder_words words{.out = "out",
+                                      .resume = "resume",
+                                      .force = "force",
+                                      .part = "part",
+                                      .resume_hint = "resume=True",
+                                      .force_hint = "force=True"};
+  const npend::map_run run(flip_map(4), dir / "a");
+  CHECK_THROWS_WITH_AS(
+      run.open_folder(start::resume, "{}", words),
+      doctest::Contains(("resume: " + run.folder().string() + " holds no interrupted map").c_str()),
+      std::invalid_argument);
+  run.open_folder(start::fresh, "{}", words);
+  REQUIRE(fs::exists(run.run_file()));
+  compute(run, {0});
+  // The tiles folder now holds this map's run: a fresh start is refused, a resume is not.
+  CHECK_THROWS_WITH_AS(run.open_folder(start::fresh, "{}", words),
+                       doctest::Contains("finish it with resume=True, or start afresh with "
+                                         "force=True"),
+                       std::invalid_argument);
+  run.open_folder(start::resume, "{}", words);
+  CHECK(run.tiles_present() == 1);
+  npend::map_run_description longer = flip_map(4);
+  longer.cell.t_end = 3;
+  const npend::map_run other(longer, dir / "a");
+  CHECK_THROWS_WITH_AS(
+      other.open_folder(start::resume, "{}", words),
+      doctest::Contains(("resume: " + run.folder().string() + " holds a different map").c_str()),
+      std::invalid_argument);
+  CHECK_THROWS_WITH_AS(other.open_folder(start::fresh, "{}", words),
+                       doctest::Contains("holds another run's tiles"), std::invalid_argument);
+  // Forced: npend's files go, a user's file stays, and run.json is the new run's.
+  write_plain(run.tiles_folder() / "notes.txt", "mine");
+  other.open_folder(start::force, "{}", words);
+  CHECK(other.tiles_present() == 0);
+  CHECK(fs::exists(run.tiles_folder() / "notes.txt"));
+  CHECK(other.same_map(*npend::read_map_run_record(other.run_file())));
+  // Parts: the first writes run.json, the next of the same map accepts it, another map's not.
+  const npend::map_run part1(flip_map(4, {1, 2}), dir / "b"), part2(flip_map(4, {2, 2}), dir / "b");
+  part1.open_folder(start::part, "{}", words);
+  part2.open_folder(start::part, "{}", words);
+  npend::map_run_description other_part = longer;
+  other_part.part = {2, 2};
+  CHECK_THROWS_WITH_AS(npend::map_run(other_part, dir / "b").open_folder(start::part, "{}", words),
+                       doctest::Contains("part: "), std::invalid_argument);
+  // The command line's words are the defaults.
+  CHECK_THROWS_WITH_AS(run.open_folder(start::resume, "{}"), doctest::Contains("--resume: "),
+                       std::invalid_argument);
+}
+
 TEST_CASE("map_run: bad arguments are refused, naming them") {
   const fs::path dir(npend::test::temporary_directory("map-run-bad"));
   CHECK_THROWS_WITH_AS(npend::map_run(flip_map(0), dir), doctest::Contains("tile: 1..1024"),
