@@ -278,6 +278,7 @@ def simulate(
     every: int = 1,
     events: Union[Callable[..., float], Sequence[Callable[..., float]], None] = None,
     progress: Any = None,
+    dense_output: bool = False,
 ) -> Solution:
     """Integrates Hamilton's equations from x0, as ``npend simulate`` does.
 
@@ -315,12 +316,17 @@ def simulate(
     progress : None, True or callable, optional
         True shows a tqdm bar; a callable hears progress(done, total), the output steps
         done of all of them, about every 20 ms and at the end.
+    dense_output : bool, optional
+        Keep the stepper's dense output over every step as Solution.sol, a callable
+        sol(t) as SciPy's (up to the terminal event where one ended the run). Its memory is
+        counted in the refusal above for the fixed-step steppers; an adaptive stepper's
+        steps are not known before the run.
 
     Returns
     -------
     Solution
-        t, X (and y = X.T), status, events, energy error and the options; unpacks as
-        ``t, X``.
+        t, X (and y = X.T), status, events, energy error, nfev, sol and the options;
+        unpacks as ``t, X``.
 
     Raises
     ------
@@ -346,6 +352,14 @@ def simulate(
     >>> print(np.round(np.diff(sol.t_events[0]), 4))
     [2.0061 2.0061]
     >>> t, X = sol  # unpacks as (t, X)
+
+    With dense_output=True, sol.sol(t) gives the state at any time of the run:
+
+    >>> sol = npend.simulate(chain, [0.0, 0.05], t_span=(0, 5), dense_output=True)
+    >>> sol.sol(0.25).shape, sol.sol([0.25, 0.5]).shape
+    ((2,), (2, 2))
+    >>> bool(np.allclose(sol.sol(sol.t[::1000]), sol.X[::1000].T, rtol=1e-13, atol=1e-15))
+    True
     """
     t0, t1 = _time_span(t_end, t_span)
     if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
@@ -371,6 +385,9 @@ def simulate(
             raise TypeError(f"events: expected callables g(t, y), got {g!r}")
     rows = _output_rows(t0, t1, _real(dt, "dt"), int(every), t_eval)
     need = rows * (chain.state_size + 1) * 8
+    if dense_output and stepper in ("rk4", "gauss4", "gauss6"):
+        # The fixed steps are the grid's; each keeps 4 states of its cubic dense output.
+        need += _output_rows(t0, t1, _real(dt, "dt"), 1, None) * 4 * chain.state_size * 8
     available = _memory_available()
     if need > _MEMORY_SHARE * available:
         raise ValueError(
@@ -380,7 +397,7 @@ def simulate(
     report, close = _progress_callback(progress)
     try:
         d = _npend.simulate(chain, x0, t0, t1, dt, stepper, atol, rtol, order, int(every),
-                            t_eval, list(events), report)
+                            t_eval, list(events), report, bool(dense_output))
     finally:
         close()
     terminated = d.pop("terminated")

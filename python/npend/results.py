@@ -332,9 +332,15 @@ class Solution(_Result):
     message : str
         What `status` says, in words.
     nsteps : int
-        The steps the stepper took (accepted steps for an adaptive one). The right-hand
-        side's evaluations are not counted (the steppers call the kernels directly), so
-        there is no `nfev`.
+        The steps the stepper took (accepted steps for an adaptive one).
+    nfev : int
+        The evaluations of the right-hand side (SciPy's name): the stepper's stages, the
+        Newton iterations of gauss4 and gauss6, and the end-point derivatives of the cubic
+        Hermite dense output where `t_eval` or `events` read it. 0 for taylor, which
+        expands the solution with the generated Taylor kernels once per step instead.
+    njev : int
+        The evaluations of the Jacobian: rosenbrock4's, once per attempted step, and
+        gauss4's and gauss6's where their simplified Newton iteration renews it.
     t_events, y_events : list of ndarray
         Per event function: the times (k,) and states (k, 2n) where it fired, in order.
     energy_error : float
@@ -345,6 +351,11 @@ class Solution(_Result):
     dt, atol, rtol : float
     order : int
         The options the run used.
+    sol : DenseOutput or None
+        With dense_output=True, the continuous solution: sol(t) is the state at t (shape
+        (2n,)), or at an array of m times (shape (2n, m)), anywhere in the run's span, as
+        SciPy's OdeSolution. It is the stepper's own dense output (the cubic Hermite
+        interpolant for rk4, rkf78, gauss4 and gauss6), kept step by step. None otherwise.
 
     Notes
     -----
@@ -356,6 +367,8 @@ class Solution(_Result):
     status: int
     message: str
     nsteps: int
+    nfev: int
+    njev: int
     t_events: list
     y_events: list
     energy_error: float
@@ -364,6 +377,7 @@ class Solution(_Result):
     atol: float
     rtol: float
     order: int
+    sol: Any = None
 
     @property
     def y(self) -> np.ndarray:

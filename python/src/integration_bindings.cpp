@@ -3,8 +3,11 @@
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
+#include <optional>
 
 #include "bindings.hpp"
 #include "npend/analysis/chaos/chaos_indicators.hpp"
@@ -68,12 +71,109 @@ double locate_event(const python_event& e, const integration_step& step, double 
   return b;
 }
 
+// Solution.sol of simulate(dense_output=True): the stepper's dense output over every step,
+// kept as degree() + 1 of its values per step at the step's Chebyshev points (of the second
+// kind), from which the barycentric formula gives the same polynomial back at any t, to
+// round-off, and stably for the high degrees of taylor.
+class dense_solution {
+ public:
+  explicit dense_solution(std::size_t dim) : m_dim(dim) {}
+
+  // The step's polynomial; `until` cuts the solution short inside the last step (a
+  // terminal event).
+  void add(const integration_step& step, std::optional<double> until = std::nullopt) {
+    const int m = step.degree();
+    if (m < 1) throw std::logic_error("dense_output: the stepper's dense output has no degree");
+    if (m_edges.empty()) m_edges.push_back(step.t_begin());
+    const double a = step.t_begin(), b = step.t_end();
+    m_edges.push_back(until.value_or(b));
+    m_span.push_back({a, b});
+    m_degree.push_back(m);
+    m_offset.push_back(m_samples.size());
+    std::vector<double> x(m_dim);
+    for (int j = 0; j <= m; ++j) {
+      step.state_at(node(a, b, m, j), x);
+      m_samples.insert(m_samples.end(), x.begin(), x.end());
+    }
+  }
+
+  // Ends the solution at t inside its last step (a dense stepper's last step passes t_end).
+  void end_at(double t) {
+    if (!m_edges.empty()) m_edges.back() = t;
+  }
+
+  double t_min() const { return std::min(m_edges.front(), m_edges.back()); }
+  double t_max() const { return std::max(m_edges.front(), m_edges.back()); }
+  std::size_t bytes() const { return m_samples.size() * sizeof(double); }
+
+  // The state at t (inside [t_min, t_max], checked by the caller) into x.
+  void at(double t, double* x, std::size_t stride) const {
+    const std::size_t k = step_of(t);
+    const auto [a, b] = m_span[k];
+    const int m = m_degree[k];
+    const double* v = m_samples.data() + m_offset[k];
+    double denominator = 0;
+    for (std::size_t i = 0; i < m_dim; ++i) x[i * stride] = 0;
+    for (int j = 0; j <= m; ++j) {
+      const double tj = node(a, b, m, j);
+      if (t == tj) {
+        for (std::size_t i = 0; i < m_dim; ++i) x[i * stride] = v[j * m_dim + i];
+        return;
+      }
+      const double w = ((j % 2) ? -1.0 : 1.0) * (j == 0 || j == m ? 0.5 : 1.0) / (t - tj);
+      denominator += w;
+      for (std::size_t i = 0; i < m_dim; ++i) x[i * stride] += w * v[j * m_dim + i];
+    }
+    for (std::size_t i = 0; i < m_dim; ++i) x[i * stride] /= denominator;
+  }
+
+  py::array_t<double> call(const py::handle& t_in) const {
+    const double_array t = as_array(t_in, "t");
+    const bool scalar = t.ndim() == 0;
+    if (t.ndim() > 1) throw std::invalid_argument("t: expected a time or a 1-D array of times");
+    const auto count = static_cast<std::size_t>(t.size());
+    for (std::size_t k = 0; k < count; ++k)
+      if (!(t.data()[k] >= t_min() && t.data()[k] <= t_max()))
+        throw std::invalid_argument(fmt::format("t: {} is outside the solution's span [{}, {}]",
+                                                t.data()[k], t_min(), t_max()));
+    std::vector<double> out(m_dim * count);
+    for (std::size_t k = 0; k < count; ++k) at(t.data()[k], out.data() + k, count);
+    if (scalar) return to_numpy(std::move(out), {static_cast<py::ssize_t>(m_dim)});
+    return to_numpy(std::move(out),
+                    {static_cast<py::ssize_t>(m_dim), static_cast<py::ssize_t>(count)});
+  }
+
+ private:
+  // Chebyshev point j of m on [a, b], from a (j = 0) to b (j = m).
+  static double node(double a, double b, int m, int j) {
+    if (j == 0) return a;
+    if (j == m) return b;
+    const double c = std::cos(std::numbers::pi * j / m);  // 1 .. -1
+    return 0.5 * (a + b) + 0.5 * (a - b) * c;
+  }
+
+  // The step that holds t: edges run in the integration's direction.
+  std::size_t step_of(double t) const {
+    const bool forwards = m_edges.back() >= m_edges.front();
+    const auto later = [forwards](double u, double v) { return forwards ? u < v : u > v; };
+    const auto it = std::upper_bound(m_edges.begin() + 1, m_edges.end() - 1, t, later);
+    return static_cast<std::size_t>(it - (m_edges.begin() + 1));
+  }
+
+  std::size_t m_dim;
+  std::vector<double> m_edges;  // t_begin of the first step, then each step's end
+  std::vector<std::pair<double, double>> m_span;
+  std::vector<int> m_degree;
+  std::vector<std::size_t> m_offset;
+  std::vector<double> m_samples;
+};
+
 // npend.simulate's run: the grid's rows (every `every`-th) or the states at `t_eval` from the
 // stepper's dense output, the events located on it, the energy's largest change.
 py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, double t_end, double dt,
                   const std::string& stepper, double atol, double rtol, int order,
                   std::size_t every, const py::object& t_eval_in, const py::list& event_functions,
-                  const py::object& progress) {
+                  const py::object& progress, bool dense_output) {
   const auto x0 = start_state(c, x0_in);
   auto o = integration_from(t_end, dt, stepper, t_start, atol, rtol, order);
   if (every == 0) throw std::invalid_argument("every: must be 1 or more");
@@ -118,8 +218,10 @@ py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, doubl
       if (grid_k++ % every == 0) record(time, state);
       return observer_action::proceed;
     };
+  std::optional<dense_solution> dense;
+  if (dense_output) dense.emplace(d);
   step_observer_function on_step;
-  if (at_times || !events.empty())
+  if (at_times || !events.empty() || dense_output)
     on_step = [&](const integration_step& step) {
       double stop_at = step.t_end();
       if (!events.empty()) {
@@ -135,6 +237,7 @@ py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, doubl
           e.last = g_end;
         }
       }
+      if (dense) dense->add(step, terminated ? std::optional(stop_at) : std::nullopt);
       // The outputs up to a terminal event come from the dense output: the grid observer
       // does not see the step that ends the run.
       while (at_times && next_eval < t_eval.size() && !before(stop_at, t_eval[next_eval])) {
@@ -167,6 +270,8 @@ py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, doubl
       to_numpy(std::move(states), {static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(d)});
   out["terminated"] = terminated;
   out["nsteps"] = r.steps;
+  out["nfev"] = r.evaluations;
+  out["njev"] = r.jacobian_evaluations;
   out["energy_error"] = energy_change;
   py::list t_events, y_events;
   for (auto& e : events) {
@@ -176,6 +281,9 @@ py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, doubl
   }
   out["t_events"] = t_events;
   out["y_events"] = y_events;
+  if (dense && !terminated) dense->end_at(r.t);
+  // Before the first step (a run stopped at once) there is no polynomial to give.
+  out["sol"] = dense && dense->bytes() > 0 ? py::cast(std::move(*dense)) : py::object(py::none());
   return out;
 }
 
@@ -304,10 +412,22 @@ void bind_integration(py::module_& m) {
     return output_intervals(o) + 1;
   });
   // python/npend/analysis.py wraps it (npend.simulate: SciPy's keywords, checks, Solution).
+  py::class_<dense_solution>(m, "DenseOutput", R"doc(The continuous solution of
+npend.simulate(dense_output=True): sol(t) for a time t gives the state, shape (2n,); for an
+array of m times, shape (2n, m), as SciPy's OdeSolution. It is the stepper's own dense
+output over each step, kept exactly. t outside [t_min, t_max] raises ValueError.)doc")
+      .def("__call__", &dense_solution::call, py::arg("t"))
+      .def_property_readonly("t_min", &dense_solution::t_min)
+      .def_property_readonly("t_max", &dense_solution::t_max)
+      .def_property_readonly("nbytes", &dense_solution::bytes)
+      .def("__repr__", [](const dense_solution& s) {
+        return fmt::format("DenseOutput(t_min={}, t_max={}, nbytes={})", s.t_min(), s.t_max(),
+                           s.bytes());
+      });
   m.def("simulate", &simulate, py::arg("chain"), py::arg("x0"), py::arg("t_start"),
         py::arg("t_end"), py::arg("dt"), py::arg("stepper"), py::arg("atol"), py::arg("rtol"),
         py::arg("order"), py::arg("every"), py::arg("t_eval"), py::arg("events"),
-        py::arg("progress"));
+        py::arg("progress"), py::arg("dense_output"));
   // python/npend/analysis.py wraps lyapunov, chaos_indicators and poincare (signatures,
   // docstrings, result classes): they return plain dicts whose keys are the classes' fields.
   m.def("lyapunov", &lyapunov, py::arg("chain"), py::arg("x0"), py::arg("t_end"), py::kw_only(),

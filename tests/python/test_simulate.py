@@ -172,3 +172,71 @@ def test_bad_input_names_the_keyword(kwargs, message):
 def test_the_tolerances_have_scipys_names():
     with pytest.raises(TypeError, match="abs_tol"):
         npend.simulate(npend.Chain(1), [0.1, 0.0], t_end=1.0, abs_tol=1e-9)
+
+
+def test_nfev_counts_the_right_hand_side_as_a_python_counter_does():
+    chain = npend.Chain(2)
+    x0 = [0.3, -0.2, 0, 0]
+    # rk4 takes four evaluations a step: 100 steps.
+    sol = npend.simulate(chain, x0, t_end=1.0, dt=0.01, stepper="rk4")
+    assert (sol.nsteps, sol.nfev, sol.njev) == (100, 400, 0)
+    # SciPy's RK45 on chain.fun, counted by a wrapper, against SciPy's own nfev: the same
+    # meaning of the name.
+    solve_ivp = pytest.importorskip("scipy.integrate").solve_ivp
+    calls = []
+
+    def counted(t, y):
+        calls.append(t)
+        return chain.fun(t, y)
+
+    ref = solve_ivp(counted, (0, 1), x0, method="RK45", rtol=1e-8, atol=1e-10)
+    assert ref.nfev == len(calls)
+    # dopri5 is the same method as RK45 (first same as last): 1 + 6 per attempted step.
+    sol = npend.simulate(chain, x0, t_end=1.0, dt=0.01, stepper="dopri5", atol=1e-10,
+                         rtol=1e-8)
+    assert (sol.nfev - 1) % 6 == 0 and (sol.nfev - 1) // 6 >= sol.nsteps
+    # rosenbrock4 evaluates the Jacobian once per attempted step.
+    sol = npend.simulate(chain, x0, t_end=1.0, stepper="rosenbrock4", atol=1e-8, rtol=1e-8)
+    assert sol.njev >= sol.nsteps > 0
+
+
+def test_dense_output_is_the_steppers_own_dense_output_at_any_time():
+    chain = npend.Chain(3)
+    x0 = [0.3, 0.3, 0.3, 0, 0, 0]
+    times = np.linspace(0.0123, 4.98, 37)  # off the grid
+    reference = npend.simulate(chain, x0, t_end=5.0, stepper="taylor", atol=1e-15, rtol=1e-15,
+                               t_eval=times)
+    for stepper, tol, off in [("dopri5", 1e-10, 1e-7), ("taylor", 1e-12, 1e-10),
+                              ("rosenbrock4", 1e-8, 1e-5), ("gauss6", 1e-10, 1e-10)]:
+        sol = npend.simulate(chain, x0, t_end=5.0, stepper=stepper, atol=tol, rtol=tol,
+                             dense_output=True)
+        # The same run's t_eval reads the same steps' dense output directly: sol keeps it.
+        same_run = npend.simulate(chain, x0, t_end=5.0, stepper=stepper, atol=tol, rtol=tol,
+                                  t_eval=times)
+        np.testing.assert_allclose(sol.sol(times), same_run.X.T, rtol=0, atol=1e-13,
+                                   err_msg=stepper)
+        np.testing.assert_allclose(sol.sol(sol.t), sol.X.T, rtol=0, atol=1e-13,
+                                   err_msg=stepper)
+        # Against a tight reference, to the stepper's accuracy.
+        assert np.max(np.abs(sol.sol(times) - reference.X.T)) < off, stepper
+        assert (sol.sol.t_min, sol.sol.t_max) == (0.0, 5.0)
+        assert sol.sol(2.5).shape == (6,) and sol.sol(times).shape == (6, times.size)
+    with pytest.raises(ValueError, match="^t: 5.5 is outside the solution's span"):
+        sol.sol(5.5)
+    assert npend.simulate(chain, x0, t_end=1.0).sol is None
+
+
+def test_dense_output_ends_at_a_terminal_event_and_runs_backwards():
+    chain = npend.Chain(1)
+
+    def turning(t, y):
+        return y[1]
+
+    turning.terminal = True
+    turning.direction = -1
+    sol = npend.simulate(chain, [0.0, 0.05], t_end=5.0, events=turning, dense_output=True)
+    assert sol.sol.t_max == sol.t_events[0][0]
+    np.testing.assert_allclose(sol.sol(sol.t_events[0][0]), sol.y_events[0][0], atol=1e-14)
+    back = npend.simulate(chain, [0.0, 0.05], t_span=(0.0, -1.0), dt=-1e-3, dense_output=True)
+    assert (back.sol.t_min, back.sol.t_max) == (-1.0, 0.0)
+    np.testing.assert_allclose(back.sol(back.t), back.X.T, rtol=0, atol=1e-14)

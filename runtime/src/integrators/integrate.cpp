@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "npend/chain_system.hpp"
 #include "npend/integrators/integrate_system.hpp"
@@ -60,6 +61,29 @@ std::size_t output_intervals(const integration_options& options) {
   return whole + (short_step_left ? 1 : 0);
 }
 
+namespace {
+
+// `F` (the chain's rhs or its Jacobian) that counts its calls into *count, for
+// integration_result's evaluation counts. odeint copies systems freely: the copies share the
+// count.
+template <class F>
+class counted {
+ public:
+  counted(F f, std::size_t* count) : m_f(std::move(f)), m_count(count) {}
+  template <class... Args>
+  void operator()(Args&&... args) const {
+    ++*m_count;
+    m_f(std::forward<Args>(args)...);
+  }
+  int size() const { return m_f.size(); }
+
+ private:
+  F m_f;
+  std::size_t* m_count;
+};
+
+}  // namespace
+
 void check_stepper_fits(const chain& c, stepper_kind stepper) {
   if (stepper == stepper_kind::taylor) taylor_integrator<double>(c.kernels_in_use(), 1e-10, 1e-10);
 }
@@ -86,14 +110,21 @@ integration_result integrate(const chain& c, std::span<const double> x0,
     throw std::invalid_argument(
         fmt::format("start state x0 has {} entries; the {}-link chain needs {}", x0.size(),
                     c.links(), c.state_size()));
+  std::size_t evaluations = 0, jacobian_evaluations = 0;
+  const auto [rhs, jacobian] = make_implicit_system(c);
+  const std::pair system(counted(rhs, &evaluations), counted(jacobian, &jacobian_evaluations));
+  integration_result result;
   if (options.stepper == stepper_kind::taylor) {
     options.validate();
     taylor_stepper stepper(c.kernels_in_use(), options.abs_tol, options.rel_tol,
                            options.taylor_order);
-    return detail::integrate_visited(stepper, make_implicit_system(c), x0, options, observer,
-                                     step_observer);
+    result = detail::integrate_visited(stepper, system, x0, options, observer, step_observer);
+  } else {
+    result = integrate_system(system, x0, options, observer, step_observer);
   }
-  return integrate_system(make_implicit_system(c), x0, options, observer, step_observer);
+  result.evaluations = evaluations;
+  result.jacobian_evaluations = jacobian_evaluations;
+  return result;
 }
 
 }  // namespace npend

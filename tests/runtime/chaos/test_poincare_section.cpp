@@ -228,6 +228,7 @@ TEST_CASE("crossing_locator: a crossing Henon's trick cannot reach keeps the den
     void state_at(double t, std::span<double> x) const override {
       for (std::size_t i = 0; i < x.size(); ++i) x[i] = a[i] + t * (b[i] - a[i]);
     }
+    int degree() const override { return 1; }
   };
   const chain c(chain_parameters::uniform(1));
   straight_line line;

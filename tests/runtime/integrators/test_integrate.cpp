@@ -464,3 +464,46 @@ TEST_CASE("integrate_with: a supplied controlled stepper's non-finite step is sh
   CHECK(r.steps == 25);
   CHECK(r.state[0] == doctest::Approx(std::pow(1 - 0.04, 25)).epsilon(1e-12));
 }
+
+TEST_CASE("integrate: counts the evaluations of the right-hand side and the Jacobian") {
+  const chain c(npend::chain_parameters::uniform(3));
+  const std::vector<double> x0{0.3, -0.2, 0.1, 0.0, 0.1, 0.0};
+  integration_options o;
+  o.t_end = 1;
+  o.dt = 0.01;
+  // rk4: four stages a step, nothing else; N = 100 steps.
+  o.stepper = stepper_kind::rk4;
+  auto r = npend::integrate(c, x0, o);
+  CHECK(r.steps == 100);
+  CHECK(r.evaluations == 400);
+  CHECK(r.jacobian_evaluations == 0);
+  // A step observer that reads the Hermite dense output costs f at both ends of each step.
+  r = npend::integrate(c, x0, o, {}, [](const npend::integration_step& step) {
+    std::vector<double> x(step.x_end().size());
+    step.state_at(0.5 * (step.t_begin() + step.t_end()), x);
+    step.state_at(step.t_end(), x);
+    return npend::observer_action::proceed;
+  });
+  CHECK(r.evaluations == 600);
+  // dopri5 (first same as last): f once at the start, then six new stages per attempted step,
+  // of which at least the accepted ones.
+  o.stepper = stepper_kind::dopri5;
+  r = npend::integrate(c, x0, o);
+  CHECK((r.evaluations - 1) % 6 == 0);
+  CHECK((r.evaluations - 1) / 6 >= r.steps);
+  CHECK(r.jacobian_evaluations == 0);
+  // gauss6: the Newton iterations of the implicit stages take at least 3 f per step (one per
+  // stage), and the exact Jacobian is evaluated at least at the start.
+  o.stepper = stepper_kind::gauss6;
+  r = npend::integrate(c, x0, o);
+  CHECK(r.evaluations >= 3 * r.steps);
+  CHECK(r.jacobian_evaluations >= 1);
+  // rosenbrock4: one Jacobian per attempted step, so at least one per accepted step.
+  o.stepper = stepper_kind::rosenbrock4;
+  r = npend::integrate(c, x0, o);
+  CHECK(r.jacobian_evaluations >= r.steps);
+  // taylor: no f at all, the Taylor kernels expand the solution.
+  o.stepper = stepper_kind::taylor;
+  r = npend::integrate(c, x0, o);
+  CHECK(r.evaluations == 0);
+}

@@ -81,6 +81,15 @@ struct integration_result {
   /// True if an observer, the step observer or the run control asked to stop before the end
   /// of the grid.
   bool stopped = false;
+  /// Evaluations of the right-hand side f(x, t), as npend::integrate counts them (0 from
+  /// integrate_system and integrate_with): the stepper's stages, the Newton iterations of
+  /// the implicit Gauss–Legendre steps, and the derivatives a cubic Hermite dense output
+  /// takes at the ends of a step that a step observer looks into. The taylor stepper makes
+  /// none: it expands the solution with the generated Taylor kernels, once per step.
+  std::size_t evaluations = 0;
+  /// Evaluations of the Jacobian ∂f/∂x (gauss4 and gauss6 where their simplified Newton
+  /// iteration renews it, rosenbrock4 once per attempted step), counted likewise.
+  std::size_t jacobian_evaluations = 0;
 };
 
 /// An observer's answer after seeing a grid point.
@@ -97,6 +106,9 @@ class step_interpolant {
  public:
   /// x(t) for t within the step (x: dim of the system; both checked by the caller).
   virtual void state_at(double t, std::span<double> x) const = 0;
+  /// A bound on state_at's degree as a polynomial in t over the step, or -1 where it is not
+  /// known (a stepper handed to integrate_with).
+  virtual int degree() const = 0;
 
  protected:
   ~step_interpolant() = default;
@@ -134,6 +146,11 @@ class integration_step {
   /// The interpolated state at t, which must lie within the step, into x (dim of the
   /// system). Throws std::invalid_argument for t outside the step or x of the wrong size.
   void state_at(double t, std::span<double> x) const;
+  /// state_at is a polynomial in t over the step of at most this degree (3 for the cubic
+  /// Hermite interpolant, the stepper's own for the others: 3 for rosenbrock4, 6 for dopri5,
+  /// 18 for bs, the order for taylor), so that degree() + 1 of its values give all of it; -1
+  /// where it is not known (a stepper handed to integrate_with).
+  int degree() const { return m_interpolant->degree(); }
 
  private:
   double m_t_begin, m_t_end;

@@ -37,6 +37,8 @@
 
 namespace npend {
 
+class taylor_stepper;  // npend/integrators/taylor.hpp
+
 namespace detail {
 
 /// How error messages name the stepper: by the name users type for the steppers of
@@ -188,6 +190,7 @@ class hermite_interpolant final : public step_interpolant {
     for (std::size_t i = 0; i < x.size(); ++i)
       x[i] = a0 * x0[i] + b0 * m_f0[i] + a1 * x1[i] + b1 * m_f1[i];
   }
+  int degree() const override { return 3; }
 
  private:
   mutable Rhs m_rhs;
@@ -197,6 +200,28 @@ class hermite_interpolant final : public step_interpolant {
   mutable std::vector<double> m_f0, m_f1;
   mutable bool m_have_derivatives = false;
 };
+
+/// A bound on the degree in t of a dense-output stepper's calc_state over its last step: 3
+/// for rosenbrock4 (odeint's formula in s = (t - t_old)/dt), 6 for dopri5 (its continuous
+/// extension, degree 5 in the weights times θ), 2 k_max + 2 = 18 for bs (its interpolation
+/// in θ), the step's order for taylor; -1 for other steppers.
+template <class Stepper>
+int dense_output_degree(const Stepper& stepper) {
+  if constexpr (std::is_same_v<Stepper, taylor_stepper>)
+    return stepper.order();
+  else if constexpr (std::is_same_v<Stepper, rosenbrock4_dense_output>)
+    return 3;
+  else if constexpr (std::is_same_v<Stepper, checked_bulirsch_stoer>)
+    return 18;
+  else if constexpr (requires { typename Stepper::controlled_stepper_type::stepper_type; }) {
+    if constexpr (std::is_same_v<typename Stepper::controlled_stepper_type::stepper_type,
+                                 checked_dopri5>)
+      return 6;
+    else
+      return -1;
+  } else
+    return -1;
+}
 
 /// A dense-output stepper's own interpolation within its last step; `reversed` as in
 /// run_dense (the stepper's clock runs as τ = 2 t0 − t).
@@ -210,6 +235,7 @@ class dense_interpolant final : public step_interpolant {
     m_stepper.calc_state(m_reversed ? 2 * m_t0 - t : t, m_buffer);
     std::copy(&m_buffer[0], &m_buffer[0] + x.size(), x.begin());
   }
+  int degree() const override { return dense_output_degree(m_stepper); }
 
  private:
   const Stepper& m_stepper;
