@@ -11,6 +11,7 @@
 #include "npend/chain_system.hpp"
 #include "npend/integrators/gauss_legendre.hpp"
 #include "npend/integrators/integration_error.hpp"
+#include "analysis/detail/monodromy.hpp"
 
 namespace npend {
 
@@ -18,10 +19,11 @@ namespace {
 
 using row_major = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-// The monodromy over one period in `steps` Gauss–Legendre steps; x ends at x(T). False if
-// the control asked to stop (`done` steps before this run count towards its progress).
-bool monodromy(const chain& c, std::vector<double>& x, double period, int steps, int done,
-               int total, run_control* control, Eigen::MatrixXd& tangent) {
+}  // namespace
+
+bool detail::monodromy(const chain& c, std::vector<double>& x, double period, int steps, int done,
+                       int total, run_control* control, Eigen::MatrixXd& tangent,
+                       const std::function<void(std::span<const double>)>& each_step) {
   const int d = c.state_size();
   tangent = Eigen::MatrixXd::Identity(d, d);
   gauss_legendre<3> stepper;
@@ -29,10 +31,13 @@ bool monodromy(const chain& c, std::vector<double>& x, double period, int steps,
   const double dt = period / steps;
   for (int k = 0; k < steps; ++k) {
     stepper.do_step_with_tangent(system, x, k * dt, dt, tangent);
+    if (each_step) each_step(x);
     if (report_progress(control, done + k + 1, total)) return false;
   }
   return true;
 }
+
+namespace {
 
 double largest_modulus(const Eigen::VectorXcd& ev) {
   double m = 0;
@@ -77,8 +82,8 @@ floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
   bool finished = false;
   try {
     finished =
-        monodromy(c, x, period, options.steps, 0, total, options.control, tangent) &&
-        monodromy(c, x_coarse, period, coarse_steps, options.steps, total, options.control, coarse);
+        detail::monodromy(c, x, period, options.steps, 0, total, options.control, tangent) &&
+        detail::monodromy(c, x_coarse, period, coarse_steps, options.steps, total, options.control, coarse);
   } catch (const integration_error& e) {
     // The step is the period over the steps: the stepper's "try a smaller dt" means more
     // steps here.

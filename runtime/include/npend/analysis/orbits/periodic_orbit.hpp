@@ -1,0 +1,116 @@
+// Periodic orbits of an undamped, undriven chain by shooting, and the continuation of a
+// linear normal mode into its nonlinear normal mode (NNM) family over the energy.
+#pragma once
+
+#include <complex>
+#include <limits>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "npend/chain.hpp"
+#include "npend/run_control.hpp"
+
+namespace npend {
+
+/// Which condition picks one point of the orbit (the flow moves any periodic start along it).
+enum class orbit_phase {
+  /// x0 has p = 0: a turning point, where every angle is at its extreme. The natural choice
+  /// for synchronous NNMs (every angle turns at the same instant); n + 1 unknowns (q0, T).
+  turning_point,
+  /// ⟨f(x̃0), x0 − x̃0⟩ = 0 with x̃0 the guess (a Poincaré section through it): any orbit;
+  /// 2n + 1 unknowns (x0, T).
+  poincare,
+};
+
+struct periodic_orbit_options {
+  /// Gauss–Legendre (order 6) steps over the period: the orbit is exact for that map, whose
+  /// period differs from the flow's by about steps⁻⁶. At least 2 (even for turning_point).
+  int steps = 400;
+  /// The energy H(x0) = E (J) the orbit keeps. NaN: the guess's energy.
+  double energy = std::numeric_limits<double>::quiet_NaN();
+  orbit_phase phase = orbit_phase::turning_point;
+  /// Converged when ‖φ(T) − x0‖∞ ≤ tolerance and |H(x0) − E| ≤ tolerance·max(1, |E|).
+  double tolerance = 1e-11;
+  int max_iterations = 20;
+  /// Stable when every non-trivial multiplier has |μ| ≤ 1 + stability_tolerance.
+  double stability_tolerance = 1e-6;
+  run_control* control = nullptr;  ///< not owned; may be null
+};
+
+struct periodic_orbit_result {
+  bool converged = false;
+  std::vector<double> x0;  ///< the start (dim 2n)
+  double period = 0;       ///< T (s)
+  double energy = 0;       ///< H(x0) (J)
+  double closure = 0;      ///< ‖φ(T) − x0‖∞ of the last integration
+  int iterations = 0;      ///< Newton corrections taken
+  /// max |φ_i| (rad) over the start and the states after each step, per angle (dim n).
+  std::vector<double> amplitudes;
+  /// The monodromy's eigenvalues by descending |μ|, without the trivial pair at +1 that the
+  /// flow direction and the energy give (dim 2n − 2).
+  std::vector<std::complex<double>> multipliers;
+  double max_multiplier = 0;  ///< max |μ| of `multipliers` (1 when there are none: n = 1)
+  bool stable = false;        ///< max_multiplier ≤ 1 + stability_tolerance
+  bool stopped = false;       ///< a run control stopped it
+};
+
+/// The periodic orbit near (x0_guess, T_guess) at the energy of `options`: Newton on
+/// F(x0, T) = φ(T; x0) − x0 with the phase condition and H(x0) = E. φ is the Gauss–Legendre
+/// flow with its exact tangent map (the monodromy M = ∂φ/∂x0; ∂φ/∂T = f(φ(T))). Energy
+/// conservation makes one row of [M − I, f] dependent on the others, so the square system is
+/// singular; the correction is the least-squares (minimum-norm) solution of all the rows,
+/// which converges quadratically since the residual vanishes at the orbit. Throws
+/// std::invalid_argument for a damped chain, a moving pivot, a cart, a wrong size of
+/// x0_guess, T_guess not positive and finite, steps < 2 (odd for turning_point is fine),
+/// or a tolerance that is not positive.
+periodic_orbit_result periodic_orbit(const chain& c, std::span<const double> x0_guess,
+                                     double T_guess, const periodic_orbit_options& options = {});
+
+struct continuation_options {
+  periodic_orbit_options orbit;  ///< each point's shooting (its energy is set per point)
+  /// The first point: angles = start_amplitude · shape / max |shape| (rad), p = 0.
+  double start_amplitude = 0.01;
+  double energy_max = 0;  ///< continue up to this energy (J); must exceed the first point's
+  int max_points = 200;
+  /// The step in energy starts at the first point's energy × initial_step_ratio and grows
+  /// by 1.5 after an easy point (≤ 4 iterations), halves after a failure.
+  double initial_step_ratio = 1.0;
+  /// The branch ends when a failed step would fall below this fraction of the energy.
+  double min_step_ratio = 1e-6;
+};
+
+/// One converged point of a branch.
+struct nnm_point {
+  double energy = 0;     ///< H (J)
+  double period = 0;     ///< T (s)
+  double frequency = 0;  ///< 2π/T (rad/s)
+  std::vector<double> x0;
+  std::vector<double> amplitudes;  ///< max |φ_i| (rad), dim n
+  std::vector<std::complex<double>> multipliers;
+  double max_multiplier = 0;
+  bool stable = false;
+  double closure = 0;
+  int iterations = 0;
+};
+
+struct nnm_branch {
+  int mode = 0;                   ///< k (0-based, ascending linear frequency)
+  double linear_frequency = 0;    ///< ω_k of the linear mode (rad/s)
+  std::vector<double> shape;      ///< its mode shape (dim n)
+  std::vector<nnm_point> points;  ///< by increasing energy
+  /// Why the branch ended: "reached energy_max", "max_points reached", "the shooting stopped
+  /// converging at E = … (step below min_step_ratio)", "stopped".
+  std::string end_reason;
+  bool stopped = false;  ///< a run control stopped it
+};
+
+/// The nonlinear normal mode family of linear mode `mode` (0-based, ascending ω) of the
+/// hanging chain, continued in energy (natural-parameter continuation: each point is the
+/// shooting at a fixed energy from a secant prediction of the last two, with step-size
+/// control; it cannot turn round a fold in energy, where it ends). Throws
+/// std::invalid_argument as periodic_orbit does, and for a mode index out of range, a
+/// non-positive start_amplitude or energy_max below the first point's energy.
+nnm_branch continue_mode(const chain& c, int mode, const continuation_options& options);
+
+}  // namespace npend

@@ -1,0 +1,136 @@
+// Periodic orbits by shooting and NNM continuation, against the single pendulum's exact period
+// (complete elliptic integral), the double pendulum's closed-form linear frequencies, and an
+// independent re-integration with another stepper.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
+
+#include "npend/analysis/orbits/periodic_orbit.hpp"
+#include "npend/integrators/integrate.hpp"
+
+using npend::chain;
+using npend::chain_parameters;
+
+namespace {
+
+
+// The exact period of a pendulum swinging to ±φ0: 4 K(k)/ω0 with the modulus k = sin(φ0/2).
+double pendulum_period(double phi0, double g, double l) {
+  return 4 * std::comp_ellint_1(std::sin(phi0 / 2)) / std::sqrt(g / l);
+}
+
+}  // namespace
+
+TEST_CASE("continue_mode: the single pendulum's period is 4K(k)/ω0 up to φ0 = 3 rad") {
+  const double g = 9.81, l = 1.3;
+  const chain c(chain_parameters::uniform(1, 0.7, l, g));
+  npend::continuation_options opts;
+  opts.orbit.steps = 3000;
+  opts.energy_max = 0.7 * g * l * (1 - std::cos(3.0));
+  const npend::nnm_branch branch = npend::continue_mode(c, 0, opts);
+  CHECK(branch.end_reason == "reached energy_max");
+  REQUIRE(branch.points.size() > 5);
+  CHECK(branch.points.back().amplitudes[0] == doctest::Approx(3.0).epsilon(1e-12));
+  for (const npend::nnm_point& p : branch.points) {
+    CHECK(p.closure <= 1e-11);
+    CHECK(std::fabs(p.x0[1]) == 0.0);  // a turning point
+    const double phi0 = std::fabs(p.x0[0]);
+    CHECK(p.amplitudes[0] == doctest::Approx(phi0).epsilon(1e-12));
+    CHECK(std::fabs(p.period / pendulum_period(phi0, g, l) - 1) <= 1e-10);
+    CHECK(p.multipliers.empty());  // only the trivial pair, removed
+    CHECK(p.stable);
+  }
+}
+
+TEST_CASE("continue_mode: the double pendulum's branches start at the linear frequencies") {
+  // Equal masses and lengths: ω² = (g/l)(2 ∓ √2).
+  const double g = 9.81, l = 1.0;
+  const chain c(chain_parameters::uniform(2, 1.0, l, g));
+  for (int mode = 0; mode < 2; ++mode) {
+    const double omega = std::sqrt(g / l * (mode == 0 ? 2 - std::sqrt(2.0) : 2 + std::sqrt(2.0)));
+    npend::continuation_options opts;
+    opts.start_amplitude = 0.01;
+    opts.energy_max = 0.05;
+    opts.max_points = 4;
+    const npend::nnm_branch branch = npend::continue_mode(c, mode, opts);
+    REQUIRE(!branch.points.empty());
+    CHECK(branch.linear_frequency == doctest::Approx(omega).epsilon(1e-12));
+    // The cubic correction shifts the frequency by a relative O(a²) = O(1e-4) at a = 0.01.
+    CHECK(std::fabs(branch.points.front().frequency / omega - 1) <= 1e-4);
+    for (const npend::nnm_point& p : branch.points) CHECK(p.closure <= 1e-11);
+    // Synchronous: both angles turn together, in phase (mode 0) or against (mode 1).
+    const auto& x0 = branch.points.front().x0;
+    CHECK((mode == 0 ? x0[0] * x0[1] > 0 : x0[0] * x0[1] < 0));
+  }
+}
+
+TEST_CASE("periodic_orbit: the orbit re-integrated with rkf78 returns to its start") {
+  const chain c(chain_parameters::uniform(2, 1.0, 1.0, 9.81));
+  // Near the lower mode (shape (1, √2)) at a large amplitude.
+  const std::vector<double> guess{0.5, 0.5 * std::sqrt(2.0), 0, 0};
+  npend::periodic_orbit_options opts;
+  opts.steps = 1000;
+  const double omega = std::sqrt(9.81 * (2 - std::sqrt(2.0)));
+  const npend::periodic_orbit_result r = npend::periodic_orbit(c, guess, 2 * std::numbers::pi / omega, opts);
+  REQUIRE(r.converged);
+  CHECK(r.closure <= 1e-11);
+  CHECK(r.energy == doctest::Approx(c.hamiltonian(guess)).epsilon(1e-11));
+  npend::integration_options run;
+  run.stepper = npend::stepper_kind::rkf78;
+  run.t_end = r.period;
+  run.dt = r.period;
+  run.abs_tol = run.rel_tol = 1e-14;
+  const npend::integration_result back = npend::integrate(c, r.x0, run);
+  REQUIRE(back.t == doctest::Approx(r.period).epsilon(1e-15));
+  double gap = 0;
+  for (std::size_t i = 0; i < r.x0.size(); ++i)
+    gap = std::max(gap, std::fabs(back.state[i] - r.x0[i]));
+  CHECK(gap <= 1e-10);
+  // Multipliers of an undamped chain: reciprocal pairs, here one pair left (n = 2).
+  REQUIRE(r.multipliers.size() == 2);
+  CHECK(std::abs(r.multipliers[0] * r.multipliers[1]) == doctest::Approx(1.0).epsilon(1e-8));
+}
+
+TEST_CASE("periodic_orbit: the Poincaré phase condition finds the same orbit's period") {
+  const chain c(chain_parameters::uniform(2, 1.0, 1.0, 9.81));
+  const std::vector<double> guess{0.3, 0.3 * std::sqrt(2.0), 0, 0};
+  const double omega = std::sqrt(9.81 * (2 - std::sqrt(2.0)));
+  npend::periodic_orbit_options turning;
+  turning.steps = 600;
+  const auto a = npend::periodic_orbit(c, guess, 2 * std::numbers::pi / omega, turning);
+  npend::periodic_orbit_options poincare = turning;
+  poincare.phase = npend::orbit_phase::poincare;
+  poincare.energy = a.energy;
+  // Start off the turning point, a little along the orbit: the section through it picks
+  // another point of the same orbit.
+  std::vector<double> shifted = guess;
+  shifted[2] = 0.01;
+  const auto b = npend::periodic_orbit(c, shifted, 2 * std::numbers::pi / omega, poincare);
+  REQUIRE(a.converged);
+  REQUIRE(b.converged);
+  CHECK(b.closure <= 1e-11);
+  CHECK(b.period == doctest::Approx(a.period).epsilon(1e-10));
+}
+
+TEST_CASE("periodic_orbit: refuses a damped chain and a driven pivot") {
+  chain_parameters damped = chain_parameters::uniform(2);
+  damped.damping = {0.1, 0.0};
+  const std::vector<double> x{0.1, 0.1, 0, 0};
+  CHECK_THROWS_WITH_AS(npend::periodic_orbit(chain(damped), x, 1.0),
+                       doctest::Contains("damped"), std::invalid_argument);
+  chain_parameters driven = chain_parameters::uniform(2);
+  driven.pivot = npend::pivot_motion::vertical(0.01, 50.0);
+  CHECK_THROWS_WITH_AS(npend::periodic_orbit(chain(driven), x, 1.0),
+                       doctest::Contains("pivot is driven"), std::invalid_argument);
+  npend::continuation_options opts;
+  opts.energy_max = 1;
+  CHECK_THROWS_WITH_AS(npend::continue_mode(chain(damped), 0, opts),
+                       doctest::Contains("continue_mode: the chain is damped"),
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(npend::continue_mode(chain(chain_parameters::uniform(2)), 2, opts),
+                       doctest::Contains("mode 2 is out of range"), std::invalid_argument);
+}
