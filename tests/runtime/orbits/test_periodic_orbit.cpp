@@ -17,7 +17,6 @@ using npend::chain_parameters;
 
 namespace {
 
-
 // The exact period of a pendulum swinging to ±φ0: 4 K(k)/ω0 with the modulus k = sin(φ0/2).
 double pendulum_period(double phi0, double g, double l) {
   return 4 * std::comp_ellint_1(std::sin(phi0 / 2)) / std::sqrt(g / l);
@@ -75,7 +74,8 @@ TEST_CASE("periodic_orbit: the orbit re-integrated with rkf78 returns to its sta
   npend::periodic_orbit_options opts;
   opts.steps = 1000;
   const double omega = std::sqrt(9.81 * (2 - std::sqrt(2.0)));
-  const npend::periodic_orbit_result r = npend::periodic_orbit(c, guess, 2 * std::numbers::pi / omega, opts);
+  const npend::periodic_orbit_result r =
+      npend::periodic_orbit(c, guess, 2 * std::numbers::pi / omega, opts);
   REQUIRE(r.converged);
   CHECK(r.closure <= 1e-11);
   CHECK(r.energy == doctest::Approx(c.hamiltonian(guess)).epsilon(1e-11));
@@ -120,8 +120,8 @@ TEST_CASE("periodic_orbit: refuses a damped chain and a driven pivot") {
   chain_parameters damped = chain_parameters::uniform(2);
   damped.damping = {0.1, 0.0};
   const std::vector<double> x{0.1, 0.1, 0, 0};
-  CHECK_THROWS_WITH_AS(npend::periodic_orbit(chain(damped), x, 1.0),
-                       doctest::Contains("damped"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(npend::periodic_orbit(chain(damped), x, 1.0), doctest::Contains("damped"),
+                       std::invalid_argument);
   chain_parameters driven = chain_parameters::uniform(2);
   driven.pivot = npend::pivot_motion::vertical(0.01, 50.0);
   CHECK_THROWS_WITH_AS(npend::periodic_orbit(chain(driven), x, 1.0),

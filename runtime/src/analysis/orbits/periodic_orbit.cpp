@@ -92,9 +92,10 @@ periodic_orbit_result periodic_orbit(const chain& c, std::span<const double> x0_
   check_conservative(c, "periodic_orbit");
   const int d = c.state_size(), nq = c.coordinates();
   if (x0_guess.size() != static_cast<std::size_t>(d))
-    throw std::invalid_argument(fmt::format("periodic_orbit: x0_guess has {} entries; the {}-link "
-                                            "chain needs {}",
-                                            x0_guess.size(), c.links(), d));
+    throw std::invalid_argument(
+        fmt::format("periodic_orbit: x0_guess has {} entries; the {}-link "
+                    "chain needs {}",
+                    x0_guess.size(), c.links(), d));
   if (!(T_guess > 0) || !std::isfinite(T_guess))
     throw std::invalid_argument(
         fmt::format("periodic_orbit: T_guess must be positive and finite, got {}", T_guess));
@@ -189,7 +190,8 @@ nnm_point to_point(const periodic_orbit_result& r) {
 
 // The guess at energy e: the secant through the last two points (in x0 and T against E),
 // or from a single point the harmonic scaling (angles ∝ √E, the period unchanged).
-std::pair<std::vector<double>, double> predict_orbit(const std::vector<nnm_point>& points, double e) {
+std::pair<std::vector<double>, double> predict_orbit(const std::vector<nnm_point>& points,
+                                                     double e) {
   const nnm_point& b = points.back();
   std::vector<double> x = b.x0;
   if (points.size() == 1) {
@@ -209,18 +211,18 @@ nnm_branch continue_mode(const chain& c, int mode, const continuation_options& o
   check_conservative(c, "continue_mode");
   const int n = c.links();
   if (mode < 0 || mode >= n)
-    throw std::invalid_argument(fmt::format(
-        "continue_mode: mode {} is out of range; the {}-link chain has modes 0..{}", mode, n,
-        n - 1));
+    throw std::invalid_argument(
+        fmt::format("continue_mode: mode {} is out of range; the {}-link chain has modes 0..{}",
+                    mode, n, n - 1));
   if (!(options.start_amplitude > 0) || !std::isfinite(options.start_amplitude))
     throw std::invalid_argument(fmt::format(
         "continue_mode: start_amplitude must be positive, got {}", options.start_amplitude));
   const linearisation lin = normal_modes(c, std::vector<double>(static_cast<std::size_t>(n)));
   const normal_mode& m = lin.modes[static_cast<std::size_t>(mode)];
   if (!(m.frequency > 0))
-    throw std::invalid_argument(fmt::format(
-        "continue_mode: mode {} of the hanging chain does not oscillate (ω² = {})", mode,
-        m.omega_squared));
+    throw std::invalid_argument(
+        fmt::format("continue_mode: mode {} of the hanging chain does not oscillate (ω² = {})",
+                    mode, m.omega_squared));
   nnm_branch branch;
   branch.mode = mode;
   branch.linear_frequency = m.frequency;
@@ -233,9 +235,9 @@ nnm_branch continue_mode(const chain& c, int mode, const continuation_options& o
         options.start_amplitude * m.shape[static_cast<std::size_t>(i)] / largest;
   const double e0 = c.hamiltonian(x);
   if (!(options.energy_max > e0))
-    throw std::invalid_argument(fmt::format(
-        "continue_mode: energy_max ({} J) must exceed the first point's energy ({} J)",
-        options.energy_max, e0));
+    throw std::invalid_argument(
+        fmt::format("continue_mode: energy_max ({} J) must exceed the first point's energy ({} J)",
+                    options.energy_max, e0));
 
   periodic_orbit_options shoot = options.orbit;
   shoot.energy = e0;

@@ -8,10 +8,10 @@
 #include <limits>
 #include <stdexcept>
 
+#include "analysis/detail/monodromy.hpp"
 #include "npend/chain_system.hpp"
 #include "npend/integrators/gauss_legendre.hpp"
 #include "npend/integrators/integration_error.hpp"
-#include "analysis/detail/monodromy.hpp"
 
 namespace npend {
 
@@ -81,9 +81,9 @@ floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
   Eigen::MatrixXd tangent, coarse;
   bool finished = false;
   try {
-    finished =
-        detail::monodromy(c, x, period, options.steps, 0, total, options.control, tangent) &&
-        detail::monodromy(c, x_coarse, period, coarse_steps, options.steps, total, options.control, coarse);
+    finished = detail::monodromy(c, x, period, options.steps, 0, total, options.control, tangent) &&
+               detail::monodromy(c, x_coarse, period, coarse_steps, options.steps, total,
+                                 options.control, coarse);
   } catch (const integration_error& e) {
     // The step is the period over the steps: the stepper's "try a smaller dt" means more
     // steps here.
