@@ -22,6 +22,9 @@ packages=(
   libfftw3-dev libnanoflann-dev gnuplot-nox
   # control: SLICOT's Riccati solver for the LQR design, and the LAPACK it is built on
   libslicot-dev liblapack-dev
+  # npend explore: the HTTP server (cpp-httplib) and the page's charts (dygraphs, served
+  # from Debian's path: the page works offline)
+  libcpp-httplib-dev libjs-dygraphs
   # tests: the configure step looks for doctest (header-only), so it is here too
   doctest-dev
 )
@@ -46,6 +49,8 @@ test_packages=(
   clang-format
   # npend map across processes and machines: OpenMPI, and mpirun for its tests
   libopenmpi-dev openmpi-bin
+  # npend explore's page tested in a real browser: headless Chromium driven by Selenium
+  chromium chromium-driver python3-selenium
 )
 for arg in "$@"; do
   case "$arg" in

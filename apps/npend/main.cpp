@@ -89,6 +89,7 @@ int main(int argc, char** argv) {
   npend::app::add_poincare_command(app, commands);
   npend::app::add_analyze_command(app, commands);
   npend::app::add_demo_command(app, commands);
+  npend::app::add_explore_command(app, commands);
 
   try {
     app.parse(argc, argv);
