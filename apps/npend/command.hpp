@@ -37,6 +37,7 @@ void add_partition_command(CLI::App& app, command_list& commands);
 void add_map_command(CLI::App& app, command_list& commands);
 void add_backbone_command(CLI::App& app, command_list& commands);
 void add_corrections_command(CLI::App& app, command_list& commands);
+void add_orbits_command(CLI::App& app, command_list& commands);
 void add_explore_command(CLI::App& app, command_list& commands);
 
 }  // namespace npend::app

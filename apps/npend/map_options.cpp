@@ -118,33 +118,33 @@ void set_base_start(const map_command_options& o, int n, map_grid& grid) {
 void add_map_view_options(CLI::App& cmd, map_command_options& o) {
   o.chain.add_to(cmd, false);  // --links is required all the same: the callers check it
   cmd.add_option("--x", o.x,
-                  "NAME:FROM:TO:COUNT (required), NAME a start coordinate (phiK, pK, or dphiK with "
-                  "--dphi), energy (J: the start's momenta scaled to it), or a parameter of the "
-                  "chain (mK, lK, g, kK, bK: joint K's stiffness and damping, drive-amplitude and "
-                  "drive-frequency of a --pivot drive)");
+                 "NAME:FROM:TO:COUNT (required), NAME a start coordinate (phiK, pK, or dphiK with "
+                 "--dphi), energy (J: the start's momenta scaled to it), or a parameter of the "
+                 "chain (mK, lK, g, kK, bK: joint K's stiffness and damping, drive-amplitude and "
+                 "drive-frequency of a --pivot drive)");
   cmd.add_option("--y", o.y, "NAME:FROM:TO:COUNT for the rows (row 0 = FROM) (required)");
   cmd.add_option("--quantity", o.quantity,
-                  "flip (default: the time to the first flip), lyapunov (the maximal exponent), "
-                  "a fast indicator at --t-end: fli, megno (<Y>), sali, gali (GALI_k), or state "
-                  "(a coordinate of the state at --t-end, see --component)");
+                 "flip (default: the time to the first flip), lyapunov (the maximal exponent), "
+                 "a fast indicator at --t-end: fli, megno (<Y>), sali, gali (GALI_k), or state "
+                 "(a coordinate of the state at --t-end, see --component)");
   cmd.add_option("--component", o.component,
-                  "state: which coordinate at --t-end, phi1..phiN or p1..pN (default phi1)");
+                 "state: which coordinate at --t-end, phi1..phiN or p1..pN (default phi1)");
   cmd.add_option("--gali-order", o.gali_order,
-                  "--quantity gali only: k of GALI_k, 2..2n (default 0: n + 1, the least k "
-                  "beyond a torus's dimension)");
+                 "--quantity gali only: k of GALI_k, 2..2n (default 0: n + 1, the least k "
+                 "beyond a torus's dimension)");
   cmd.add_option("--phi", o.phi, "The start's other angles (rad; default 0)");
   cmd.add_option("--p", o.p, "The start's other momenta (kg m^2/s; default 0)");
   cmd.add_option("--dphi", o.dphi,
-                  "The start's velocities instead of momenta (rad/s; p = A(phi) dphi per cell)");
+                 "The start's velocities instead of momenta (rad/s; p = A(phi) dphi per cell)");
   cmd.add_option("--t-end", o.t_end, "Integration time per cell in s (default 100)");
   cmd.add_option("--dt", o.dt,
-                  "The step in s of rk4, gauss4 and gauss6; dopri5's first trial step (default "
-                  "0.01)");
+                 "The step in s of rk4, gauss4 and gauss6; dopri5's first trial step (default "
+                 "0.01)");
   cmd.add_option("--stepper", o.stepper,
-                  "rk4 (default: fixed step --dt), dopri5 (adaptive, each cell under its own "
-                  "step control; flip times located inside the step by its dense output), or "
-                  "the symplectic gauss4 or gauss6 (fixed step --dt); other than rk4 for flip, "
-                  "lyapunov and state only");
+                 "rk4 (default: fixed step --dt), dopri5 (adaptive, each cell under its own "
+                 "step control; flip times located inside the step by its dense output), or "
+                 "the symplectic gauss4 or gauss6 (fixed step --dt); other than rk4 for flip, "
+                 "lyapunov and state only");
   cmd.add_option("--abs-tol", o.abs_tol, "dopri5: absolute error tolerance (default 1e-10)");
   cmd.add_option("--rel-tol", o.rel_tol, "dopri5: relative error tolerance (default 1e-10)");
   cmd.add_option("--flip-link", o.flip_link, "flip: only arm K counts (default 0: any arm)");
@@ -218,7 +218,6 @@ quantity_style style_of(const map_command_options& o, map_quantity quantity) {
   }
   return {};
 }
-
 
 // The .npy format (version 1.0): a C-order array of shape (rows, cols) of `descr` ('<f8':
 // little-endian float64, '|u1': bytes).

@@ -2,6 +2,8 @@
 // x_i, y_i, and with tensions the rod tensions τ_i. `npend explore` serves the same rows.
 #pragma once
 
+#include <fmt/format.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -10,11 +12,9 @@
 #include <string>
 #include <vector>
 
-#include <fmt/format.h>
-
+#include "input_parsing.hpp"
 #include "npend/analysis/motion/rod_tensions.hpp"
 #include "npend/chain.hpp"
-#include "input_parsing.hpp"
 #include "output_file.hpp"
 
 namespace npend::app {
@@ -27,7 +27,6 @@ inline std::size_t parse_every(const std::string& text) {
     throw cli::input_error(fmt::format("--every: must be a whole number >= 1, got {}", text));
   return static_cast<std::size_t>(k);
 }
-
 
 /// Rows to `stream`, buffered; `flush` writes what is left.
 class trajectory_csv {

@@ -1,10 +1,12 @@
 // `npend backbone` and `npend corrections` as a user runs them: the JSON against the library
 // and the single pendulum's exact frequency, the files and plots, bad input.
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
 
@@ -115,4 +117,64 @@ TEST_CASE("npend backbone and corrections: bad input gets a one-line message, ex
     INFO(r.err);
     CHECK(npend::test::is_input_error(r, message));
   }
+}
+
+TEST_CASE("npend orbits: the single pendulum's branch and its 1 % departure from K(k)") {
+  const double l = 2, g = 9.81, m = 1;
+  const double top = 2.5;  // rad
+  const auto r = run_npend(fmt::format("orbits --links 1 --lengths {} --energy-max {} --json", l,
+                                       m * g * l * (1 - std::cos(top))));
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  REQUIRE(j["modes"].size() == 1);
+  const auto& mode = j["modes"][0];
+  const double omega0 = std::sqrt(g / l);
+  CHECK(mode["linear_frequency"].get<double>() == doctest::Approx(omega0).epsilon(1e-14));
+  CHECK(mode["end_reason"] == "reached energy_max");
+  REQUIRE(mode["points"].size() > 5);
+  for (const auto& p : mode["points"]) {
+    const double a = p["amplitudes"][0].get<double>();
+    const double exact = omega0 * std::numbers::pi / (2 * std::comp_ellint_1(std::sin(a / 2)));
+    CHECK(std::fabs(p["frequency"].get<double>() / exact - 1) <= 1e-10);
+    CHECK(p["closure"].get<double>() <= 1e-11);
+    CHECK(p["stable"] == true);
+  }
+  // Where ω/ω0 = 0.99 and 0.95, by bisection on the closed form.
+  REQUIRE(mode["departures"].size() == 2);
+  for (const auto& d : mode["departures"]) {
+    const double shift = d["shift"].get<double>();
+    double lo = 0.01, hi = top;
+    for (int k = 0; k < 200; ++k) {
+      const double mid = (lo + hi) / 2;
+      (std::numbers::pi / (2 * std::comp_ellint_1(std::sin(mid / 2))) > 1 - shift ? lo : hi) = mid;
+    }
+    CAPTURE(shift);
+    CHECK(d["orbit"]["amplitudes"][0].get<double>() == doctest::Approx(lo).epsilon(1e-8));
+    CHECK(d["orbit"]["energy"].get<double>() ==
+          doctest::Approx(m * g * l * (1 - std::cos(lo))).epsilon(1e-8));
+  }
+}
+
+TEST_CASE("npend orbits: --out writes the branch, the departures and the plot; bad input") {
+  const auto dir = std::filesystem::path(npend::test::temporary_directory("cli-orbits"));
+  const auto r =
+      run_npend("orbits --links 2 --mode 2 --energy-max 1 --out " + (dir / "nnm.csv").string());
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find("1 % departure from omega_2: E = ") != std::string::npos);
+  CHECK(npend::test::directory_listing(dir.string()) ==
+        std::vector<std::string>{"nnm.csv", "nnm.gp", "nnm.png", "nnm_departures.csv"});
+  // Equal masses and lengths: the first orbit's frequency is ω_2 = √((g/l)(2 + √2)) to the
+  // first point's small amplitude (0.01 rad: a relative shift of order 1e-5).
+  std::ifstream csv(dir / "nnm.csv");
+  std::string header, first;
+  std::getline(csv, header);
+  std::getline(csv, first);
+  CHECK(header.rfind("mode,energy,period,frequency,ratio,amplitude_phi1,amplitude_phi2,", 0) == 0);
+  const double omega2 = std::sqrt(9.81 * (2 + std::sqrt(2.0)));
+  const double frequency = std::stod(first.substr(first.find(',', first.find(',', 2) + 1) + 1));
+  CHECK(frequency == doctest::Approx(omega2).epsilon(1e-4));
+  const auto damped = run_npend("orbits --links 2 --damping 0.1 --energy-max 1");
+  CHECK(damped.exit_code == 2);
+  CHECK(run_npend("orbits --links 2").exit_code == 2);
+  CHECK(run_npend("orbits --links 2 --mode 3 --energy-max 1").exit_code == 2);
 }

@@ -45,10 +45,15 @@ std::string first_view(const explore_options& o) {
   if (o.chain.links == 0) return "";
   const cli::chain_options c = o.chain.with_file();
   std::string view = fmt::format("#links={}", c.links);
-  const std::pair<const char*, const std::string*> texts[] = {
-      {"masses", &c.masses},       {"lengths", &c.lengths},   {"g", &c.g},
-      {"com", &c.com},             {"inertia", &c.inertia},   {"stiffness", &c.stiffness},
-      {"rest-angles", &c.rest_angles}, {"damping", &c.damping}, {"pivot", &c.pivot}};
+  const std::pair<const char*, const std::string*> texts[] = {{"masses", &c.masses},
+                                                              {"lengths", &c.lengths},
+                                                              {"g", &c.g},
+                                                              {"com", &c.com},
+                                                              {"inertia", &c.inertia},
+                                                              {"stiffness", &c.stiffness},
+                                                              {"rest-angles", &c.rest_angles},
+                                                              {"damping", &c.damping},
+                                                              {"pivot", &c.pivot}};
   for (const auto& [key, text] : texts)
     if (!text->empty()) view += fmt::format("&{}={}", key, *text);
   if (c.rods) view += "&rods=1";
@@ -67,10 +72,12 @@ int run_explore(const explore_options& o) {
   settings.host = o.host;
   settings.port = o.port;
   settings.compute_slots =
-      o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+      o.threads > 0 ? o.threads
+                    : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   settings.memory_cache_bytes = static_cast<std::size_t>(o.memory * (1 << 20));
-  settings.disk_cache = o.no_cache ? std::filesystem::path() : o.cache.empty() ? default_cache()
-                                                                               : std::filesystem::path(o.cache);
+  settings.disk_cache = o.no_cache        ? std::filesystem::path()
+                        : o.cache.empty() ? default_cache()
+                                          : std::filesystem::path(o.cache);
   // A page that goes away mid-response must not end the server.
   std::signal(SIGPIPE, SIG_IGN);
   explore_server server(settings);
@@ -88,8 +95,8 @@ int run_explore(const explore_options& o) {
     server.stop();
   });
   const std::string host = o.host.find(':') != std::string::npos ? "[" + o.host + "]" : o.host;
-  fmt::print("npend explore: open http://{}:{}/{} in a browser (Ctrl-C stops the server)\n",
-             host, port, first_view(o));
+  fmt::print("npend explore: open http://{}:{}/{} in a browser (Ctrl-C stops the server)\n", host,
+             port, first_view(o));
   fmt::print("npend explore: {} tiles at a time; tiles cached in {}\n", settings.compute_slots,
              settings.disk_cache.empty() ? std::string("memory only")
                                          : "memory and " + settings.disk_cache.string());

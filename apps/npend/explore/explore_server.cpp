@@ -105,9 +105,9 @@ std::string command_line(std::string_view command, const std::vector<std::string
                          std::string_view tail) {
   std::string line = fmt::format("npend {}", command);
   for (const std::string& a : args) {
-    const bool plain = !a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKL"
-                                                         "MNOPQRSTUVWXYZ0123456789-_.,:=+/") ==
-                                         std::string::npos;
+    const bool plain = !a.empty() && a.find_first_not_of(
+                                         "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKL"
+                                         "MNOPQRSTUVWXYZ0123456789-_.,:=+/") == std::string::npos;
     line += plain ? " " + a : " '" + a + "'";
   }
   if (!tail.empty()) line += fmt::format(" {}", tail);
@@ -181,7 +181,8 @@ long parse_generation(const httplib::Request& request) {
   if (!request.has_param("gen")) return 0;
   const std::string text = request.get_param_value("gen");
   if (text.empty() || text.size() > 15 || text.find_first_not_of("0123456789") != std::string::npos)
-    throw request_error(400, fmt::format("npend explore: error: gen: a whole number, got '{}'", text));
+    throw request_error(400,
+                        fmt::format("npend explore: error: gen: a whole number, got '{}'", text));
   return std::stol(text);
 }
 
@@ -371,10 +372,11 @@ void explore_server::state::serve_trajectory(const httplib::Request& request,
     const std::size_t every = parse_every(r.every);
     if (std::isfinite(options.dt) && options.t_end / options.dt / static_cast<double>(every) >
                                          static_cast<double>(max_trajectory_rows))
-      throw request_error(400, fmt::format("npend explore: error: at most {} rows per trajectory, "
-                                           "asked for {:.0f}: raise every or dt, or shorten t-end",
-                                           max_trajectory_rows,
-                                           options.t_end / options.dt / static_cast<double>(every)));
+      throw request_error(400,
+                          fmt::format("npend explore: error: at most {} rows per trajectory, "
+                                      "asked for {:.0f}: raise every or dt, or shorten t-end",
+                                      max_trajectory_rows,
+                                      options.t_end / options.dt / static_cast<double>(every)));
     tile_control control(stopping, nullptr, 0);
     options.control = &control;
     char* buffer = nullptr;
@@ -438,15 +440,17 @@ void explore_server::state::serve_start(const httplib::Request& request,
     const int shift = c.has_cart() ? 1 : 0;
     if (n >= 2) {
       const auto phi = [&](int k) { return static_cast<std::size_t>(shift + k - 1); };
-      const auto p = [&](int k) { return static_cast<std::size_t>(c.coordinates() + shift + k - 1); };
+      const auto p = [&](int k) {
+        return static_cast<std::size_t>(c.coordinates() + shift + k - 1);
+      };
       try {
         const poincare_result section = poincare_section(
             c, x0, section_plane::coordinate(c.coordinates(), phi(1), 0.0), options);
         nlohmann::json points = nlohmann::json::array();
         for (const section_crossing& s : section.crossings)
           points.push_back({s.state[phi(2)], s.state[p(2)]});
-        j["section"] = {{"plane", "phi_1 = 0, upward"}, {"x", "phi_2"}, {"y", "p_2"},
-                        {"points", points}};
+        j["section"] = {
+            {"plane", "phi_1 = 0, upward"}, {"x", "phi_2"}, {"y", "p_2"}, {"points", points}};
       } catch (const std::exception& e) {
         j["section_problem"] = e.what();
       }
@@ -491,34 +495,34 @@ void explore_server::state::add_routes() {
                                       "text/plain");
                  return;
                }
-               response.set_content(text, name[std::strlen(name) - 1] == 's' &&
-                                                  name[std::strlen(name) - 2] == 'j'
-                                              ? "text/javascript"
-                                              : "text/css");
+               response.set_content(
+                   text, name[std::strlen(name) - 1] == 's' && name[std::strlen(name) - 2] == 'j'
+                             ? "text/javascript"
+                             : "text/css");
              });
   http.Get("/api/tile", [this](const auto& q, auto& a) { serve_tile(q, a); });
   http.Get("/api/map.npy", [this](const auto& q, auto& a) { serve_download(q, a); });
   http.Get("/api/trajectory.csv", [this](const auto& q, auto& a) { serve_trajectory(q, a); });
   http.Get("/api/start", [this](const auto& q, auto& a) { serve_start(q, a); });
   http.Get("/api/status", [this](const auto&, auto& a) { serve_status(a); });
-  http.set_exception_handler([](const httplib::Request&, httplib::Response& response,
-                                std::exception_ptr error) {
-    try {
-      std::rethrow_exception(error);
-    } catch (const request_error& e) {
-      response.status = e.status();
-      response.set_content(std::string(e.what()) + "\n", "text/plain");
-    } catch (const std::invalid_argument& e) {
-      response.status = 400;
-      response.set_content(fmt::format("npend explore: error: {}\n", e.what()), "text/plain");
-    } catch (const std::exception& e) {
-      response.status = 500;
-      response.set_content(fmt::format("npend explore: error: {}\n", e.what()), "text/plain");
-    } catch (...) {
-      response.status = 500;
-      response.set_content("npend explore: error: unknown\n", "text/plain");
-    }
-  });
+  http.set_exception_handler(
+      [](const httplib::Request&, httplib::Response& response, std::exception_ptr error) {
+        try {
+          std::rethrow_exception(error);
+        } catch (const request_error& e) {
+          response.status = e.status();
+          response.set_content(std::string(e.what()) + "\n", "text/plain");
+        } catch (const std::invalid_argument& e) {
+          response.status = 400;
+          response.set_content(fmt::format("npend explore: error: {}\n", e.what()), "text/plain");
+        } catch (const std::exception& e) {
+          response.status = 500;
+          response.set_content(fmt::format("npend explore: error: {}\n", e.what()), "text/plain");
+        } catch (...) {
+          response.status = 500;
+          response.set_content("npend explore: error: unknown\n", "text/plain");
+        }
+      });
 }
 
 explore_server::explore_server(explore_settings settings)

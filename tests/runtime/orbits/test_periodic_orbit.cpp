@@ -134,3 +134,36 @@ TEST_CASE("periodic_orbit: refuses a damped chain and a driven pivot") {
   CHECK_THROWS_WITH_AS(npend::continue_mode(chain(chain_parameters::uniform(2)), 2, opts),
                        doctest::Contains("mode 2 is out of range"), std::invalid_argument);
 }
+
+TEST_CASE("locate_departure: the single pendulum's 1 % and 5 % amplitudes from K(k)") {
+  // ω/ω0 = π / (2 K(sin(φ0/2))) falls with the amplitude; the amplitude where it reaches
+  // 1 − shift, by bisection on the closed form.
+  const double g = 9.81, l = 0.8;
+  const chain c(chain_parameters::uniform(1, 1.5, l, g));
+  const auto ratio = [](double phi0) {
+    return std::numbers::pi / (2 * std::comp_ellint_1(std::sin(phi0 / 2)));
+  };
+  npend::continuation_options opts;
+  opts.orbit.steps = 2000;
+  opts.energy_max = 1.5 * g * l * (1 - std::cos(2.0));
+  const npend::nnm_branch branch = npend::continue_mode(c, 0, opts);
+  REQUIRE(branch.end_reason == "reached energy_max");
+  for (const double shift : {0.01, 0.05}) {
+    CAPTURE(shift);
+    double lo = 0.01, hi = 2.0;
+    for (int k = 0; k < 200; ++k) {
+      const double mid = (lo + hi) / 2;
+      (ratio(mid) > 1 - shift ? lo : hi) = mid;
+    }
+    const auto found = npend::locate_departure(c, branch, shift, opts.orbit);
+    REQUIRE(found.has_value());
+    CHECK(found->closure <= 1e-11);
+    CHECK(std::fabs(found->frequency / branch.linear_frequency - (1 - shift)) <= 1e-9 * shift);
+    CHECK(found->amplitudes[0] == doctest::Approx(lo).epsilon(1e-8));
+    CHECK(found->energy == doctest::Approx(1.5 * g * l * (1 - std::cos(lo))).epsilon(1e-8));
+  }
+  // Never reached within the branch, and refused shifts.
+  CHECK_FALSE(npend::locate_departure(c, branch, 0.5, opts.orbit).has_value());
+  CHECK_THROWS_AS(npend::locate_departure(c, branch, 0.0), std::invalid_argument);
+  CHECK_THROWS_AS(npend::locate_departure(c, branch, 1.0), std::invalid_argument);
+}

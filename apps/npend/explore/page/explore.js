@@ -70,12 +70,15 @@ function baseWindow() {
 
 // ---- tiles -------------------------------------------------------------------------------
 
-// The tiles of zoom level z split the base window into 2^z x 2^z; each holds `cells` cells a
-// side, sampled at their centres, so that neighbouring tiles continue one grid.
+// The view at zoom z shows a 2^-z part of the base window; its tiles are those of level
+// z + TILE_DEPTH, which split the base window into 2^level x 2^level. Each holds `cells`
+// cells a side, sampled at their centres, so that neighbouring tiles continue one grid:
+// at zoom 0, 4 x 4 tiles of 64² cells, 256² cells over the canvas's 512² pixels.
+const TILE_DEPTH = 2;
 function zoomLevel() {
   const base = baseWindow();
   const z = Math.round(Math.log2((base.x1 - base.x0) / (view.x1 - view.x0)));
-  return Math.max(0, Math.min(z, 44));  // beyond ~2^44 doubles no longer tell the cells apart
+  return Math.max(0, Math.min(z, 42));  // beyond this doubles no longer tell the cells apart
 }
 
 function tileBounds(z, tx, ty) {
@@ -101,7 +104,7 @@ function mapQuery(bounds, cells) {
 }
 
 function visibleTiles() {
-  const z = zoomLevel(), base = baseWindow(), n = 2 ** z;
+  const z = zoomLevel() + TILE_DEPTH, base = baseWindow(), n = 2 ** z;
   const w = (base.x1 - base.x0) / n, h = (base.y1 - base.y0) / n;
   const list = [];
   const tx0 = Math.max(0, Math.floor((view.x0 - base.x0) / w));
@@ -333,8 +336,11 @@ function cellAt(px, py) {
     const tile = tiles.get(tileKey(t, fine));
     const i = Math.min(fine - 1, Math.floor((x - b.x0) / (b.x1 - b.x0) * fine));
     const j = Math.min(fine - 1, Math.floor((y - b.y0) / (b.y1 - b.y0) * fine));
-    const step = (b.x1 - b.x0) / fine, hstep = (b.y1 - b.y0) / fine;
-    return { x: b.x0 + step / 2 + i * step, y: b.y0 + hstep / 2 + j * hstep,
+    // The cell's coordinates as the server computes them (grid_value, the same operations
+    // in the same order): the start of the clicked cell is the start of its map value.
+    const q = mapQuery(b, fine);
+    const [, x0, x1] = q.get('x').split(':').map(Number), [, y0, y1] = q.get('y').split(':').map(Number);
+    return { x: x0 + (x1 - x0) * i / (fine - 1), y: y0 + (y1 - y0) * j / (fine - 1),
       value: tile ? tile.values[j * fine + i] : undefined };
   }
   return null;

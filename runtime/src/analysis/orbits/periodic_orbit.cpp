@@ -288,4 +288,53 @@ nnm_branch continue_mode(const chain& c, int mode, const continuation_options& o
   return branch;
 }
 
+std::optional<nnm_point> locate_departure(const chain& c, const nnm_branch& branch, double shift,
+                                          const periodic_orbit_options& options, double tolerance) {
+  if (!(shift > 0 && shift < 1))
+    throw std::invalid_argument(
+        fmt::format("locate_departure: shift must be in (0, 1), got {}", shift));
+  if (!(tolerance > 0))
+    throw std::invalid_argument(
+        fmt::format("locate_departure: tolerance must be positive, got {}", tolerance));
+  // g < 0 before the departure, ≥ 0 from it on.
+  const auto g = [&](const nnm_point& p) {
+    return std::fabs(p.frequency / branch.linear_frequency - 1) - shift;
+  };
+  const auto beyond = std::find_if(branch.points.begin(), branch.points.end(),
+                                   [&](const nnm_point& p) { return g(p) >= 0; });
+  if (beyond == branch.points.end() || beyond == branch.points.begin()) return std::nullopt;
+  nnm_point a = *(beyond - 1), b = *beyond;
+  double ga = g(a), gb = g(b);
+  int side = 0;  // which end stayed twice in a row (Illinois: halve its g)
+  periodic_orbit_options shoot = options;
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    if (std::fabs(gb) <= tolerance * shift) return b;
+    if (b.energy - a.energy <= 4 * std::numeric_limits<double>::epsilon() * b.energy) break;
+    double e = b.energy - gb * (b.energy - a.energy) / (gb - ga);
+    if (!(e > a.energy && e < b.energy)) e = (a.energy + b.energy) / 2;
+    const double t = (e - a.energy) / (b.energy - a.energy);
+    std::vector<double> guess = a.x0;
+    for (std::size_t i = 0; i < guess.size(); ++i) guess[i] += t * (b.x0[i] - a.x0[i]);
+    shoot.energy = e;
+    const periodic_orbit_result r =
+        periodic_orbit(c, guess, a.period + t * (b.period - a.period), shoot);
+    if (r.stopped || !r.converged) break;
+    const nnm_point m = to_point(r);
+    const double gm = g(m);
+    if (gm >= 0) {
+      b = m;
+      gb = gm;
+      if (side == -1) ga /= 2;
+      side = -1;
+    } else {
+      a = m;
+      ga = gm;
+      if (side == 1) gb /= 2;
+      side = 1;
+    }
+  }
+  // The bracket cannot shrink further (or a shot failed): its nearer end.
+  return std::fabs(ga) < std::fabs(gb) ? a : b;
+}
+
 }  // namespace npend

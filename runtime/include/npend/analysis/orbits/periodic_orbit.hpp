@@ -4,6 +4,7 @@
 
 #include <complex>
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -112,5 +113,17 @@ struct nnm_branch {
 /// std::invalid_argument as periodic_orbit does, and for a mode index out of range, a
 /// non-positive start_amplitude or energy_max below the first point's energy.
 nnm_branch continue_mode(const chain& c, int mode, const continuation_options& options);
+
+/// Where a branch's frequency ω first departs from the linear ω_k by the relative `shift`
+/// (|ω/ω_k − 1| = shift, e.g. 0.01 for the paper's 1 %, §6.4): the orbit at that energy,
+/// bracketed by the first two points of the branch on either side and located by the
+/// Illinois variant of regula falsi in the energy, each orbit shot (with `options`, its energy
+/// set) from the interpolation of the bracket's ends, until ||ω/ω_k − 1| − shift| ≤
+/// `tolerance` · shift or the bracket is a few ulps wide. nullopt where no point of the branch
+/// departs that far, or where the first point already does (nothing brackets it). Throws
+/// std::invalid_argument for a shift not in (0, 1) or a non-positive tolerance.
+std::optional<nnm_point> locate_departure(const chain& c, const nnm_branch& branch, double shift,
+                                          const periodic_orbit_options& options = {},
+                                          double tolerance = 1e-9);
 
 }  // namespace npend
