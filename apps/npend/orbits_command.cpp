@@ -44,8 +44,8 @@ continuation_options make_continuation(const orbits_command_options& o) {
   if (!o.start_amplitude.empty()) {
     opts.start_amplitude = cli::parse_number(o.start_amplitude, "--start-amplitude");
     if (!(opts.start_amplitude > 0 && opts.start_amplitude < 0.5))
-      throw cli::input_error(fmt::format(
-          "--start-amplitude: a small angle in (0, 0.5) rad, got {}", o.start_amplitude));
+      throw cli::input_error(fmt::format("--start-amplitude: a small angle in (0, 0.5) rad, got {}",
+                                         o.start_amplitude));
   }
   if (!o.steps.empty())
     opts.orbit.steps = static_cast<int>(cli::parse_whole_number(o.steps, "--steps", 20, 1e6));
@@ -109,8 +109,8 @@ void write_orbits_files(series_output& files, const chain& c,
       "departures", std::vector<std::string>{"mode", "shift", "energy", "frequency", "max_angle"},
       marks);
   cli::plot_panel panel{
-      .title = fmt::format("Frequency-energy plot of the {}-link chain's nonlinear normal modes",
-                           n),
+      .title =
+          fmt::format("Frequency-energy plot of the {}-link chain's nonlinear normal modes", n),
       .xlabel = "energy E (J)",
       .ylabel = "frequency ω = 2π/T (rad/s)",
       .commands = {"set logscale x", "set key outside right"}};
@@ -124,11 +124,13 @@ void write_orbits_files(series_output& files, const chain& c,
     panel.commands.push_back(fmt::format(
         "set arrow from graph 0, first {0} to graph 1, first {0} nohead dt 2 lc rgb '{1}'",
         r.branch.linear_frequency, colour));
-    panel.curves.push_back({data, fmt::format("($1=={} && ${}==1 ? $2 : 1/0):4", mode, stable_column),
+    panel.curves.push_back({data,
+                            fmt::format("($1=={} && ${}==1 ? $2 : 1/0):4", mode, stable_column),
                             fmt::format("linespoints lw 1.5 pt 7 ps 0.5 lc rgb '{}'", colour),
-                            fmt::format("mode {} (ω_{} = {:.4g} rad/s, dashed), stable", mode,
-                                        mode, r.branch.linear_frequency)});
-    panel.curves.push_back({data, fmt::format("($1=={} && ${}==0 ? $2 : 1/0):4", mode, stable_column),
+                            fmt::format("mode {} (ω_{} = {:.4g} rad/s, dashed), stable", mode, mode,
+                                        r.branch.linear_frequency)});
+    panel.curves.push_back({data,
+                            fmt::format("($1=={} && ${}==0 ? $2 : 1/0):4", mode, stable_column),
                             fmt::format("points pt 6 ps 0.8 lc rgb '{}'", colour),
                             fmt::format("mode {}, unstable", mode)});
   }
@@ -152,11 +154,16 @@ void write_orbits_files(series_output& files, const chain& c,
 nlohmann::json point_json(const nnm_point& p, double linear_frequency) {
   nlohmann::json mu = nlohmann::json::array();
   for (const auto& m : p.multipliers) mu.push_back({m.real(), m.imag()});
-  return {{"energy", p.energy},       {"period", p.period},
-          {"frequency", p.frequency}, {"ratio", p.frequency / linear_frequency},
-          {"x0", p.x0},               {"amplitudes", p.amplitudes},
-          {"multipliers", mu},        {"max_multiplier", p.max_multiplier},
-          {"stable", p.stable},       {"closure", p.closure},
+  return {{"energy", p.energy},
+          {"period", p.period},
+          {"frequency", p.frequency},
+          {"ratio", p.frequency / linear_frequency},
+          {"x0", p.x0},
+          {"amplitudes", p.amplitudes},
+          {"multipliers", mu},
+          {"max_multiplier", p.max_multiplier},
+          {"stable", p.stable},
+          {"closure", p.closure},
           {"iterations", p.iterations}};
 }
 
@@ -180,9 +187,9 @@ void print_results(const chain& c, const std::vector<mode_result>& results,
     for (const nnm_point& p : b.points) {
       double largest = 0;
       for (double a : p.amplitudes) largest = std::max(largest, a);
-      fmt::print("{:>12.6g}  {:>12.8g}  {:>14.8g}  {:>10.6f}  {:>12.6g}  {:>12.6g}  {}\n",
-                 p.energy, p.period, p.frequency, p.frequency / b.linear_frequency, largest,
-                 p.max_multiplier, p.stable ? "yes" : "no");
+      fmt::print("{:>12.6g}  {:>12.8g}  {:>14.8g}  {:>10.6f}  {:>12.6g}  {:>12.6g}  {}\n", p.energy,
+                 p.period, p.frequency, p.frequency / b.linear_frequency, largest, p.max_multiplier,
+                 p.stable ? "yes" : "no");
     }
     for (const auto& [shift, orbit] : r.departures) {
       if (!orbit) {
@@ -190,10 +197,11 @@ void print_results(const chain& c, const std::vector<mode_result>& results,
                    b.mode + 1);
         continue;
       }
-      fmt::print("{:g} % departure from omega_{}: E = {:.10g} J, omega = {:.10g} rad/s, "
-                 "amplitudes ({:.8f}) rad\n",
-                 100 * shift, b.mode + 1, orbit->energy, orbit->frequency,
-                 fmt::join(orbit->amplitudes, ", "));
+      fmt::print(
+          "{:g} % departure from omega_{}: E = {:.10g} J, omega = {:.10g} rad/s, "
+          "amplitudes ({:.8f}) rad\n",
+          100 * shift, b.mode + 1, orbit->energy, orbit->frequency,
+          fmt::join(orbit->amplitudes, ", "));
     }
     if (!b.points.empty() && !b.points.back().multipliers.empty())
       fmt::print("multipliers of the last orbit: {}\n", multipliers_text(b.points.back()));
@@ -225,7 +233,8 @@ int run_orbits(const orbits_command_options& o) {
       throw cli::input_error(e.what());
     }
     for (double shift : shifts)
-      if (!r.branch.stopped) r.departures.emplace_back(shift, locate_departure(c, r.branch, shift, opts.orbit));
+      if (!r.branch.stopped)
+        r.departures.emplace_back(shift, locate_departure(c, r.branch, shift, opts.orbit));
     if (r.branch.stopped || control.interrupted()) {
       control.finish();
       fmt::print(stderr, "npend orbits: interrupted in mode {}{}\n", modes[i] + 1,
@@ -290,7 +299,8 @@ void add_orbits_command(CLI::App& app, command_list& commands) {
                   "The largest angle of the first orbit of each branch in rad (default 0.01)");
   cmd->add_option("--steps", o->steps,
                   "Gauss-Legendre steps per period of each orbit (default 400)");
-  cmd->add_option("--max-points", o->max_points, "At most this many orbits per branch (default 200)");
+  cmd->add_option("--max-points", o->max_points,
+                  "At most this many orbits per branch (default 200)");
   cmd->add_option("--thresholds", o->thresholds,
                   "Relative frequency departures to locate on each branch (default: 0.01,0.05)");
   cmd->add_flag("--json", o->json, "Print JSON (every orbit, its start and multipliers)");

@@ -28,6 +28,8 @@ from .results import (
     LyapunovResult,
     MapResult,
     ModesResult,
+    NNMBranch,
+    PeriodicOrbit,
     PoincareResult,
     Solution,
     SpectrumResult,
@@ -1057,3 +1059,140 @@ def map_cells(
             rtol=rtol, threads=threads, device=device, progress=report)
     finally:
         close()
+
+
+def periodic_orbit(
+    chain: Chain,
+    x0: ArrayLike,
+    period: float,
+    *,
+    energy: Optional[float] = None,
+    phase: str = "turning_point",
+    steps: int = 400,
+    tol: float = 1e-11,
+    max_iterations: int = 20,
+) -> PeriodicOrbit:
+    """The periodic orbit near a guess, by shooting with the exact monodromy matrix.
+
+    Newton's method on phi(T; x0) = x0 with a phase condition and the energy fixed, the flow
+    being the Gauss-Legendre (order 6) map of `steps` steps over the period with its exact
+    tangent map. The conserved energy makes the square system singular; each correction is
+    the least-squares solution of all its rows.
+
+    Parameters
+    ----------
+    chain : Chain
+        An undamped chain on a fixed pivot.
+    x0 : array_like, shape (2n,)
+        The guess of the start.
+    period : float
+        The guess of the period T (s).
+    energy : float, optional
+        The energy H the orbit keeps (J); None: the guess's.
+    phase : {"turning_point", "poincare"}, optional
+        turning_point: the start has p = 0 (every angle at its extreme, the natural choice for
+        nonlinear normal modes); poincare: the start lies on the plane through the guess
+        normal to the flow (any orbit).
+    steps : int, optional
+        Gauss-Legendre steps over the period (at least 2).
+    tol : float, optional
+        Converged when max |phi(T) - x0| <= tol and |H(x0) - E| <= tol max(1, |E|).
+    max_iterations : int, optional
+        The most Newton corrections.
+
+    Returns
+    -------
+    PeriodicOrbit
+        The orbit, its period, amplitudes and Floquet multipliers; `converged` says whether
+        the tolerance was reached.
+
+    Raises
+    ------
+    ValueError
+        For a damped or driven chain, a chain on a cart, or bad parameters.
+
+    Examples
+    --------
+    >>> import math, npend
+    >>> chain = npend.Chain(1)                      # l = 1 m, g = 9.81 m/s^2
+    >>> orbit = npend.periodic_orbit(chain, [2.0, 0.0], 2.5)
+    >>> K = 2.0874382317296236                      # K(k), k = sin(1): scipy.special.ellipk(k**2)
+    >>> exact = 4 * K / math.sqrt(9.81)              # the period 4 K(k)/omega0
+    >>> orbit.converged, abs(orbit.period / exact - 1) < 1e-6
+    (True, True)
+    """
+    return _orbit(_npend.periodic_orbit(
+        chain, x0, period, energy=energy, phase=phase, steps=steps, tol=tol,
+        max_iterations=max_iterations))
+
+
+def _orbit(d: dict) -> PeriodicOrbit:
+    d["multipliers"] = np.asarray(d["multipliers"], dtype=np.complex128)
+    return PeriodicOrbit(**d)
+
+
+def continue_mode(
+    chain: Chain,
+    mode: int,
+    energy_max: float,
+    *,
+    start_amplitude: float = 0.01,
+    steps: int = 400,
+    max_points: int = 200,
+    thresholds: Sequence[float] = (0.01, 0.05),
+) -> NNMBranch:
+    """A nonlinear normal mode: linear mode `mode` continued in energy as periodic orbits.
+
+    As ``npend orbits``: the first orbit starts from the mode shape scaled to
+    `start_amplitude` (rad, the largest angle), each next one is shot (periodic_orbit,
+    turning point) at an energy predicted from the last two, with step-size control, up to
+    `energy_max`; for each threshold the orbit where |omega / omega_k - 1| reaches it is
+    located by regula falsi in the energy.
+
+    Parameters
+    ----------
+    chain : Chain
+        An undamped chain on a fixed pivot.
+    mode : int
+        Which linear mode of the hanging chain, 1 = the slowest (as ``--mode``).
+    energy_max : float
+        Continue up to this energy (J).
+    start_amplitude : float, optional
+        The first orbit's largest angle (rad).
+    steps : int, optional
+        Gauss-Legendre steps per period of each orbit.
+    max_points : int, optional
+        At most this many orbits.
+    thresholds : sequence of float, optional
+        Relative frequency departures to locate (0.01 = 1 %).
+
+    Returns
+    -------
+    NNMBranch
+        The orbits' energies, periods, frequencies, amplitudes, multipliers and stability,
+        why the branch ended, and the departures.
+
+    Raises
+    ------
+    ValueError
+        For a damped or driven chain, a mode out of range or an energy_max below the first
+        orbit's energy.
+
+    Examples
+    --------
+    >>> import npend
+    >>> branch = npend.continue_mode(npend.Chain(3), 3, 1.0)
+    >>> round(branch.linear_frequency, 4), branch.end_reason
+    (7.8552, 'reached energy_max')
+    >>> departure = branch.departures[0.01]             # where omega is 1 % below omega_3
+    >>> round(float(departure.frequency / branch.linear_frequency), 6)
+    0.99
+    """
+    d = _npend.continue_mode(chain, mode, energy_max, start_amplitude=start_amplitude,
+                             steps=steps, max_points=max_points, thresholds=list(thresholds))
+    n = len(d["shape"])
+    d["multipliers"] = np.asarray(d["multipliers"], dtype=np.complex128).reshape(
+        len(d["energy"]), 2 * n - 2)
+    d["departures"] = {shift: None if orbit is None else _orbit(orbit)
+                       for shift, orbit in d["departures"].items()}
+    return NNMBranch(**d)

@@ -28,6 +28,8 @@ __all__ = [
     "LyapunovResult",
     "MapResult",
     "ModesResult",
+    "NNMBranch",
+    "PeriodicOrbit",
     "PoincareResult",
     "Solution",
     "SpectrumResult",
@@ -40,6 +42,8 @@ _REPR_WIDTH = 88
 def _summary(value: Any) -> str:
     if isinstance(value, np.ndarray):
         return f"array(shape={value.shape}, dtype={value.dtype})"
+    if isinstance(value, _Result):
+        return f"{type(value).__name__}(...)"
     if isinstance(value, Mapping):
         return "{" + ", ".join(f"{k!r}: {_summary(v)}" for k, v in value.items()) + "}"
     return repr(value)
@@ -281,6 +285,98 @@ class ModesResult(_Result):
     shapes: np.ndarray
     mass_matrix: np.ndarray
     stiffness_matrix: np.ndarray
+
+
+@dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool
+class PeriodicOrbit(_Result):
+    """A periodic orbit of npend.periodic_orbit (or a point of an NNMBranch).
+
+    Attributes
+    ----------
+    converged : bool
+        Whether the shooting reached its tolerance.
+    x0 : ndarray, shape (2n,)
+        The start, on the orbit.
+    period : float
+        T (s).
+    frequency : float
+        2 pi / T (rad/s).
+    energy : float
+        H(x0) (J).
+    closure : float
+        max |phi(T; x0) - x0| of the last integration.
+    iterations : int
+        The Newton corrections taken.
+    amplitudes : ndarray, shape (n,)
+        max |phi_i| over the orbit (rad).
+    multipliers : ndarray of complex, shape (2n - 2,)
+        The Floquet multipliers by descending modulus, without the trivial pair at +1.
+    max_multiplier : float
+        The largest |multiplier| (1 when there are none).
+    stable : bool
+        Every multiplier has |mu| <= 1 + 1e-6.
+    """
+
+    converged: bool
+    x0: np.ndarray
+    period: float
+    frequency: float
+    energy: float
+    closure: float
+    iterations: int
+    amplitudes: np.ndarray
+    multipliers: np.ndarray
+    max_multiplier: float
+    stable: bool
+
+
+@dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool
+class NNMBranch(_Result):
+    """A nonlinear normal mode of npend.continue_mode: its periodic orbits by energy.
+
+    Attributes
+    ----------
+    mode : int
+        The linear mode it continues (1 = the slowest).
+    linear_frequency : float
+        omega_k of the linear mode (rad/s).
+    shape : ndarray, shape (n,)
+        The linear mode's shape.
+    energy, period, frequency : ndarray, shape (k,)
+        Each orbit's H (J), T (s) and 2 pi / T (rad/s), by increasing energy.
+    amplitudes : ndarray, shape (k, n)
+        Each orbit's max |phi_i| (rad).
+    x0 : ndarray, shape (k, 2n)
+        Each orbit's start (a turning point: p = 0).
+    multipliers : ndarray of complex, shape (k, 2n - 2)
+        Each orbit's Floquet multipliers by descending modulus, without the trivial pair.
+    max_multiplier : ndarray, shape (k,)
+        Each orbit's largest |multiplier|.
+    stable : ndarray of bool, shape (k,)
+        Whether each orbit is stable.
+    closure : ndarray, shape (k,)
+        Each orbit's closure.
+    end_reason : str
+        Why the branch ended ("reached energy_max", ...).
+    departures : dict
+        For each threshold (a relative shift such as 0.01), the PeriodicOrbit where
+        |omega / omega_k - 1| reaches it, or None where the branch does not get there.
+    """
+
+    mode: int
+    linear_frequency: float
+    shape: np.ndarray
+    energy: np.ndarray
+    period: np.ndarray
+    frequency: np.ndarray
+    amplitudes: np.ndarray
+    x0: np.ndarray
+    multipliers: np.ndarray
+    max_multiplier: np.ndarray
+    stable: np.ndarray
+    closure: np.ndarray
+    end_reason: str
+    departures: dict
 
 
 @dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool

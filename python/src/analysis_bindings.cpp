@@ -9,12 +9,14 @@
 #include <algorithm>
 #include <filesystem>
 #include <limits>
+#include <numbers>
 #include <optional>
 
 #include "bindings.hpp"
 #include "npend/analysis/chaos/chaos_map.hpp"
 #include "npend/analysis/chaos/map_grid.hpp"
 #include "npend/analysis/chaos/map_run.hpp"
+#include "npend/analysis/orbits/periodic_orbit.hpp"
 #include "npend/analysis/series/autocorrelation.hpp"
 #include "npend/analysis/series/delay_embedding.hpp"
 #include "npend/analysis/series/power_spectrum.hpp"
@@ -309,7 +311,139 @@ py::dict map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
   return d;
 }
 
+// A periodic orbit's fields (PeriodicOrbit in python/npend/results.py).
+py::dict orbit_dict(const std::vector<double>& x0, double period, double energy, double closure,
+                    int iterations, const std::vector<double>& amplitudes,
+                    const std::vector<std::complex<double>>& multipliers, double max_multiplier,
+                    bool stable, bool converged) {
+  py::dict d;
+  d["converged"] = converged;
+  d["x0"] = py::array(py::cast(x0));
+  d["period"] = period;
+  d["frequency"] = 2 * std::numbers::pi / period;
+  d["energy"] = energy;
+  d["closure"] = closure;
+  d["iterations"] = iterations;
+  d["amplitudes"] = py::array(py::cast(amplitudes));
+  d["multipliers"] = py::array(py::cast(multipliers));
+  d["max_multiplier"] = max_multiplier;
+  d["stable"] = stable;
+  return d;
+}
+
+py::dict point_dict(const nnm_point& p) {
+  return orbit_dict(p.x0, p.period, p.energy, p.closure, p.iterations, p.amplitudes, p.multipliers,
+                    p.max_multiplier, p.stable, true);
+}
+
+orbit_phase parse_phase(const std::string& phase) {
+  if (phase == "turning_point") return orbit_phase::turning_point;
+  if (phase == "poincare") return orbit_phase::poincare;
+  throw std::invalid_argument(fmt::format("phase: turning_point or poincare, got '{}'", phase));
+}
+
+periodic_orbit_options shooting_options(std::optional<double> energy, const std::string& phase,
+                                        int steps, double tol, int max_iterations) {
+  periodic_orbit_options o;
+  if (energy) o.energy = *energy;
+  o.phase = parse_phase(phase);
+  o.steps = steps;
+  o.tolerance = tol;
+  o.max_iterations = max_iterations;
+  return o;
+}
+
+py::dict periodic_orbit_of(const chain& c, const py::handle& x0_in, double period,
+                           std::optional<double> energy, const std::string& phase, int steps,
+                           double tol, int max_iterations) {
+  const std::vector<double> x0 = to_vector(x0_in, static_cast<std::size_t>(c.state_size()), "x0");
+  periodic_orbit_options o = shooting_options(energy, phase, steps, tol, max_iterations);
+  python_interrupt interrupt;
+  o.control = &interrupt;
+  periodic_orbit_result r;
+  {
+    py::gil_scoped_release no_gil;
+    r = periodic_orbit(c, x0, period, o);
+  }
+  interrupt.raise_if_interrupted();
+  return orbit_dict(r.x0, r.period, r.energy, r.closure, r.iterations, r.amplitudes, r.multipliers,
+                    r.max_multiplier, r.stable, r.converged);
+}
+
+py::dict continue_mode_of(const chain& c, int mode, double energy_max, double start_amplitude,
+                          int steps, int max_points, const std::vector<double>& thresholds) {
+  if (mode < 1 || mode > c.links())
+    throw std::invalid_argument(
+        fmt::format("mode: 1..{} (1 = the slowest), got {}", c.links(), mode));
+  continuation_options o;
+  o.orbit.steps = steps;
+  o.energy_max = energy_max;
+  o.start_amplitude = start_amplitude;
+  o.max_points = max_points;
+  for (const double shift : thresholds)
+    if (!(shift > 0 && shift < 1))
+      throw std::invalid_argument(
+          fmt::format("thresholds: {} is not a relative shift in (0, 1) (0.01 = 1 %)", shift));
+  python_interrupt interrupt;
+  o.orbit.control = &interrupt;
+  nnm_branch b;
+  std::vector<std::optional<nnm_point>> departures;
+  {
+    py::gil_scoped_release no_gil;
+    b = continue_mode(c, mode - 1, o);
+    for (const double shift : thresholds)
+      if (!b.stopped) departures.push_back(locate_departure(c, b, shift, o.orbit));
+  }
+  interrupt.raise_if_interrupted();
+  const auto k = static_cast<py::ssize_t>(b.points.size());
+  const auto n = static_cast<py::ssize_t>(c.links());
+  std::vector<double> energy, period, frequency, max_multiplier, closure, amplitudes, x0;
+  std::vector<bool> stable;
+  py::list multipliers;
+  for (const nnm_point& p : b.points) {
+    energy.push_back(p.energy);
+    period.push_back(p.period);
+    frequency.push_back(p.frequency);
+    max_multiplier.push_back(p.max_multiplier);
+    closure.push_back(p.closure);
+    stable.push_back(p.stable);
+    amplitudes.insert(amplitudes.end(), p.amplitudes.begin(), p.amplitudes.end());
+    x0.insert(x0.end(), p.x0.begin(), p.x0.end());
+    multipliers.append(py::array(py::cast(p.multipliers)));
+  }
+  py::dict d;
+  d["mode"] = mode;
+  d["linear_frequency"] = b.linear_frequency;
+  d["shape"] = py::array(py::cast(b.shape));
+  d["energy"] = to_numpy(std::move(energy), {k});
+  d["period"] = to_numpy(std::move(period), {k});
+  d["frequency"] = to_numpy(std::move(frequency), {k});
+  d["amplitudes"] = to_numpy(std::move(amplitudes), {k, n});
+  d["x0"] = to_numpy(std::move(x0), {k, 2 * n});
+  d["multipliers"] = multipliers;
+  d["max_multiplier"] = to_numpy(std::move(max_multiplier), {k});
+  d["stable"] = py::array(py::cast(stable));
+  d["closure"] = to_numpy(std::move(closure), {k});
+  d["end_reason"] = b.end_reason;
+  py::dict found;
+  for (std::size_t i = 0; i < departures.size(); ++i)
+    found[py::float_(thresholds[i])] =
+        departures[i] ? py::object(point_dict(*departures[i])) : py::object(py::none());
+  d["departures"] = found;
+  return d;
+}
+
 }  // namespace
+
+void bind_orbits(py::module_& m) {
+  m.def("periodic_orbit", &periodic_orbit_of, py::arg("chain"), py::arg("x0"), py::arg("period"),
+        py::kw_only(), py::arg("energy") = py::none(), py::arg("phase") = "turning_point",
+        py::arg("steps") = 400, py::arg("tol") = 1e-11, py::arg("max_iterations") = 20);
+  m.def("continue_mode", &continue_mode_of, py::arg("chain"), py::arg("mode"),
+        py::arg("energy_max"), py::kw_only(), py::arg("start_amplitude") = 0.01,
+        py::arg("steps") = 400, py::arg("max_points") = 200,
+        py::arg("thresholds") = std::vector<double>{0.01, 0.05});
+}
 
 void bind_series(py::module_& m) {
   m.def("spectrum", &spectrum, py::arg("x"), py::arg("dt"), py::kw_only(),

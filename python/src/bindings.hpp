@@ -83,6 +83,7 @@ void bind_chain(py::module_& m);
 void bind_integration(py::module_& m);
 void bind_series(py::module_& m);
 void bind_stability(py::module_& m);
+void bind_orbits(py::module_& m);
 void bind_maps(py::module_& m);
 
 }  // namespace npend::python

@@ -23,5 +23,6 @@ PYBIND11_MODULE(_npend, m) {
   npend::python::bind_integration(m);
   npend::python::bind_series(m);
   npend::python::bind_stability(m);
+  npend::python::bind_orbits(m);
   npend::python::bind_maps(m);
 }

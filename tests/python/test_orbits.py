@@ -1,0 +1,110 @@
+"""npend.periodic_orbit and npend.continue_mode against independent references: the single
+pendulum's period from SciPy's complete elliptic integral, the linear frequencies of
+npend.modes, a re-integration with another stepper, and a shooting written here with SciPy
+on the double pendulum's textbook equations of motion."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.optimize import fsolve
+from scipy.special import ellipk
+
+import npend
+
+
+@pytest.mark.parametrize("amplitude", [0.3, 1.5, 2.5])
+def test_the_single_pendulums_period_is_4K_over_omega0(amplitude):
+    g, l = 9.81, 0.7
+    chain = npend.Chain(1, lengths=l, g=g)
+    # The guess: the linear period with its first correction, (1 + a²/16) (the textbook series).
+    guess = 2 * math.pi * math.sqrt(l / g) * (1 + amplitude**2 / 16)
+    orbit = npend.periodic_orbit(chain, [amplitude, 0.0], guess, steps=2000)
+    exact = 4 * ellipk(math.sin(amplitude / 2) ** 2) / math.sqrt(g / l)
+    assert orbit.converged and orbit.closure <= 1e-11
+    assert orbit.period == pytest.approx(exact, rel=1e-10)
+    assert orbit.amplitudes[0] == pytest.approx(amplitude, rel=1e-12)
+    assert orbit.multipliers.shape == (0,) and orbit.multipliers.dtype == np.complex128
+
+
+def test_a_branch_starts_at_its_linear_mode_and_its_orbits_close_under_another_stepper():
+    chain = npend.Chain(3, masses=[1, 2, 1.5], lengths=[1, 0.5, 2])
+    omegas = npend.modes(chain).frequencies
+    for mode in (1, 2, 3):
+        branch = npend.continue_mode(chain, mode, 0.5, max_points=12)
+        assert branch.linear_frequency == pytest.approx(omegas[mode - 1], rel=1e-12)
+        # The first orbit swings to 0.01 rad: its frequency is the linear one to O(0.01²).
+        assert branch.frequency[0] / omegas[mode - 1] == pytest.approx(1, abs=1e-3)
+        assert branch.amplitudes.shape == (len(branch.energy), 3)
+        assert branch.multipliers.shape == (len(branch.energy), 4)
+        assert np.all(branch.closure <= 1e-11)
+        # The orbit at the branch's end, integrated over one period by dopri5 at tight
+        # tolerances, comes back to its start.
+        x0, period = branch.x0[-1], branch.period[-1]
+        solution = npend.simulate(chain, x0, t_span=(0, period), stepper="dopri5", atol=1e-13,
+                                  rtol=1e-13, dt=period / 200)
+        assert np.max(np.abs(solution.y[:, -1] - x0)) <= 1e-8
+        assert chain.hamiltonian(x0) == pytest.approx(branch.energy[-1], rel=1e-12)
+        # Stable orbits of a Hamiltonian flow: multipliers on the unit circle.
+        for stable, mu in zip(branch.stable, branch.multipliers):
+            if stable:
+                assert np.all(np.abs(np.abs(mu) - 1) <= 1e-6)
+
+
+def test_departures_are_where_the_frequency_is_off_by_the_threshold():
+    branch = npend.continue_mode(npend.Chain(2), 2, 2.0, thresholds=[0.01, 0.03, 0.9])
+    for shift in (0.01, 0.03):
+        orbit = branch.departures[shift]
+        assert abs(orbit.frequency / branch.linear_frequency - (1 - shift)) <= 1e-9 * shift
+        assert orbit.converged
+    assert branch.departures[0.9] is None
+    with pytest.raises(ValueError, match="mode: 1..2"):
+        npend.continue_mode(npend.Chain(2), 3, 1.0)
+    with pytest.raises(ValueError, match="thresholds"):
+        npend.continue_mode(npend.Chain(2), 1, 1.0, thresholds=[1.5])
+    with pytest.raises(ValueError):
+        npend.periodic_orbit(npend.Chain(2, damping=0.1), [0.1, 0.1, 0, 0], 3.0)
+
+
+# The equal double pendulum (m = l = 1) in its textbook form: angles and angular velocities.
+G = 9.81
+
+
+def textbook(t, y):
+    a, b, wa, wb = y
+    d = a - b
+    den = 3 - math.cos(2 * d)
+    acc_a = (-3 * G * math.sin(a) - G * math.sin(a - 2 * b)
+             - 2 * math.sin(d) * (wb**2 + wa**2 * math.cos(d))) / den
+    acc_b = 2 * math.sin(d) * (2 * wa**2 + 2 * G * math.cos(a) + wb**2 * math.cos(d)) / den
+    return [wa, wb, acc_a, acc_b]
+
+
+def potential(a, b):  # zero when hanging, as npend's H
+    return G * (2 * (1 - math.cos(a)) + (1 - math.cos(b)))
+
+
+def shoot(energy, guess):
+    """(a0, b0, T) of the synchronous orbit from rest at (a0, b0) with V = energy: at T/2
+    both angular velocities vanish again (the other turning point)."""
+
+    def residual(u):
+        a, b, period = u
+        half = solve_ivp(textbook, (0, period / 2), [a, b, 0, 0], method="DOP853", rtol=1e-13,
+                         atol=1e-13).y[:, -1]
+        return [half[2], half[3], potential(a, b) - energy]
+
+    return fsolve(residual, guess, xtol=1e-13)
+
+
+def test_periods_against_a_scipy_shooting_on_the_textbook_equations():
+    chain = npend.Chain(2)
+    assert chain.hamiltonian([0.4, -0.3, 0, 0]) == pytest.approx(potential(0.4, -0.3), rel=1e-14)
+    for mode in (1, 2):
+        branch = npend.continue_mode(chain, mode, 6.0)
+        for k in np.linspace(2, len(branch.energy) - 1, 3).astype(int):
+            x0 = branch.x0[k]
+            a, b, period = shoot(branch.energy[k], [x0[0], x0[1], branch.period[k]])
+            assert period == pytest.approx(branch.period[k], rel=1e-9), (mode, k)
+            assert max(abs(a - x0[0]), abs(b - x0[1])) <= 1e-8
