@@ -9,6 +9,7 @@
 #include <complex>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <optional>
 
 #include "chain_options.hpp"
@@ -17,6 +18,7 @@
 #include "npend/analysis/orbits/periodic_orbit.hpp"
 #include "npend/analysis/stability/backbone.hpp"
 #include "series_output.hpp"
+#include "start_options.hpp"
 #include "terminal_run.hpp"
 
 namespace npend::app {
@@ -282,6 +284,81 @@ int run_orbits(const orbits_command_options& o) {
   return 0;
 }
 
+struct orbit_command_options {
+  cli::chain_options chain;
+  cli::start_options start;
+  std::string period, phase = "turning_point", steps;
+  bool json = false;
+};
+
+// npend orbit: one periodic orbit from a guess of its start and period.
+int run_orbit(const orbit_command_options& o) {
+  const chain c = o.chain.make_chain(cli::model_support::conservative, "npend orbit");
+  const std::vector<double> guess = o.start.make_state(c);
+  if (o.period.empty()) throw cli::input_error("--period is required (a guess of T in s)");
+  const double period = cli::parse_number(o.period, "--period");
+  if (!(period > 0) || !std::isfinite(period))
+    throw cli::input_error(fmt::format("--period: a positive time in s, got {}", o.period));
+  periodic_orbit_options opts;
+  if (o.phase == "poincare")
+    opts.phase = orbit_phase::poincare;
+  else if (o.phase != "turning_point")
+    throw cli::input_error(fmt::format("--phase: turning_point or poincare, got '{}'", o.phase));
+  if (!o.steps.empty())
+    opts.steps = static_cast<int>(cli::parse_whole_number(o.steps, "--steps", 20, 1e6));
+  cli::terminal_run control;
+  opts.control = &control;
+  periodic_orbit_result r;
+  try {
+    r = periodic_orbit(c, guess, period, opts);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(e.what());
+  }
+  control.finish();
+  if (r.stopped) {
+    fmt::print(stderr, "npend orbit: interrupted\n");
+    return control.exit_code();
+  }
+  if (!r.converged)
+    throw std::runtime_error(fmt::format(
+        "the shooting did not converge (closure {:.3g} at its last iterate): give a start and "
+        "period closer to the orbit (for a normal mode, npend orbits continues it from small "
+        "amplitude)",
+        r.closure));
+  const nnm_point p{.energy = r.energy,
+                    .period = r.period,
+                    .frequency = 2 * std::numbers::pi / r.period,
+                    .x0 = r.x0,
+                    .amplitudes = r.amplitudes,
+                    .multipliers = r.multipliers,
+                    .max_multiplier = r.max_multiplier,
+                    .stable = r.stable,
+                    .closure = r.closure,
+                    .iterations = r.iterations};
+  if (o.json) {
+    nlohmann::json j = describe_chain(c);
+    nlohmann::json orbit = point_json(p, p.frequency);
+    orbit.erase("ratio");
+    j["orbit"] = orbit;
+    j["steps"] = opts.steps;
+    j["phase"] = o.phase;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  fmt::print(
+      "Periodic orbit of the {}-link chain ({} Newton steps, {} Gauss-Legendre steps per "
+      "period)\n",
+      c.links(), r.iterations, opts.steps);
+  fmt::print("start x0     ({})\n", fmt::join(r.x0, ", "));
+  fmt::print("period       {:.15g} s (frequency {:.12g} rad/s)\n", r.period, p.frequency);
+  fmt::print("energy       {:.15g} J\n", r.energy);
+  fmt::print("closure      {:.3g} (max |phi(T) - x0|)\n", r.closure);
+  fmt::print("amplitudes   ({:.10f}) rad\n", fmt::join(r.amplitudes, ", "));
+  fmt::print("multipliers  {} (max |mu| {:.10g}: {})\n", multipliers_text(p), r.max_multiplier,
+             r.stable ? "stable" : "unstable");
+  return 0;
+}
+
 }  // namespace
 
 void add_orbits_command(CLI::App& app, command_list& commands) {
@@ -308,6 +385,23 @@ void add_orbits_command(CLI::App& app, command_list& commands) {
                   "Write FILE.csv (one row per orbit), FILE_departures.csv and the "
                   "frequency-energy plot FILE.png with its gnuplot script FILE.gp");
   commands.push_back({cmd, [o] { return run_orbits(*o); }});
+}
+
+void add_orbit_command(CLI::App& app, command_list& commands) {
+  auto o = std::make_shared<orbit_command_options>();
+  CLI::App* cmd = app.add_subcommand(
+      "orbit",
+      "One periodic orbit from a guess of its start and period: Newton's method with the exact "
+      "monodromy matrix at the start's energy; its period, amplitudes and Floquet multipliers");
+  o->chain.add_to(*cmd);
+  o->start.add_to(*cmd);
+  cmd->add_option("--period", o->period, "A guess of the period T in s (required)");
+  cmd->add_option("--phase", o->phase,
+                  "turning_point (default: the orbit's start has p = 0) or poincare (on the "
+                  "plane through the guess across the flow: any orbit)");
+  cmd->add_option("--steps", o->steps, "Gauss-Legendre steps per period (default 400)");
+  cmd->add_flag("--json", o->json, "Print JSON");
+  commands.push_back({cmd, [o] { return run_orbit(*o); }});
 }
 
 }  // namespace npend::app

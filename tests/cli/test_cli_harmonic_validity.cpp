@@ -178,3 +178,20 @@ TEST_CASE("npend orbits: --out writes the branch, the departures and the plot; b
   CHECK(run_npend("orbits --links 2").exit_code == 2);
   CHECK(run_npend("orbits --links 2 --mode 3 --energy-max 1").exit_code == 2);
 }
+
+TEST_CASE("npend orbit: one orbit of the single pendulum at 4K(k)/ω0; no orbit near a bad guess") {
+  const auto r =
+      run_npend("orbit --links 1 --lengths 0.5 --phi 2.5 --period 1.8 --steps 2000 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  const double exact = 4 * std::comp_ellint_1(std::sin(1.25)) / std::sqrt(9.81 / 0.5);
+  CHECK(std::fabs(j["orbit"]["period"].get<double>() / exact - 1) <= 1e-10);
+  CHECK(j["orbit"]["closure"].get<double>() <= 1e-11);
+  CHECK(j["orbit"]["x0"][0].get<double>() == doctest::Approx(2.5).epsilon(1e-12));
+  const auto far = run_npend("orbit --links 2 --phi 0.3,0.42 --period 0.1");
+  CHECK(far.exit_code == 1);
+  CHECK(far.err.find("npend orbit: error: the shooting did not converge") == 0);
+  CHECK(run_npend("orbit --links 2 --damping 0.1 --phi 0.3,0.4 --period 3").exit_code == 2);
+  CHECK(run_npend("orbit --links 2 --phi 0.3,0.4").exit_code == 2);
+  CHECK(run_npend("orbit --links 2 --phi 0.3,0.4 --period 3 --phase diagonal").exit_code == 2);
+}
