@@ -220,10 +220,11 @@ const map_folder_words python_folder_words{.out = "out",
 
 // The map as a run in `folder` (map_run): its tiles written there as they finish, those a
 // resumed run finds done read back. The tiles stay, so the same call with resume=True
-// returns the map from them. Called without the GIL.
+// returns the map from them. A tile that a resumed run finds unsound is computed again, and
+// `redone` hears why (for a RuntimeWarning once the GIL is back). Called without the GIL.
 std::vector<double> map_in_folder(map_run_description description, const std::string& folder,
-                                  bool resume, bool force, int threads,
-                                  python_interrupt& interrupt) {
+                                  bool resume, bool force, int threads, python_interrupt& interrupt,
+                                  std::vector<std::string>& redone) {
   const map_run run(std::move(description), folder);
   // run.json's record of how the run was asked for: by Python, whose folders the command
   // line's `npend map merge` does not rebuild.
@@ -232,7 +233,8 @@ std::vector<double> map_in_folder(map_run_description description, const std::st
                           : map_folder_start::fresh,
                   R"json({"front_end": "npend.map (Python)"})json", python_folder_words);
   try {
-    const std::vector<int> pending = run.pending_tiles(resume, [](const std::string&) {});
+    const std::vector<int> pending =
+        run.pending_tiles(resume, [&](const std::string& problem) { redone.push_back(problem); });
     local_map_tile_queue queue(pending);
     const map_tiles_outcome outcome = run.compute_tiles(
         queue, map_team_size(threads), interrupt,
@@ -295,12 +297,17 @@ py::dict map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
     throw std::invalid_argument("out: the folder name is empty");
   python_interrupt interrupt(progress);
   std::vector<double> values;
+  std::vector<std::string> redone;
   {
     py::gil_scoped_release no_gil;
     values = out.is_none() ? map_values(grid, o, threads, &interrupt, where)
                            : map_in_folder({grid, o, tile, {}, where}, folder, resume, force,
-                                           threads, interrupt);
+                                           threads, interrupt, redone);
   }
+  // As the command line's notes: a resumed run says which tiles it could not use.
+  for (const std::string& problem : redone)
+    if (PyErr_WarnEx(PyExc_RuntimeWarning, (problem + "; computed again").c_str(), 1) < 0)
+      throw py::error_already_set();  // warnings turned into errors
   interrupt.raise_if_interrupted();
   interrupt.report_last();
   py::dict d;

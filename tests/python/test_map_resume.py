@@ -65,12 +65,15 @@ def test_map_resume_computes_a_damaged_tile_again(tmp_path):
     data = bytearray(damaged.read_bytes())
     data[-3] ^= 0xFF  # a flipped bit in the last value: the checksum no longer matches
     damaged.write_bytes(bytes(data))
-    r = npend.map(CHAIN, X, Y, out=tmp_path, resume=True, **OPTIONS)
+    with pytest.warns(RuntimeWarning, match=f"{damaged.name}.*computed again") as caught:
+        r = npend.map(CHAIN, X, Y, out=tmp_path, resume=True, **OPTIONS)
+    assert len(caught) == 1
     np.testing.assert_array_equal(r.values, reference())
     cut = tmp_path / "tiles" / tile_files(tmp_path)[7]
     cut.write_bytes(cut.read_bytes()[:20])
-    np.testing.assert_array_equal(
-        npend.map(CHAIN, X, Y, out=tmp_path, resume=True, **OPTIONS).values, reference())
+    with pytest.warns(RuntimeWarning, match=f"{cut.name}.*computed again"):
+        again = npend.map(CHAIN, X, Y, out=tmp_path, resume=True, **OPTIONS)
+    np.testing.assert_array_equal(again.values, reference())
 
 
 def test_map_folder_refusals_name_the_keyword(tmp_path):
