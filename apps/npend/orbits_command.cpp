@@ -35,6 +35,7 @@ struct orbits_command_options {
 struct mode_result {
   nnm_branch branch;
   std::vector<std::pair<double, std::optional<nnm_point>>> departures;  // shift, orbit
+  std::vector<nnm_bifurcation> bifurcations;
 };
 
 continuation_options make_continuation(const orbits_command_options& o) {
@@ -82,7 +83,7 @@ void write_orbits_files(series_output& files, const chain& c,
   for (int i = 1; i <= n; ++i) names.push_back(fmt::format("amplitude_phi{}", i));
   names.insert(names.end(), {"max_multiplier", "stable", "closure", "iterations"});
   if (n == 1) names.push_back("exact_frequency");
-  std::vector<std::vector<double>> table(names.size()), marks(5);
+  std::vector<std::vector<double>> table(names.size()), marks(5), changes(4);
   for (const mode_result& r : results) {
     const double mode = r.branch.mode + 1;
     for (const nnm_point& p : r.branch.points) {
@@ -94,6 +95,12 @@ void write_orbits_files(series_output& files, const chain& c,
       if (n == 1)
         row.push_back(r.branch.linear_frequency * pendulum_frequency_ratio(p.amplitudes[0]));
       for (std::size_t k = 0; k < row.size(); ++k) table[k].push_back(row[k]);
+    }
+    for (const nnm_bifurcation& f : r.bifurcations) {
+      changes[0].push_back(mode);
+      changes[1].push_back(f.energy);
+      changes[2].push_back(f.stable_side.frequency);
+      changes[3].push_back(static_cast<double>(f.kind));
     }
     for (const auto& [shift, orbit] : r.departures)
       if (orbit) {
@@ -110,6 +117,12 @@ void write_orbits_files(series_output& files, const chain& c,
   const std::string departures = files.write_csv(
       "departures", std::vector<std::string>{"mode", "shift", "energy", "frequency", "max_angle"},
       marks);
+  const std::string bifurcations =
+      files.write_csv("bifurcations",
+                      std::vector<std::string>{"mode", "energy", "frequency",
+                                               "kind (0 branch point, 1 period "
+                                               "doubling, 2 complex pair)"},
+                      changes);
   cli::plot_panel panel{
       .title =
           fmt::format("Frequency-energy plot of the {}-link chain's nonlinear normal modes", n),
@@ -139,6 +152,9 @@ void write_orbits_files(series_output& files, const chain& c,
   if (!marks[0].empty())
     panel.curves.push_back({departures, "3:4", "points pt 4 ps 1.6 lw 2 lc rgb 'black'",
                             "departures from ω_k (--thresholds)"});
+  if (!changes[0].empty())
+    panel.curves.push_back(
+        {bifurcations, "2:3", "points pt 8 ps 1.8 lw 2 lc rgb '#d62728'", "changes of stability"});
   if (n == 1)
     panel.curves.push_back({data, fmt::format("2:{}", names.size()),
                             "lines lw 1 dt 3 lc rgb 'black'", "exact: 2π / (4 K(k)/ω_0)"});
@@ -146,8 +162,9 @@ void write_orbits_files(series_output& files, const chain& c,
       {.description = {fmt::format("npend orbits: frequency against energy along the nonlinear "
                                    "normal modes, {}-link chain",
                                    n),
-                       fmt::format("data: {} (per mode and orbit), {} (the departures)", data,
-                                   departures)},
+                       fmt::format("data: {} (per mode and orbit), {} (the departures), {} "
+                                   "(the changes of stability)",
+                                   data, departures, bifurcations)},
        .width = 1100,
        .height = 700,
        .panels = {panel}});
@@ -205,6 +222,13 @@ void print_results(const chain& c, const std::vector<mode_result>& results,
           100 * shift, b.mode + 1, orbit->energy, orbit->frequency,
           fmt::join(orbit->amplitudes, ", "));
     }
+    for (const nnm_bifurcation& f : r.bifurcations)
+      fmt::print(
+          "{} at E = {:.10g} J (omega = {:.8g} rad/s): {} above; multipliers {} (stable "
+          "side) and {} (unstable side)\n",
+          nnm_bifurcation_name(f.kind), f.energy, f.stable_side.frequency,
+          f.loses_stability ? "unstable" : "stable again", multipliers_text(f.stable_side),
+          multipliers_text(f.unstable_side));
     if (!b.points.empty() && !b.points.back().multipliers.empty())
       fmt::print("multipliers of the last orbit: {}\n", multipliers_text(b.points.back()));
   }
@@ -237,6 +261,7 @@ int run_orbits(const orbits_command_options& o) {
     for (double shift : shifts)
       if (!r.branch.stopped)
         r.departures.emplace_back(shift, locate_departure(c, r.branch, shift, opts.orbit));
+    if (!r.branch.stopped) r.bifurcations = locate_bifurcations(c, r.branch, opts.orbit);
     if (r.branch.stopped || control.interrupted()) {
       control.finish();
       fmt::print(stderr, "npend orbits: interrupted in mode {}{}\n", modes[i] + 1,
@@ -266,7 +291,16 @@ int run_orbits(const orbits_command_options& o) {
       departures.push_back(
           {{"shift", shift},
            {"orbit", orbit ? point_json(*orbit, r.branch.linear_frequency) : nlohmann::json()}});
+    nlohmann::json changes = nlohmann::json::array();
+    for (const nnm_bifurcation& f : r.bifurcations)
+      changes.push_back(
+          {{"kind", std::string(nnm_bifurcation_name(f.kind))},
+           {"energy", f.energy},
+           {"loses_stability", f.loses_stability},
+           {"stable_side", point_json(f.stable_side, r.branch.linear_frequency)},
+           {"unstable_side", point_json(f.unstable_side, r.branch.linear_frequency)}});
     list.push_back({{"mode", r.branch.mode + 1},
+                    {"bifurcations", changes},
                     {"linear_frequency", r.branch.linear_frequency},
                     {"shape", r.branch.shape},
                     {"end_reason", r.branch.end_reason},

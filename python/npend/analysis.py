@@ -31,6 +31,7 @@ from .results import (
     NNMBranch,
     PeriodicOrbit,
     PoincareResult,
+    StabilityChange,
     Solution,
     SpectrumResult,
 )
@@ -1170,7 +1171,7 @@ def continue_mode(
     -------
     NNMBranch
         The orbits' energies, periods, frequencies, amplitudes, multipliers and stability,
-        why the branch ended, and the departures.
+        why the branch ended, the departures and the changes of stability (bifurcations).
 
     Raises
     ------
@@ -1195,4 +1196,9 @@ def continue_mode(
         len(d["energy"]), 2 * n - 2)
     d["departures"] = {shift: None if orbit is None else _orbit(orbit)
                        for shift, orbit in d["departures"].items()}
+    d["bifurcations"] = tuple(
+        StabilityChange(kind=b["kind"], energy=b["energy"], loses_stability=b["loses_stability"],
+                        stable_side=_orbit(b["stable_side"]),
+                        unstable_side=_orbit(b["unstable_side"]))
+        for b in d["bifurcations"])
     return NNMBranch(**d)

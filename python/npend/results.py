@@ -30,6 +30,7 @@ __all__ = [
     "ModesResult",
     "NNMBranch",
     "PeriodicOrbit",
+    "StabilityChange",
     "PoincareResult",
     "Solution",
     "SpectrumResult",
@@ -44,6 +45,8 @@ def _summary(value: Any) -> str:
         return f"array(shape={value.shape}, dtype={value.dtype})"
     if isinstance(value, _Result):
         return f"{type(value).__name__}(...)"
+    if isinstance(value, tuple) and value and all(isinstance(v, _Result) for v in value):
+        return "(" + ", ".join(_summary(v) for v in value) + ",)"
     if isinstance(value, Mapping):
         return "{" + ", ".join(f"{k!r}: {_summary(v)}" for k, v in value.items()) + "}"
     return repr(value)
@@ -330,6 +333,31 @@ class PeriodicOrbit(_Result):
     stable: bool
 
 
+@dataclasses.dataclass(frozen=True, repr=False, eq=False)
+class StabilityChange(_Result):
+    """Where a branch's orbits lose or regain stability, bracketed to 1e-8 in energy.
+
+    Attributes
+    ----------
+    kind : str
+        How the Floquet multipliers leave the unit circle on the unstable side: "branch
+        point" (a real pair through +1), "period doubling" (through -1) or "complex pair"
+        (a quartet: a Krein collision).
+    energy : float
+        The bracket's midpoint (J).
+    loses_stability : bool
+        Stable below the energy and unstable above (False: the reverse).
+    stable_side, unstable_side : PeriodicOrbit
+        The orbits at the bracket's ends.
+    """
+
+    kind: str
+    energy: float
+    loses_stability: bool
+    stable_side: PeriodicOrbit
+    unstable_side: PeriodicOrbit
+
+
 @dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool
 class NNMBranch(_Result):
     """A nonlinear normal mode of npend.continue_mode: its periodic orbits by energy.
@@ -361,6 +389,8 @@ class NNMBranch(_Result):
     departures : dict
         For each threshold (a relative shift such as 0.01), the PeriodicOrbit where
         |omega / omega_k - 1| reaches it, or None where the branch does not get there.
+    bifurcations : tuple of StabilityChange
+        Where the orbits lose or regain stability, by increasing energy.
     """
 
     mode: int
@@ -377,6 +407,7 @@ class NNMBranch(_Result):
     closure: np.ndarray
     end_reason: str
     departures: dict
+    bifurcations: tuple
 
 
 @dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool

@@ -395,11 +395,13 @@ py::dict continue_mode_of(const chain& c, int mode, double energy_max, double st
   o.orbit.control = &interrupt;
   nnm_branch b;
   std::vector<std::optional<nnm_point>> departures;
+  std::vector<nnm_bifurcation> changes;
   {
     py::gil_scoped_release no_gil;
     b = continue_mode(c, mode - 1, o);
     for (const double shift : thresholds)
       if (!b.stopped) departures.push_back(locate_departure(c, b, shift, o.orbit));
+    if (!b.stopped) changes = locate_bifurcations(c, b, o.orbit);
   }
   interrupt.raise_if_interrupted();
   const auto k = static_cast<py::ssize_t>(b.points.size());
@@ -437,6 +439,17 @@ py::dict continue_mode_of(const chain& c, int mode, double energy_max, double st
     found[py::float_(thresholds[i])] =
         departures[i] ? py::object(point_dict(*departures[i])) : py::object(py::none());
   d["departures"] = found;
+  py::list bifurcations;
+  for (const nnm_bifurcation& f : changes) {
+    py::dict change;
+    change["kind"] = std::string(nnm_bifurcation_name(f.kind));
+    change["energy"] = f.energy;
+    change["loses_stability"] = f.loses_stability;
+    change["stable_side"] = point_dict(f.stable_side);
+    change["unstable_side"] = point_dict(f.unstable_side);
+    bifurcations.append(change);
+  }
+  d["bifurcations"] = bifurcations;
   return d;
 }
 

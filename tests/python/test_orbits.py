@@ -108,3 +108,25 @@ def test_periods_against_a_scipy_shooting_on_the_textbook_equations():
             a, b, period = shoot(branch.energy[k], [x0[0], x0[1], branch.period[k]])
             assert period == pytest.approx(branch.period[k], rel=1e-9), (mode, k)
             assert max(abs(a - x0[0]), abs(b - x0[1])) <= 1e-8
+
+
+def test_changes_of_stability_as_the_command_line_finds_them():
+    import json
+
+    from conftest import run_npend
+
+    chain = npend.Chain(3)
+    branch = npend.continue_mode(chain, 3, 6.0)
+    assert len(branch.bifurcations) == 1
+    change = branch.bifurcations[0]
+    assert change.kind == "branch point" and change.loses_stability
+    assert change.stable_side.stable and not change.unstable_side.stable
+    assert change.unstable_side.energy - change.stable_side.energy <= 1e-8 * change.energy
+    # Stable below, unstable above, as the branch's own orbits say.
+    below = branch.energy < change.energy
+    assert np.all(branch.stable[below]) and not np.any(branch.stable[~below])
+    cli = json.loads(run_npend("orbits", "--links", "3", "--mode", "3", "--energy-max", "6",
+                               "--json").stdout)
+    [same] = cli["modes"][0]["bifurcations"]
+    assert same["kind"] == change.kind and same["energy"] == change.energy
+    assert "StabilityChange(...)" in repr(branch)

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <numbers>
 #include <stdexcept>
 #include <vector>
@@ -166,4 +167,45 @@ TEST_CASE("locate_departure: the single pendulum's 1 % and 5 % amplitudes from K
   CHECK_FALSE(npend::locate_departure(c, branch, 0.5, opts.orbit).has_value());
   CHECK_THROWS_AS(npend::locate_departure(c, branch, 0.0), std::invalid_argument);
   CHECK_THROWS_AS(npend::locate_departure(c, branch, 1.0), std::invalid_argument);
+}
+
+TEST_CASE(
+    "locate_bifurcations: the triple pendulum's third mode loses stability at a branch point") {
+  const chain c(chain_parameters::uniform(3));
+  npend::continuation_options opts;
+  opts.energy_max = 6;
+  const npend::nnm_branch branch = npend::continue_mode(c, 2, opts);
+  REQUIRE(branch.end_reason == "reached energy_max");
+  const auto found = npend::locate_bifurcations(c, branch, opts.orbit);
+  REQUIRE(found.size() == 1);
+  const npend::nnm_bifurcation& f = found[0];
+  CHECK(f.kind == npend::nnm_bifurcation_kind::branch_point);
+  CHECK(f.loses_stability);
+  CHECK(f.stable_side.stable);
+  CHECK_FALSE(f.unstable_side.stable);
+  CHECK(f.unstable_side.energy - f.stable_side.energy <= 1e-8 * f.energy);
+  // A branch point: on the stable side a pair of multipliers has nearly met at +1, on the
+  // unstable side it has left the circle along the real axis, μ and 1/μ.
+  const auto near = [](const std::vector<std::complex<double>>& mu, std::complex<double> at) {
+    return std::count_if(mu.begin(), mu.end(), [&](auto m) { return std::abs(m - at) < 1e-3; });
+  };
+  CHECK(near(f.stable_side.multipliers, 1.0) == 2);
+  const auto& top = f.unstable_side.multipliers.front();
+  CHECK(top.real() > 1);
+  CHECK(std::fabs(top.imag()) == 0.0);
+  // Confirmed away from the bracket: orbits shot at 0.1 % below and above keep their side.
+  for (const double factor : {0.999, 1.001}) {
+    npend::periodic_orbit_options shoot = opts.orbit;
+    shoot.energy = f.energy * factor;
+    const auto& side = factor < 1 ? f.stable_side : f.unstable_side;
+    const auto r = npend::periodic_orbit(c, side.x0, side.period, shoot);
+    REQUIRE(r.converged);
+    CHECK(r.stable == (factor < 1));
+  }
+  // None on a single pendulum's branch (no multipliers but the trivial pair).
+  const chain one(chain_parameters::uniform(1));
+  npend::continuation_options single;
+  single.energy_max = 10;
+  CHECK(npend::locate_bifurcations(one, npend::continue_mode(one, 0, single)).empty());
+  CHECK_THROWS_AS(npend::locate_bifurcations(c, branch, opts.orbit, 0.0), std::invalid_argument);
 }

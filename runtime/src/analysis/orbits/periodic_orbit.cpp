@@ -337,4 +337,65 @@ std::optional<nnm_point> locate_departure(const chain& c, const nnm_branch& bran
   return std::fabs(ga) < std::fabs(gb) ? a : b;
 }
 
+std::string_view nnm_bifurcation_name(nnm_bifurcation_kind kind) {
+  switch (kind) {
+    case nnm_bifurcation_kind::branch_point:
+      return "branch point";
+    case nnm_bifurcation_kind::period_doubling:
+      return "period doubling";
+    case nnm_bifurcation_kind::complex_pair:
+      return "complex pair";
+  }
+  return "";
+}
+
+namespace {
+
+// The kind of instability an unstable orbit shows: its largest multiplier real and positive
+// (through +1), real and negative (through −1), or complex.
+nnm_bifurcation_kind instability_kind(const nnm_point& unstable) {
+  const auto largest =
+      std::max_element(unstable.multipliers.begin(), unstable.multipliers.end(),
+                       [](const auto& a, const auto& b) { return std::abs(a) < std::abs(b); });
+  if (largest == unstable.multipliers.end()) return nnm_bifurcation_kind::branch_point;
+  if (std::fabs(largest->imag()) > 1e-9 * std::abs(*largest))
+    return nnm_bifurcation_kind::complex_pair;
+  return largest->real() > 0 ? nnm_bifurcation_kind::branch_point
+                             : nnm_bifurcation_kind::period_doubling;
+}
+
+}  // namespace
+
+std::vector<nnm_bifurcation> locate_bifurcations(const chain& c, const nnm_branch& branch,
+                                                 const periodic_orbit_options& options,
+                                                 double energy_tolerance) {
+  if (!(energy_tolerance > 0))
+    throw std::invalid_argument(fmt::format(
+        "locate_bifurcations: energy_tolerance must be positive, got {}", energy_tolerance));
+  std::vector<nnm_bifurcation> found;
+  periodic_orbit_options shoot = options;
+  for (std::size_t i = 0; i + 1 < branch.points.size(); ++i) {
+    nnm_point a = branch.points[i], b = branch.points[i + 1];
+    if (a.stable == b.stable) continue;
+    // Bisect on the stability flag, a below b in energy throughout.
+    while (b.energy - a.energy > energy_tolerance * std::max(1.0, b.energy)) {
+      const double e = (a.energy + b.energy) / 2;
+      std::vector<double> guess = a.x0;
+      for (std::size_t k = 0; k < guess.size(); ++k) guess[k] += (b.x0[k] - a.x0[k]) / 2;
+      shoot.energy = e;
+      const periodic_orbit_result r = periodic_orbit(c, guess, (a.period + b.period) / 2, shoot);
+      if (r.stopped || !r.converged) break;
+      (to_point(r).stable == a.stable ? a : b) = to_point(r);
+    }
+    nnm_bifurcation f;
+    f.loses_stability = a.stable;
+    f.stable_side = a.stable ? a : b;
+    f.unstable_side = a.stable ? b : a;
+    f.kind = instability_kind(f.unstable_side);
+    f.energy = (a.energy + b.energy) / 2;
+    found.push_back(std::move(f));
+  }
+  return found;
+}
+
 }  // namespace npend

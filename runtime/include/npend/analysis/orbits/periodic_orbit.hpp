@@ -7,6 +7,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "npend/chain.hpp"
@@ -125,5 +126,34 @@ nnm_branch continue_mode(const chain& c, int mode, const continuation_options& o
 std::optional<nnm_point> locate_departure(const chain& c, const nnm_branch& branch, double shift,
                                           const periodic_orbit_options& options = {},
                                           double tolerance = 1e-9);
+
+/// How a branch's orbits lose or regain stability between two points: the Floquet
+/// multipliers that leave the unit circle, seen on the unstable side. In a Hamiltonian
+/// system they leave in pairs μ, 1/μ (or quartets), after colliding on the circle.
+enum class nnm_bifurcation_kind {
+  branch_point,     ///< a real pair leaves through +1 (a new family branches off)
+  period_doubling,  ///< a real pair leaves through −1 (an orbit of twice the period)
+  complex_pair,     ///< a complex quartet leaves the circle (a Krein collision, Neimark–Sacker)
+};
+/// "branch point", "period doubling" or "complex pair".
+std::string_view nnm_bifurcation_name(nnm_bifurcation_kind kind);
+
+/// A change of stability along a branch, bracketed in energy by two orbits.
+struct nnm_bifurcation {
+  nnm_bifurcation_kind kind = nnm_bifurcation_kind::branch_point;
+  double energy = 0;            ///< the bracket's midpoint (J)
+  bool loses_stability = true;  ///< stable below `energy`, unstable above (or the reverse)
+  nnm_point stable_side;        ///< the bracket's stable orbit
+  nnm_point unstable_side;      ///< and its unstable one
+};
+
+/// Every change of stability between consecutive points of `branch`, located by bisection in
+/// the energy (each orbit shot with `options`, from the interpolation of the bracket's ends)
+/// until the bracket is narrower than energy_tolerance · max(1, E), and classified by the
+/// unstable side's largest multiplier. A shot that fails ends that bisection with the bracket
+/// it had. Throws std::invalid_argument for a non-positive energy_tolerance.
+std::vector<nnm_bifurcation> locate_bifurcations(const chain& c, const nnm_branch& branch,
+                                                 const periodic_orbit_options& options = {},
+                                                 double energy_tolerance = 1e-8);
 
 }  // namespace npend
