@@ -266,6 +266,48 @@ def _output_rows(t0: float, t1: float, dt: float, every: int, t_eval: Any) -> fl
     return math.ceil(_npend.output_points(t0, t1, dt) / every)
 
 
+class Event:
+    """A named event of npend.simulate, with SciPy's ``terminal`` and ``direction``.
+
+    Parameters
+    ----------
+    spec : str
+        "flip" (an arm passes the upright position, max |phi_k| - pi rising through 0),
+        "flipK" (arm K), or a section as npend.poincare takes it: "phi1=0", "p2=0.5",
+        "phi1=phi2" (the angles' sections on the circle, every 2 pi).
+    terminal : bool, optional
+        True ends the run at the event.
+    direction : float, optional
+        > 0: only where g = w.x - c (max |phi_k| - pi for a flip) rises through 0; < 0: only
+        where it falls; 0: both.
+
+    Examples
+    --------
+    The time of the first flip of the double pendulum from phi = (1.5, 1.5), with the run
+    ended there (the last row of the grid is the last before it):
+
+    >>> import npend
+    >>> sol = npend.simulate(npend.Chain(2), [1.5, 1.5, 0, 0], 20.0, dt=0.01, stepper="rk4",
+    ...                      events=npend.Event("flip", terminal=True, direction=1))
+    >>> sol.status, round(float(sol.t_events[0][0]), 4), round(float(sol.t[-1]), 2)
+    (1, 10.2084, 10.2)
+    """
+
+    def __init__(self, spec: str, *, terminal: bool = False, direction: float = 0.0) -> None:
+        if not isinstance(spec, str):
+            raise TypeError(f"spec: expected an event name such as 'flip' or 'phi1=0', got {spec!r}")
+        self.spec = spec
+        self.terminal = bool(terminal)
+        self.direction = float(direction)
+
+    def __repr__(self) -> str:
+        return (f"npend.Event({self.spec!r}, terminal={self.terminal}, "
+                f"direction={self.direction:g})")
+
+
+_EventLike = Union[Callable[..., float], str, Event]
+
+
 def simulate(
     chain: Chain,
     x0: ArrayLike,
@@ -279,7 +321,7 @@ def simulate(
     order: int = 0,
     t_eval: Optional[ArrayLike] = None,
     every: int = 1,
-    events: Union[Callable[..., float], Sequence[Callable[..., float]], None] = None,
+    events: Union[_EventLike, Sequence[_EventLike], None] = None,
     progress: Any = None,
     dense_output: bool = False,
 ) -> Solution:
@@ -312,10 +354,14 @@ def simulate(
         by shortening the steps.
     every : int, optional
         Keep every k-th grid row (not with t_eval).
-    events : callable or list of callables, optional
+    events : callable, str, Event, or a list of them, optional
         g(t, y) -> float, as SciPy's: an event is where g crosses zero, located on the dense
         output to rounding in t. Attributes read from the function: ``terminal`` (True ends
         the run there) and ``direction`` (> 0: only rising, < 0: only falling crossings).
+        A string names an event computed without calling Python: "flip" (an arm passes
+        the upright position, |phi_k| = pi; "flipK": arm K) or a section as for
+        npend.poincare ("phi1=0", "p2=0.5", "phi1=phi2"; sections of angles on the circle);
+        npend.Event(name, terminal=..., direction=...) gives one its attributes.
     progress : None, True or callable, optional
         True shows a tqdm bar; a callable hears progress(done, total), the output steps
         done of all of them, about every 20 ms and at the end.
@@ -381,11 +427,12 @@ def simulate(
             raise ValueError(f"t_eval: the times must lie within the span [{t0}, {t1}]")
     if events is None:
         events = []
-    elif callable(events):
+    elif callable(events) or isinstance(events, (str, Event)):
         events = [events]
     for g in events:
-        if not callable(g):
-            raise TypeError(f"events: expected callables g(t, y), got {g!r}")
+        if not (callable(g) or isinstance(g, (str, Event))):
+            raise TypeError(
+                f"events: expected functions g(t, y), event names or npend.Event, got {g!r}")
     rows = _output_rows(t0, t1, _real(dt, "dt"), int(every), t_eval)
     need = rows * (chain.state_size + 1) * 8
     if dense_output and stepper in ("rk4", "gauss4", "gauss6"):

@@ -23,15 +23,37 @@ std::vector<double> start_state(const chain& c, const py::handle& x0) {
   return to_vector(x0, static_cast<std::size_t>(c.state_size()), "x0");
 }
 
-// A Python event function g(t, y) of simulate's, with SciPy's `terminal` and `direction`.
+// An event of simulate's, with SciPy's `terminal` and `direction`: a Python function g(t, y),
+// or one named by a string and evaluated here without Python: "flip" (any arm) or "flipK"
+// (arm K) passing the upright position, g = max |φ_k| − π; or a section as npend poincare
+// takes it ("phi1=0", "p2=0.5", "phi1=phi2"), g = w·x − c. A section of angles lies on the
+// circle: each step takes the branch c + 2πj it crosses (section_plane::branch_level), so
+// that g is continuous across the step and changes sign only where the section is crossed.
 struct python_event {
-  py::object g;
+  py::object g;                          ///< the Python function; none for a named event
+  std::optional<section_plane> section;  ///< a named section
+  int flip_link = -1;                    ///< a named flip: 0 any arm, K arm K; -1 none
+  int links = 0;
+  double level = 0;  ///< the section's branch in the current step
   bool terminal = false;
   double direction = 0;  ///< > 0: only g rising through 0, < 0: only falling, 0: both
   double last = 0;       ///< g at the end of the previous step
   std::vector<double> times, states;
 
+  bool named() const { return g.is_none(); }
   double operator()(double t, std::span<const double> x) const {
+    if (section) {
+      double v = -level;
+      for (std::size_t i = 0; i < x.size(); ++i) v += section->normal[i] * x[i];
+      return v;
+    }
+    if (flip_link >= 0) {
+      double largest = 0;
+      for (int k = 1; k <= links; ++k)
+        if (flip_link == 0 || flip_link == k)
+          largest = std::max(largest, std::fabs(x[static_cast<std::size_t>(k - 1)]));
+      return largest - std::numbers::pi;
+    }
     py::array_t<double> y(static_cast<py::ssize_t>(x.size()));
     std::copy(x.begin(), x.end(), y.mutable_data());
     return g(t, y).cast<double>();
@@ -40,7 +62,42 @@ struct python_event {
     const bool rising = before < 0 && after >= 0, falling = before > 0 && after <= 0;
     return direction > 0 ? rising : direction < 0 ? falling : rising || falling;
   }
+  /// g at the step's two ends: a section's from the branch this step crosses, any other's
+  /// from the end of the previous step.
+  std::pair<double, double> at_ends(const integration_step& step) {
+    if (section) {
+      level = section->branch_level(step.x_begin(), step.x_end());
+      return {(*this)(step.t_begin(), step.x_begin()), (*this)(step.t_end(), step.x_end())};
+    }
+    return {last, (*this)(step.t_end(), step.x_end())};
+  }
 };
+
+// The event a string names: "flip", "flipK" or a section spec (see python_event).
+python_event named_event(const chain& c, const std::string& name) {
+  python_event e;
+  e.links = c.links();
+  if (name.rfind("flip", 0) == 0) {
+    const std::string arm = name.substr(4);
+    if (arm.empty()) {
+      e.flip_link = 0;
+    } else {
+      if (arm.size() > 3 || arm.find_first_not_of("0123456789") != std::string::npos ||
+          std::stoi(arm) < 1 || std::stoi(arm) > c.links())
+        throw std::invalid_argument(fmt::format(
+            "events: '{}' names no arm: flip (any arm) or flip1..flip{}", name, c.links()));
+      e.flip_link = std::stoi(arm);
+    }
+    if (c.has_cart())
+      throw std::invalid_argument("events: a flip event is for a chain on a fixed pivot");
+    return e;
+  }
+  e.section =
+      spec::section_from_spec(spec::parse_section_spec(name, "events"), c.links(), "events");
+  if (c.has_cart())
+    throw std::invalid_argument("events: a section event is for a chain on a fixed pivot");
+  return e;
+}
 
 // Where g crosses zero inside `step`, from g_begin at its start to g_end at its end (of
 // opposite signs, or g_end = 0): the Illinois variant of regula falsi on the step's dense
@@ -185,7 +242,11 @@ py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, doubl
   }
   std::vector<python_event> events;
   for (const auto& g : event_functions) {
-    python_event e{py::reinterpret_borrow<py::object>(g)};
+    // A string, an npend.Event (its `spec`), or a function.
+    const py::object spec = py::isinstance<py::str>(g) ? py::reinterpret_borrow<py::object>(g)
+                                                       : py::getattr(g, "spec", py::none());
+    python_event e = spec.is_none() ? python_event{py::reinterpret_borrow<py::object>(g)}
+                                    : named_event(c, spec.cast<std::string>());
     e.terminal = py::bool_(py::getattr(g, "terminal", py::bool_(false)));
     e.direction = py::getattr(g, "direction", py::float_(0.0)).cast<double>();
     events.push_back(std::move(e));
@@ -227,9 +288,9 @@ py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, doubl
       if (!events.empty()) {
         py::gil_scoped_acquire gil;
         for (auto& e : events) {
-          const double g_end = e(step.t_end(), step.x_end());
-          if (e.fires(e.last, g_end)) {
-            const double te = locate_event(e, step, e.last, g_end, x);
+          const auto [g_begin, g_end] = e.at_ends(step);
+          if (e.fires(g_begin, g_end)) {
+            const double te = locate_event(e, step, g_begin, g_end, x);
             e.times.push_back(te);
             e.states.insert(e.states.end(), x.begin(), x.end());
             if (e.terminal && (!terminated || before(te, stop_at))) terminated = true, stop_at = te;
@@ -252,7 +313,8 @@ py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, doubl
           }
       return terminated ? observer_action::stop : observer_action::proceed;
     };
-  for (auto& e : events) e.last = e(t_start, x0);
+  for (auto& e : events)
+    if (!e.section) e.last = e(t_start, x0);
 
   python_interrupt interrupt(progress);
   o.control = &interrupt;

@@ -240,3 +240,35 @@ def test_dense_output_ends_at_a_terminal_event_and_runs_backwards():
     back = npend.simulate(chain, [0.0, 0.05], t_span=(0.0, -1.0), dt=-1e-3, dense_output=True)
     assert (back.sol.t_min, back.sol.t_max) == (-1.0, 0.0)
     np.testing.assert_allclose(back.sol(back.t), back.X.T, rtol=0, atol=1e-14)
+
+
+def test_named_events_flip_and_sections():
+    chain = npend.Chain(2)
+    x0 = [1.5, 1.5, 0.0, 0.0]
+    # The first flip, as the maps compute it (rk4 at the same step, its cubic Hermite
+    # interpolant), ends the run.
+    sol = npend.simulate(chain, x0, 20.0, dt=0.01, stepper="rk4",
+                         events=npend.Event("flip", terminal=True, direction=1))
+    flip = npend.map_cells(chain, np.array([x0]), t_end=20.0, dt=0.01)[0]
+    assert sol.status == 1 and sol.t_events[0].size == 1
+    assert sol.t_events[0][0] == pytest.approx(flip, abs=1e-9)
+    assert np.max(np.abs(sol.y_events[0][0][:2])) == pytest.approx(np.pi, abs=1e-9)
+    # A section as a string: the same crossings as npend.poincare's.
+    section = npend.simulate(chain, [0.4, -0.3, 0.0, 0.0], 30.0, events=npend.Event(
+        "phi1=0", direction=1))
+    reference = npend.poincare(chain, [0.4, -0.3, 0.0, 0.0], "phi1=0", 30.0, direction="up")
+    assert section.t_events[0].size == reference.t.size > 10
+    np.testing.assert_allclose(section.t_events[0], reference.t, rtol=0, atol=1e-9)
+    # On the circle: a rotating pendulum passes phi = 0 (mod 2 pi) once a turn, and the
+    # wrap of the angle at pi is no crossing.
+    one = npend.Chain(1)
+    turns = npend.simulate(one, [0.0, 8.0], 10.0, events="phi1=0")
+    phi = turns.y_events[0][:, 0]
+    assert phi.size == int(turns.X[-1, 0] // (2 * np.pi))
+    np.testing.assert_allclose(np.sin(phi), 0, atol=1e-9)
+    assert np.all(np.cos(phi) > 0)
+    with pytest.raises(ValueError, match="flip1..flip2"):
+        npend.simulate(chain, x0, 1.0, events="flip3")
+    with pytest.raises(ValueError, match="events"):
+        npend.simulate(chain, x0, 1.0, events="phi9=0")
+    assert repr(npend.Event("p2=0.5")) == "npend.Event('p2=0.5', terminal=False, direction=0)"
