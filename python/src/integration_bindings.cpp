@@ -252,7 +252,7 @@ py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, doubl
     events.push_back(std::move(e));
   }
   const auto d = static_cast<std::size_t>(c.state_size());
-  const std::size_t whole_steps = output_steps(o);
+  const output_grid grid = make_output_grid(o);
   const double h0 = c.hamiltonian(x0, t_start);
   double energy_change = 0;
 
@@ -267,9 +267,6 @@ py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, doubl
   const double direction = dt > 0 ? 1.0 : -1.0;
   const auto before = [&](double a, double b) { return direction * (b - a) > 0; };
   std::size_t grid_k = 0, next_eval = 0;  // the next grid point and t_eval entry to record
-  const auto grid_time = [&](std::size_t k) {
-    return k > whole_steps ? t_end : t_start + static_cast<double>(k) * dt;
-  };
   bool terminated = false;
   std::vector<double> x(d);
 
@@ -306,10 +303,10 @@ py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, doubl
         record(t_eval[next_eval++], x);
       }
       if (terminated && !at_times)
-        for (; before(grid_time(grid_k), stop_at); ++grid_k)
+        for (; before(grid.time(grid_k), stop_at); ++grid_k)
           if (grid_k % every == 0) {
-            step.state_at(grid_time(grid_k), x);
-            record(grid_time(grid_k), x);
+            step.state_at(grid.time(grid_k), x);
+            record(grid.time(grid_k), x);
           }
       return terminated ? observer_action::stop : observer_action::proceed;
     };

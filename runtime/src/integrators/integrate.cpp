@@ -54,6 +54,10 @@ std::size_t output_steps(const integration_options& options) {
   return static_cast<std::size_t>(steps);
 }
 
+output_grid make_output_grid(const integration_options& options) {
+  return {options.t_start, options.t_end, options.dt, output_steps(options)};
+}
+
 std::size_t output_intervals(const integration_options& options) {
   const std::size_t whole = output_steps(options);
   const double last = options.t_start + static_cast<double>(whole) * options.dt;

@@ -61,6 +61,19 @@ void check_stepper_fits(const chain& c, stepper_kind stepper);
 /// Validates the options.
 std::size_t output_steps(const integration_options& options);
 
+/// The output grid of npend::integrate: t_k = t_start + k·dt for k = 0 … N, then t_end.
+struct output_grid {
+  double t_start = 0, t_end = 0, dt = 1;
+  std::size_t whole_steps = 0;  ///< N = output_steps
+  /// t_k, computed from k (not accumulated, so no drift over long runs); the point after the
+  /// last whole step is t_end itself.
+  double time(std::size_t k) const {
+    return k > whole_steps ? t_end : t_start + static_cast<double>(k) * dt;
+  }
+};
+/// The grid of `options`. Validates them.
+output_grid make_output_grid(const integration_options& options);
+
 /// The number of output steps of npend::integrate: N, plus one when t_end lies between grid
 /// points (the shorter last step to t_end). The output has output_intervals + 1 points.
 /// Validates the options.

@@ -61,7 +61,7 @@ class integration_run {
         m_observer(observer),
         m_step_observer(step_observer),
         m_label(std::move(label)),
-        m_whole_steps(output_steps(options)),
+        m_grid(make_output_grid(options)),
         m_steps(output_intervals(options)) {}
 
   /// The output steps: the whole steps of dt, and the shorter last one up to t_end if any.
@@ -69,13 +69,10 @@ class integration_run {
   double dt() const { return m_options.dt; }
   /// t_k, computed from k (not accumulated, so no drift over long runs); the point after the
   /// last whole step is t_end itself.
-  double grid_time(std::size_t k) const {
-    if (k > m_whole_steps) return m_options.t_end;
-    return m_options.t_start + static_cast<double>(k) * m_options.dt;
-  }
+  double grid_time(std::size_t k) const { return m_grid.time(k); }
   /// The length of output step k (from t_(k-1) to t_k): dt, or what is left to t_end.
   double step_length(std::size_t k) const {
-    return k > m_whole_steps ? m_options.t_end - grid_time(m_whole_steps) : m_options.dt;
+    return k > m_grid.whole_steps ? m_options.t_end - grid_time(m_grid.whole_steps) : m_options.dt;
   }
   double min_step() const { return m_options.min_step_ratio * std::fabs(m_options.dt); }
   integration_result& result() { return m_result; }
@@ -142,7 +139,7 @@ class integration_run {
   const observer_function& m_observer;
   const step_observer_function& m_step_observer;
   stepper_label m_label;
-  std::size_t m_whole_steps;
+  output_grid m_grid;
   std::size_t m_steps;
   integration_result m_result;
 };
