@@ -30,7 +30,7 @@ std::vector<double> start_state(const chain& c, const py::handle& x0) {
 // circle: each step takes the branch c + 2πj it crosses (section_plane::branch_level), so
 // that g is continuous across the step and changes sign only where the section is crossed.
 struct python_event {
-  py::object g;                          ///< the Python function; none for a named event
+  py::object g;                          ///< the Python function; null for a named event
   std::optional<section_plane> section;  ///< a named section
   int flip_link = -1;                    ///< a named flip: 0 any arm, K arm K; -1 none
   int links = 0;
@@ -40,7 +40,6 @@ struct python_event {
   double last = 0;       ///< g at the end of the previous step
   std::vector<double> times, states;
 
-  bool named() const { return g.is_none(); }
   double operator()(double t, std::span<const double> x) const {
     if (section) {
       double v = -level;
@@ -245,8 +244,11 @@ py::dict simulate(const chain& c, const py::handle& x0_in, double t_start, doubl
     // A string, an npend.Event (its `spec`), or a function.
     const py::object spec = py::isinstance<py::str>(g) ? py::reinterpret_borrow<py::object>(g)
                                                        : py::getattr(g, "spec", py::none());
-    python_event e = spec.is_none() ? python_event{py::reinterpret_borrow<py::object>(g)}
-                                    : named_event(c, spec.cast<std::string>());
+    python_event e;
+    if (spec.is_none())
+      e.g = py::reinterpret_borrow<py::object>(g);
+    else
+      e = named_event(c, spec.cast<std::string>());
     e.terminal = py::bool_(py::getattr(g, "terminal", py::bool_(false)));
     e.direction = py::getattr(g, "direction", py::float_(0.0)).cast<double>();
     events.push_back(std::move(e));
