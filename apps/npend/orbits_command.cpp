@@ -359,16 +359,7 @@ int run_orbit(const orbit_command_options& o) {
         "period closer to the orbit (for a normal mode, npend orbits continues it from small "
         "amplitude)",
         r.closure));
-  const nnm_point p{.energy = r.energy,
-                    .period = r.period,
-                    .frequency = 2 * std::numbers::pi / r.period,
-                    .x0 = r.x0,
-                    .amplitudes = r.amplitudes,
-                    .multipliers = r.multipliers,
-                    .max_multiplier = r.max_multiplier,
-                    .stable = r.stable,
-                    .closure = r.closure,
-                    .iterations = r.iterations};
+  const nnm_point p = to_nnm_point(r);
   if (o.json) {
     nlohmann::json j = describe_chain(c);
     nlohmann::json orbit = point_json(p, p.frequency);

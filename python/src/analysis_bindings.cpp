@@ -319,28 +319,20 @@ py::dict map(const chain& c, const py::tuple& x_axis, const py::tuple& y_axis,
 }
 
 // A periodic orbit's fields (PeriodicOrbit in python/npend/results.py).
-py::dict orbit_dict(const std::vector<double>& x0, double period, double energy, double closure,
-                    int iterations, const std::vector<double>& amplitudes,
-                    const std::vector<std::complex<double>>& multipliers, double max_multiplier,
-                    bool stable, bool converged) {
+py::dict point_dict(const nnm_point& p, bool converged = true) {
   py::dict d;
   d["converged"] = converged;
-  d["x0"] = py::array(py::cast(x0));
-  d["period"] = period;
-  d["frequency"] = 2 * std::numbers::pi / period;
-  d["energy"] = energy;
-  d["closure"] = closure;
-  d["iterations"] = iterations;
-  d["amplitudes"] = py::array(py::cast(amplitudes));
-  d["multipliers"] = py::array(py::cast(multipliers));
-  d["max_multiplier"] = max_multiplier;
-  d["stable"] = stable;
+  d["x0"] = py::array(py::cast(p.x0));
+  d["period"] = p.period;
+  d["frequency"] = p.frequency;
+  d["energy"] = p.energy;
+  d["closure"] = p.closure;
+  d["iterations"] = p.iterations;
+  d["amplitudes"] = py::array(py::cast(p.amplitudes));
+  d["multipliers"] = py::array(py::cast(p.multipliers));
+  d["max_multiplier"] = p.max_multiplier;
+  d["stable"] = p.stable;
   return d;
-}
-
-py::dict point_dict(const nnm_point& p) {
-  return orbit_dict(p.x0, p.period, p.energy, p.closure, p.iterations, p.amplitudes, p.multipliers,
-                    p.max_multiplier, p.stable, true);
 }
 
 orbit_phase parse_phase(const std::string& phase) {
@@ -373,8 +365,7 @@ py::dict periodic_orbit_of(const chain& c, const py::handle& x0_in, double perio
     r = periodic_orbit(c, x0, period, o);
   }
   interrupt.raise_if_interrupted();
-  return orbit_dict(r.x0, r.period, r.energy, r.closure, r.iterations, r.amplitudes, r.multipliers,
-                    r.max_multiplier, r.stable, r.converged);
+  return point_dict(to_nnm_point(r), r.converged);
 }
 
 py::dict continue_mode_of(const chain& c, int mode, double energy_max, double start_amplitude,

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <semaphore>
 #include <sstream>
 #include <stdexcept>
@@ -213,11 +214,23 @@ struct explore_server::state {
         cache(settings.memory_cache_bytes, settings.disk_cache),
         slots(std::clamp(settings.compute_slots, 1, 1024)) {}
 
-  // Waits for a compute slot; false when the request is no longer wanted first.
-  bool acquire_slot(run_control& control) {
+  // The map of `view` on `threads` threads, once a compute slot is free; nullopt when the
+  // request stops being wanted first (while waiting or computing).
+  std::optional<std::vector<double>> compute_on_slot(const map_view& view, int threads,
+                                                     run_control& control) {
     while (!slots.try_acquire_for(std::chrono::milliseconds(50)))
-      if (control.stop_requested()) return false;
-    return true;
+      if (control.stop_requested()) return std::nullopt;
+    struct slot_guard {
+      state& s;
+      ~slot_guard() {
+        --s.computing;
+        s.slots.release();
+      }
+    } guard{*this};
+    ++computing;
+    std::vector<double> values = map_values(view.grid, view.cell, threads, &control);
+    if (control.stop_requested()) return std::nullopt;
+    return values;
   }
 
   void add_routes();
@@ -295,20 +308,9 @@ void explore_server::state::serve_tile(const httplib::Request& request,
     response.set_content("npend explore: the view moved on; the tile was not finished\n",
                          "text/plain");
   };
-  if (!acquire_slot(control)) return superseded();
-  ++computing;
-  std::vector<double> values;
-  try {
-    values = map_values(r.view.grid, r.view.cell, 1, &control);
-  } catch (...) {
-    --computing;
-    slots.release();
-    throw;
-  }
-  --computing;
-  slots.release();
-  if (control.stop_requested()) return superseded();
-  std::string body = tile_body(r.view.grid, values, r.view.cell);
+  const std::optional<std::vector<double>> values = compute_on_slot(r.view, 1, control);
+  if (!values) return superseded();
+  std::string body = tile_body(r.view.grid, *values, r.view.cell);
   ++tiles_computed;
   response.set_content(body, "application/octet-stream");
   cache.put(key, std::move(body));
@@ -320,18 +322,11 @@ void explore_server::state::serve_download(const httplib::Request& request,
                                            httplib::Response& response) {
   const map_request r = parse_map_request(request, max_explore_download_cells);
   tile_control control(stopping, nullptr, 0);
-  if (!acquire_slot(control)) throw request_error(503, "npend explore: stopping");
-  std::vector<double> values;
-  try {
-    values = map_values(r.view.grid, r.view.cell, settings.compute_slots, &control);
-  } catch (...) {
-    slots.release();
-    throw;
-  }
-  slots.release();
-  if (control.stop_requested()) throw request_error(503, "npend explore: stopping");
+  const std::optional<std::vector<double>> values =
+      compute_on_slot(r.view, settings.compute_slots, control);
+  if (!values) throw request_error(503, "npend explore: stopping");
   std::string body = npy_header(r.view.grid.y.count, r.view.grid.x.count);
-  body.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(double));
+  body.append(reinterpret_cast<const char*>(values->data()), values->size() * sizeof(double));
   response.set_header("Content-Disposition", "attachment; filename=\"map.npy\"");
   response.set_header("X-Npend-Command", command_line("map", r.args, "--out map"));
   response.set_content(body, "application/octet-stream");
@@ -483,9 +478,11 @@ void explore_server::state::add_routes() {
     http.Get(std::string(f.route), [f](const httplib::Request&, httplib::Response& response) {
       response.set_content(std::string(f.content), std::string(f.type) + "; charset=utf-8");
     });
-  for (const char* name : {"dygraph.min.js", "dygraph.min.css"})
+  constexpr std::pair<const char*, const char*> library_files[] = {
+      {"dygraph.min.js", "text/javascript"}, {"dygraph.min.css", "text/css"}};
+  for (const auto& [name, type] : library_files)
     http.Get(fmt::format("/lib/{}", name),
-             [this, name](const httplib::Request&, httplib::Response& response) {
+             [this, name, type](const httplib::Request&, httplib::Response& response) {
                const std::string text = read_whole_file(settings.dygraphs / name);
                if (text.empty()) {
                  response.status = 404;
@@ -495,10 +492,7 @@ void explore_server::state::add_routes() {
                                       "text/plain");
                  return;
                }
-               response.set_content(
-                   text, name[std::strlen(name) - 1] == 's' && name[std::strlen(name) - 2] == 'j'
-                             ? "text/javascript"
-                             : "text/css");
+               response.set_content(text, type);
              });
   http.Get("/api/tile", [this](const auto& q, auto& a) { serve_tile(q, a); });
   http.Get("/api/map.npy", [this](const auto& q, auto& a) { serve_download(q, a); });

@@ -175,19 +175,6 @@ periodic_orbit_result periodic_orbit(const chain& c, std::span<const double> x0_
 
 namespace {
 
-nnm_point to_point(const periodic_orbit_result& r) {
-  return {.energy = r.energy,
-          .period = r.period,
-          .frequency = 2 * std::numbers::pi / r.period,
-          .x0 = r.x0,
-          .amplitudes = r.amplitudes,
-          .multipliers = r.multipliers,
-          .max_multiplier = r.max_multiplier,
-          .stable = r.stable,
-          .closure = r.closure,
-          .iterations = r.iterations};
-}
-
 // The guess at energy e: the secant through the last two points (in x0 and T against E),
 // or from a single point the harmonic scaling (angles ∝ √E, the period unchanged).
 std::pair<std::vector<double>, double> predict_orbit(const std::vector<nnm_point>& points,
@@ -206,6 +193,19 @@ std::pair<std::vector<double>, double> predict_orbit(const std::vector<nnm_point
 }
 
 }  // namespace
+
+nnm_point to_nnm_point(const periodic_orbit_result& r) {
+  return {.energy = r.energy,
+          .period = r.period,
+          .frequency = 2 * std::numbers::pi / r.period,
+          .x0 = r.x0,
+          .amplitudes = r.amplitudes,
+          .multipliers = r.multipliers,
+          .max_multiplier = r.max_multiplier,
+          .stable = r.stable,
+          .closure = r.closure,
+          .iterations = r.iterations};
+}
 
 nnm_branch continue_mode(const chain& c, int mode, const continuation_options& options) {
   check_conservative(c, "continue_mode");
@@ -248,7 +248,7 @@ nnm_branch continue_mode(const chain& c, int mode, const continuation_options& o
     branch.end_reason = first.stopped ? "stopped" : "the first point did not converge";
     return branch;
   }
-  branch.points.push_back(to_point(first));
+  branch.points.push_back(to_nnm_point(first));
   double step = e0 * options.initial_step_ratio;
   while (true) {
     if (static_cast<int>(branch.points.size()) >= options.max_points) {
@@ -266,7 +266,7 @@ nnm_branch continue_mode(const chain& c, int mode, const continuation_options& o
       break;
     }
     if (r.converged) {
-      branch.points.push_back(to_point(r));
+      branch.points.push_back(to_nnm_point(r));
       if (e >= options.energy_max) {
         branch.end_reason = "reached energy_max";
         break;
@@ -319,7 +319,7 @@ std::optional<nnm_point> locate_departure(const chain& c, const nnm_branch& bran
     const periodic_orbit_result r =
         periodic_orbit(c, guess, a.period + t * (b.period - a.period), shoot);
     if (r.stopped || !r.converged) break;
-    const nnm_point m = to_point(r);
+    const nnm_point m = to_nnm_point(r);
     const double gm = g(m);
     if (gm >= 0) {
       b = m;
@@ -385,7 +385,7 @@ std::vector<nnm_bifurcation> locate_bifurcations(const chain& c, const nnm_branc
       shoot.energy = e;
       const periodic_orbit_result r = periodic_orbit(c, guess, (a.period + b.period) / 2, shoot);
       if (r.stopped || !r.converged) break;
-      (to_point(r).stable == a.stable ? a : b) = to_point(r);
+      (to_nnm_point(r).stable == a.stable ? a : b) = to_nnm_point(r);
     }
     nnm_bifurcation f;
     f.loses_stability = a.stable;

@@ -96,6 +96,9 @@ struct nnm_point {
   int iterations = 0;
 };
 
+/// The point of a branch that a converged shooting result is.
+nnm_point to_nnm_point(const periodic_orbit_result& r);
+
 struct nnm_branch {
   int mode = 0;                   ///< k (0-based, ascending linear frequency)
   double linear_frequency = 0;    ///< ω_k of the linear mode (rad/s)
