@@ -39,7 +39,7 @@ TEST_CASE(
   CHECK(j["periods"].get<double>() == 20);
 }
 
-TEST_CASE("npend backbone: one mode of a chain agrees with the library; --out writes the plot") {
+TEST_CASE("npend backbone: one mode of a chain agrees with the library, --out writes the plot") {
   const auto dir = std::filesystem::path(npend::test::temporary_directory("cli-backbone"));
   const auto r = run_npend(
       "backbone --links 2 --mode 2 --amplitudes 0.1,0.3 --periods 10 "
@@ -61,7 +61,7 @@ TEST_CASE("npend backbone: one mode of a chain agrees with the library; --out wr
         std::vector<std::string>{"bb.csv", "bb.gp", "bb.png", "bb_thresholds.csv"});
 }
 
-TEST_CASE("npend corrections: --json is the library's study; --out writes the plot") {
+TEST_CASE("npend corrections: --json is the library's study, --out writes the plot") {
   const auto dir = std::filesystem::path(npend::test::temporary_directory("cli-corrections"));
   const auto r = run_npend(
       "corrections --links 2 --phi 0.2,-0.1 --dphi 0.5,1 --horizon 0.3 "
@@ -155,14 +155,15 @@ TEST_CASE("npend orbits: the single pendulum's branch and its 1 % departure from
   }
 }
 
-TEST_CASE("npend orbits: --out writes the branch, the departures and the plot; bad input") {
+TEST_CASE("npend orbits: --out writes the branch, the departures and the plot, bad input") {
   const auto dir = std::filesystem::path(npend::test::temporary_directory("cli-orbits"));
   const auto r =
       run_npend("orbits --links 2 --mode 2 --energy-max 1 --out " + (dir / "nnm.csv").string());
   REQUIRE(r.exit_code == 0);
   CHECK(r.out.find("1 % departure from omega_2: E = ") != std::string::npos);
   CHECK(npend::test::directory_listing(dir.string()) ==
-        std::vector<std::string>{"nnm.csv", "nnm.gp", "nnm.png", "nnm_departures.csv"});
+        std::vector<std::string>{"nnm.csv", "nnm.gp", "nnm.png", "nnm_bifurcations.csv",
+                                 "nnm_departures.csv"});
   // Equal masses and lengths: the first orbit's frequency is ω_2 = √((g/l)(2 + √2)) to the
   // first point's small amplitude (0.01 rad: a relative shift of order 1e-5).
   std::ifstream csv(dir / "nnm.csv");
@@ -179,7 +180,7 @@ TEST_CASE("npend orbits: --out writes the branch, the departures and the plot; b
   CHECK(run_npend("orbits --links 2 --mode 3 --energy-max 1").exit_code == 2);
 }
 
-TEST_CASE("npend orbit: one orbit of the single pendulum at 4K(k)/ω0; no orbit near a bad guess") {
+TEST_CASE("npend orbit: one orbit of the single pendulum at 4K(k)/ω0, no orbit near a bad guess") {
   const auto r =
       run_npend("orbit --links 1 --lengths 0.5 --phi 2.5 --period 1.8 --steps 2000 --json");
   REQUIRE(r.exit_code == 0);

@@ -270,7 +270,7 @@ TEST_CASE("npend map: energy, mass and length axes start each cell as the closed
   CHECK(fs::exists(dir / "el" / "map.png"));
 }
 
-TEST_CASE("npend map: damping and drive axes give each cell its chain; a drive rules nothing out") {
+TEST_CASE("npend map: damping and drive axes give each cell its chain, a drive rules nothing out") {
   const fs::path dir(npend::test::temporary_directory("cli-map-drive"));
   // The drive's amplitude and frequency: every cell is the library's flip time on a chain
   // built here with that drive, and none is ruled out (a drive feeds energy in).
@@ -607,7 +607,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "npend map: a fresh run refuses a folder holding another run; --force removes only "
+    "npend map: a fresh run refuses a folder holding another run, --force removes only "
     "npend's files") {
   const fs::path dir(npend::test::temporary_directory("cli-map-fresh-folder"));
   REQUIRE(run_npend(grid + " --out " + (dir / "whole").string()).exit_code == 0);

@@ -62,7 +62,7 @@ TEST_CASE("npend simulate: CSV header, one row per output step, H and bob positi
   CHECK(numbers(rows[1])[6] == -0.1);
 }
 
-TEST_CASE("npend simulate: --out and --json; the summary agrees with the CSV and the library") {
+TEST_CASE("npend simulate: --out and --json, the summary agrees with the CSV and the library") {
   const std::string dir = npend::test::temporary_directory("simulate-json");
   const std::string path = dir + "/traj.csv";
   const auto r = run_npend(
@@ -128,7 +128,7 @@ TEST_CASE("npend simulate: --tensions adds tau_i, the weight below each rod at r
   CHECK(values[16] == doctest::Approx(0.5 * g).epsilon(1e-12));
 }
 
-TEST_CASE("npend simulate: --every thins the CSV; --json alone writes no CSV") {
+TEST_CASE("npend simulate: --every thins the CSV, --json alone writes no CSV") {
   const std::string dir = npend::test::temporary_directory("simulate-every");
   const auto r =
       run_npend("simulate --links 2 --phi 0.5,0.5 --t-end 1 --dt 0.01 --every 7 --json --out " +

@@ -90,7 +90,7 @@ TEST_CASE("format_csv: a header and shortest round-trip numbers") {
   CHECK(back.columns == columns);
 }
 
-TEST_CASE("signals_from_csv: the time column gives t0 and dt; the others are signals") {
+TEST_CASE("signals_from_csv: the time column gives t0 and dt, the others are signals") {
   const auto t = parse_csv("x,Time (s),y\n1,2.0,5\n2,2.5,6\n3,3.0,7\n4,3.5,8\n", "c.csv");
   const auto s = signals_from_csv(t, "c.csv", std::nullopt, 4);
   CHECK(s.dt == 0.5);
@@ -166,7 +166,7 @@ TEST_CASE("parse_csv: a byte order mark, quoted numbers and Fortran D exponents"
   CHECK(parse_csv("dx,d\n1,2\n", "n.csv").names == std::vector<std::string>{"dx", "d"});
 }
 
-TEST_CASE("parse_csv: NaN and infinities are kept; the column analysed must be finite") {
+TEST_CASE("parse_csv: NaN and infinities are kept, the column analysed must be finite") {
   const auto t = parse_csv("t,x,y\n0,1,nan\n0.1,2,-inf\n0.2,3,4\n", "d.csv");
   CHECK(std::isnan(t.columns[2][0]));
   CHECK(t.columns[2][1] == -INFINITY);

@@ -102,7 +102,7 @@ TEST_CASE("emit_gpu: the physical chain's functions take its inputs after params
   CHECK(gpu_file_name(3, link_kind::physical) == "gpu_physical_3.cuh");
 }
 
-TEST_CASE("emit_gpu: refuses the cart and a missing function; the same bytes every time") {
+TEST_CASE("emit_gpu: refuses the cart and a missing function, the same bytes every time") {
   CHECK_FALSE(has_gpu_functions(link_kind::cart));
   CHECK_THROWS_AS(emit_gpu(2, samples(true), "", link_kind::cart), std::invalid_argument);
   std::vector<emitted_function> functions = samples();

@@ -67,7 +67,7 @@ TEST_CASE("chain_system: wrong sizes are refused, naming the argument") {
                        std::invalid_argument);
 }
 
-TEST_CASE("parse_stepper_kind: every name round-trips; an unknown one lists the valid names") {
+TEST_CASE("parse_stepper_kind: every name round-trips, an unknown one lists the valid names") {
   for (const auto k : npend::all_stepper_kinds()) {
     CHECK(npend::parse_stepper_kind(npend::stepper_name(k)) == k);
     CHECK_FALSE(npend::stepper_description(k).empty());

@@ -31,7 +31,7 @@ TEST_CASE("autocorrelation: equals the direct linear (not circular) sum at every
   CHECK(c.value[0] == doctest::Approx(1).epsilon(1e-15));
 }
 
-TEST_CASE("autocorrelation: of a sine is a cosine; first zero at T/4, first minimum at T/2") {
+TEST_CASE("autocorrelation: of a sine is a cosine, first zero at T/4, first minimum at T/2") {
   const double dt = 0.001, omega = 2 * std::numbers::pi * 3.0,
                period = 2 * std::numbers::pi / omega;
   const std::size_t n = 16384;

@@ -218,7 +218,7 @@ TEST_CASE("series_lyapunov_exponent: tracked bobs of a regular motion give 0") {
   CHECK(std::fabs(r.maximal_exponent) < 0.02);
 }
 
-TEST_CASE("stretching_curves: several series must be sampled together; standardised_series") {
+TEST_CASE("stretching_curves: several series must be sampled together, standardised_series") {
   const std::vector<std::vector<double>> uneven{npend::test::henon_x(500),
                                                 npend::test::henon_x(400)};
   CHECK_THROWS_WITH_AS(npend::stretching_curves(uneven, map_options(1).stretching),

@@ -274,7 +274,7 @@ struct stop_now final : npend::run_control {
 
 }  // namespace
 
-TEST_CASE("floquet_frequency_scan: a stop request ends it at the first frequency; bad arguments") {
+TEST_CASE("floquet_frequency_scan: a stop request ends it at the first frequency, bad arguments") {
   chain_parameters p = chain_parameters::uniform(1);
   p.pivot = pivot_motion::vertical(0.05, 100.0);
   const chain c(p);
