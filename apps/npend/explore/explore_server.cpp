@@ -354,6 +354,20 @@ start_request parse_start_request(const httplib::Request& request, bool with_eve
   return r;
 }
 
+// The chain, start and integration a start request describes, as npend simulate makes them.
+// Throws cli::input_error naming the option.
+struct start_run {
+  chain c;
+  std::vector<double> x0;
+  integration_options options;
+};
+start_run make_start_run(const start_request& r) {
+  chain c = r.chain.make_chain(cli::model_support::any, "npend simulate", true);
+  std::vector<double> x0 = r.start.make_state(c);
+  const integration_options options = r.integrator.make_for(c);
+  return {std::move(c), std::move(x0), options};
+}
+
 }  // namespace
 
 // The CSV `npend simulate` writes for the same options (its rows, bit for bit).
@@ -361,9 +375,7 @@ void explore_server::state::serve_trajectory(const httplib::Request& request,
                                              httplib::Response& response) {
   start_request r = parse_start_request(request, true);
   try {
-    const chain c = r.chain.make_chain(cli::model_support::any, "npend simulate", true);
-    const std::vector<double> x0 = r.start.make_state(c);
-    integration_options options = r.integrator.make_for(c);
+    auto [c, x0, options] = make_start_run(r);
     const std::size_t every = parse_every(r.every);
     if (std::isfinite(options.dt) && options.t_end / options.dt / static_cast<double>(every) >
                                          static_cast<double>(max_trajectory_rows))
@@ -416,9 +428,7 @@ void explore_server::state::serve_start(const httplib::Request& request,
                                         httplib::Response& response) {
   start_request r = parse_start_request(request, false);
   try {
-    const chain c = r.chain.make_chain(cli::model_support::any, "npend simulate", true);
-    const std::vector<double> x0 = r.start.make_state(c);
-    integration_options options = r.integrator.make_for(c);
+    auto [c, x0, options] = make_start_run(r);
     tile_control control(stopping, nullptr, 0);
     options.control = &control;
     nlohmann::json j;
