@@ -12,8 +12,8 @@ using npend::chain_parameters;
 
 namespace {
 
-constexpr int samples = 300;
-constexpr double tolerance = 1e-12;  // relative: a few ulps of accumulated rounding
+constexpr int paper_samples = 300;
+constexpr double paper_tolerance = 1e-12;  // relative: a few ulps of accumulated rounding
 
 struct double_pendulum_paper {
   double m1, m2, l1, l2, g;
@@ -106,7 +106,7 @@ struct triple_pendulum_paper {
 TEST_CASE("rhs: double pendulum matches the paper's Hamilton equations (6.18)") {
   std::mt19937_64 rng(1);
   double worst_h = 0, worst_f = 0;
-  for (int s = 0; s < samples; ++s) {
+  for (int s = 0; s < paper_samples; ++s) {
     const chain_parameters params = npend::test::random_parameters(2, rng);
     const chain c(params);
     const double_pendulum_paper paper{params.masses[0], params.masses[1], params.lengths[0],
@@ -120,14 +120,14 @@ TEST_CASE("rhs: double pendulum matches the paper's Hamilton equations (6.18)") 
         std::max(worst_h, std::fabs(c.hamiltonian_closed_form(x) - h_paper) / std::fabs(h_paper));
   }
   INFO("worst relative error: H ", worst_h, ", f ", worst_f);
-  CHECK(worst_h < tolerance);
-  CHECK(worst_f < tolerance);
+  CHECK(worst_h < paper_tolerance);
+  CHECK(worst_f < paper_tolerance);
 }
 
 TEST_CASE("hamiltonian: triple pendulum matches the paper's H with its typos corrected") {
   std::mt19937_64 rng(2);
   double worst_h = 0, worst_dphi = 0, worst_det = 0;
-  for (int s = 0; s < samples; ++s) {
+  for (int s = 0; s < paper_samples; ++s) {
     const chain_parameters params = npend::test::random_parameters(3, rng);
     const chain c(params);
     const triple_pendulum_paper paper{params.masses[0],  params.masses[1],  params.masses[2],
@@ -145,9 +145,9 @@ TEST_CASE("hamiltonian: triple pendulum matches the paper's H with its typos cor
     worst_det = std::max(worst_det, std::fabs(det - paper.det_A(x)) / paper.det_A(x));
   }
   INFO("worst relative error: H ", worst_h, ", dphi ", worst_dphi, ", det A ", worst_det);
-  CHECK(worst_h < tolerance);
-  CHECK(worst_dphi < tolerance);
-  CHECK(worst_det < tolerance);
+  CHECK(worst_h < paper_tolerance);
+  CHECK(worst_dphi < paper_tolerance);
+  CHECK(worst_det < paper_tolerance);
 }
 
 TEST_CASE("hamiltonian: the paper's uncorrected p1 p2 sign (error 1) is really wrong") {
