@@ -18,6 +18,9 @@ inline constexpr int work_slots = 229;
 /// inputs).
 void coefficients(const double* params, const double* inputs, int order, double* series, double* work) noexcept;
 void coefficients(const long double* params, const long double* inputs, int order, long double* series, long double* work) noexcept;
+/// The same on dual numbers: with x_i's derivative set to w_i in k = 0, the derivatives
+/// of series are the coefficients of the tangent vector w(t), w' = J(x(t)) w.
+void coefficients(const npend::taylor::dual* params, const npend::taylor::dual* inputs, int order, npend::taylor::dual* series, npend::taylor::dual* work) noexcept;
 
 /// This link count's entry of the runtime's Taylor table.
 extern const taylor_kernels kernels;

@@ -475,6 +475,10 @@ void coefficients(const long double* params, const long double* inputs, int orde
   recurrences(params, inputs, order, series, work);
 }
 
+void coefficients(const npend::taylor::dual* params, const npend::taylor::dual* inputs, int order, npend::taylor::dual* series, npend::taylor::dual* work) noexcept {
+  recurrences(params, inputs, order, series, work);
+}
+
 const taylor_kernels kernels = {
     .state_size = 6,
     .param_size = 22,
@@ -482,6 +486,7 @@ const taylor_kernels kernels = {
     .work_slots = work_slots,
     .coefficients = &coefficients,
     .coefficients_long = &coefficients,
+    .coefficients_dual = &coefficients,
 };
 
 }  // namespace npend::generated::taylor_physical_3

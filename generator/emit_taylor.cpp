@@ -351,7 +351,10 @@ chain_sources emit_taylor(int n, const emitted_function& rhs, const std::string&
                          "time dependence.",
                          inputs)
            : std::string("inputs is not read (the chain has no\n/// inputs).")) +
-      "\n" + signature("double") + ";\n" + signature("long double") + ";\n\n";
+      "\n" + signature("double") + ";\n" + signature("long double") + ";\n" +
+      "/// The same on dual numbers: with x_i's derivative set to w_i in k = 0, the derivatives\n"
+      "/// of series are the coefficients of the tangent vector w(t), w' = J(x(t)) w.\n" +
+      signature("npend::taylor::dual") + ";\n\n";
   out.header +=
       "/// This link count's entry of the runtime's Taylor table.\nextern const taylor_kernels "
       "kernels;\n\n";
@@ -369,13 +372,13 @@ chain_sources emit_taylor(int n, const emitted_function& rhs, const std::string&
           "T* series, T* work) noexcept {{\n",
           printer.reads_inputs() ? "" : "[[maybe_unused]] ") +
       body + "}\n\n}  // namespace\n\n";
-  for (const char* type : {"double", "long double"})
+  for (const char* type : {"double", "long double", "npend::taylor::dual"})
     out.source +=
         signature(type) + " {\n  recurrences(params, inputs, order, series, work);\n}\n\n";
   out.source += fmt::format(
       "const taylor_kernels kernels = {{\n    .state_size = {},\n    .param_size = {},\n"
       "    .input_size = {},\n    .work_slots = work_slots,\n    .coefficients = &coefficients,\n"
-      "    .coefficients_long = &coefficients,\n}};\n\n",
+      "    .coefficients_long = &coefficients,\n    .coefficients_dual = &coefficients,\n}};\n\n",
       states, param_count(n, kind), inputs);
   out.source += fmt::format("}}  // namespace npend::generated::{}\n", stem);
   return out;

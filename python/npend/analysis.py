@@ -491,7 +491,9 @@ def lyapunov(
     stepper : str, optional
         A stepper as for npend.simulate that integrates the variational equations; the
         Gauss-Legendre ones (gauss6, gauss4) carry the tangent vectors by their exact
-        tangent map, an adaptive one steps under atol and rtol between renormalisations.
+        tangent map, an adaptive one (taylor among them: the Taylor series of the state and
+        the vectors) steps under atol and rtol between renormalisations; rosenbrock4 is
+        refused.
     maximal : bool, optional
         Only the largest exponent.
     exponents : int, optional

@@ -98,7 +98,8 @@ class LyapunovResult(_Result):
     max_rel_energy_error : float
         The largest |H - H(0)| / |H(0)| at the renormalisations.
     method : str
-        "tangent map" (Gauss-Legendre steppers) or "variational equations".
+        "tangent map" (Gauss-Legendre steppers), "Taylor series of the variational
+        equations" (taylor) or "variational equations".
     state : ndarray, shape (2n,)
         The final state.
     """

@@ -82,6 +82,22 @@ TEST_CASE("npend lyapunov: --maximal, another stepper, and the readable table") 
   CHECK(j["method"] == "variational equations");
   CHECK(j["renormalisation_interval"].get<double>() == doctest::Approx(0.5));
 
+  // taylor: the Taylor series of the variational equations, the library's numbers.
+  const auto t = run_npend(
+      "lyapunov --links 2 --phi 2,-1 --t-end 10 --dt 0.01 --stepper taylor --abs-tol 1e-12 "
+      "--rel-tol 1e-12 --json");
+  REQUIRE(t.exit_code == 0);
+  const auto tj = nlohmann::json::parse(t.out);
+  CHECK(tj["method"] == "Taylor series of the variational equations");
+  npend::lyapunov_options o;
+  o.integration.t_end = 10;
+  o.integration.dt = 0.01;
+  o.integration.stepper = npend::stepper_kind::taylor;
+  o.integration.abs_tol = o.integration.rel_tol = 1e-12;
+  const auto library = npend::lyapunov_spectrum(npend::chain(npend::chain_parameters::uniform(2)),
+                                                std::vector<double>{2, -1, 0, 0}, o);
+  CHECK(tj["exponents"].get<std::vector<double>>() == library.exponents);
+
   const auto table = run_npend("lyapunov --links 2 --phi 2,-1 --t-end 10 --dt 0.01");
   REQUIRE(table.exit_code == 0);
   for (const char* text : {"Lyapunov spectrum of the 2-link chain", "lambda_i (1/s)",

@@ -152,3 +152,10 @@ def test_lyapunov_takes_the_tolerances_of_an_adaptive_stepper():
     tight = npend.lyapunov(c, x0, 5.0, dt=0.01, stepper="dopri5")
     assert not np.array_equal(r.exponents, tight.exponents)
     assert r.exponents == pytest.approx(tight.exponents, abs=1e-3)
+    # taylor: the Taylor series of the variational equations, under the same keywords.
+    t = npend.lyapunov(c, x0, 5.0, dt=0.01, stepper="taylor", atol=1e-12, rtol=1e-12)
+    ref = npend_json("lyapunov", "--links", 2, "--phi", "1,0.5", "--t-end", 5, "--dt", 0.01,
+                     "--stepper", "taylor", "--abs-tol", 1e-12, "--rel-tol", 1e-12)
+    assert t.method == "Taylor series of the variational equations"
+    assert np.array_equal(t.exponents, ref["exponents"])
+    assert t.exponents == pytest.approx(tight.exponents, abs=1e-6)

@@ -86,13 +86,19 @@ constexpr int torque_index(int /*n*/, int i) { return 1 + i; }
 
 }  // namespace cart_layout
 
+namespace taylor {
+struct dual;  // npend/integrators/taylor_recurrences.hpp
+}  // namespace taylor
+
 /// The Taylor coefficients of one model's solution for one link count (generated
 /// taylor_<stem>_<n>.hpp): coefficients(params, inputs, order, series, work) fills
 /// series[i·(order+1) + k], k = 1..order, the coefficient of τ^k in x_i(t + τ), from the
 /// state in k = 0, by the recurrences of automatic differentiation over the equations'
 /// nodes. inputs holds the series of the time-dependent inputs w the same way (k <
 /// order; not read by models without inputs), work work_slots·(order + 1) numbers. The
-/// long double version is the same recurrences in long double.
+/// long double version is the same recurrences in long double; the dual one the same on dual
+/// numbers, whose derivatives carry the coefficients of a tangent vector (the variational
+/// equations; taylor::dual), params and inputs as constants (no derivative).
 struct taylor_kernels {
   int state_size;
   int param_size;
@@ -102,6 +108,8 @@ struct taylor_kernels {
                        double* work) noexcept;
   void (*coefficients_long)(const long double* params, const long double* inputs, int order,
                             long double* series, long double* work) noexcept;
+  void (*coefficients_dual)(const taylor::dual* params, const taylor::dual* inputs, int order,
+                            taylor::dual* series, taylor::dual* work) noexcept;
 };
 
 /// The emitted functions of one link count (see generated chain_<n>.hpp for each one's

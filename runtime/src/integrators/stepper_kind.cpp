@@ -33,7 +33,7 @@ constexpr std::array<stepper_info, 8> infos{{
      "implicit Gauss-Legendre, 3 stages, order 6, fixed step, symplectic", false, true, true, true},
     {stepper_kind::taylor, "taylor",
      "Taylor's method, adaptive order and step, on the generated recurrences, dense output", true,
-     false, false, false},
+     false, true, false},
 }};
 
 constexpr auto kinds = [] {
@@ -84,9 +84,6 @@ std::string_view variational_refusal(stepper_kind kind) {
     case stepper_kind::rosenbrock4:
       return "its stages need the Jacobian of the augmented system, which holds second "
              "derivatives of f that the generated kernels do not provide";
-    case stepper_kind::taylor:
-      return "its generated Taylor kernels hold the chain's equations, not their variational "
-             "equations";
     default:
       return "";
   }

@@ -145,12 +145,37 @@ TEST_CASE("lyapunov_spectrum: every stepper gives the same spectrum of a regular
   const chain c(chain_parameters::uniform(3));
   const auto x0 = zigzag(c, 0.1);
   const auto reference = npend::lyapunov_spectrum(c, x0, short_run(50));
-  for (const stepper_kind stepper : {stepper_kind::gauss4, stepper_kind::rk4, stepper_kind::dopri5,
-                                     stepper_kind::rkf78, stepper_kind::bulirsch_stoer}) {
+  for (const stepper_kind stepper :
+       {stepper_kind::gauss4, stepper_kind::rk4, stepper_kind::dopri5, stepper_kind::rkf78,
+        stepper_kind::bulirsch_stoer, stepper_kind::taylor}) {
     CAPTURE(npend::stepper_name(stepper));
     const auto r = npend::lyapunov_spectrum(c, x0, short_run(50, stepper));
     for (std::size_t i = 0; i < 6; ++i)
       CHECK(std::fabs(r.exponents[i] - reference.exponents[i]) < 1e-5);
+  }
+}
+
+TEST_CASE(
+    "lyapunov_spectrum: taylor's variational series pair and sum to 0 on the chaotic start, "
+    "with gauss6's exponents") {
+  const chain c(chain_parameters::uniform(3));
+  const auto x0 = zigzag(c, 1.5);
+  auto o = short_run(100, stepper_kind::taylor);
+  o.integration.abs_tol = o.integration.rel_tol = 1e-13;
+  const auto taylor = npend::lyapunov_spectrum(c, x0, o);
+  CHECK(taylor.method == "Taylor series of the variational equations");
+  INFO("pairs off by ", pair_defect(taylor.exponents), ", sum ", taylor.sum);
+  CHECK(pair_defect(taylor.exponents) < 1e-10);
+  CHECK(std::fabs(taylor.sum) < 1e-10);
+  CHECK(taylor.exponents[0] > 0.1);
+  // Over 10 s both integrators follow the same chaotic trajectory (to 1e-9), so their
+  // finite-time exponents agree far below the exponents' own spread.
+  o.integration.t_end = 10;
+  const auto short_taylor = npend::lyapunov_spectrum(c, x0, o);
+  const auto gauss = npend::lyapunov_spectrum(c, x0, short_run(10, stepper_kind::gauss6, 1e-3));
+  for (std::size_t i = 0; i < 6; ++i) {
+    CAPTURE(i);
+    CHECK(std::fabs(short_taylor.exponents[i] - gauss.exponents[i]) < 1e-7);
   }
 }
 

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "npend/integrators/integrate.hpp"
+#include "npend/integrators/taylor_recurrences.hpp"
 #include "npend/kernel_set.hpp"
 
 namespace npend {
@@ -66,6 +67,46 @@ class taylor_integrator {
 
 extern template class taylor_integrator<double>;
 extern template class taylor_integrator<long double>;
+
+/// Taylor's method for a state and k tangent vectors: x' = f(x) with w_j' = J(x) w_j, the
+/// variational equations (Lyapunov exponents). Their coefficients come from the same
+/// generated recurrences run on dual numbers (taylor_kernels::coefficients_dual), once per
+/// vector; each run also gives the state's coefficients, the same in every run. Order and
+/// step as taylor_integrator's, the norms taken over the state and the vectors together.
+class taylor_tangents {
+ public:
+  /// `vectors` ≥ 1 tangent vectors; tolerances and order as taylor_integrator's.
+  taylor_tangents(const kernel_set& kernels, double abs_tol, double rel_tol, int vectors,
+                  int order = 0);
+
+  /// Starts at (t, x) with the vectors W (column-major, dim × vectors: vector j at j·dim).
+  void reset(double t, const double* x, const double* W);
+  /// One step towards sign(direction), no longer than |limit| (0: no limit), as
+  /// taylor_integrator::step. Returns the step taken.
+  double step(double direction, double limit, double fallback);
+  /// The Taylor polynomials of the last step at step_begin() + τ, into x and W.
+  void state_at(double tau, double* x, double* W) const;
+
+  const std::vector<double>& state() const { return m_x; }
+  /// The vectors, column-major (vector j at j·dimension()).
+  const std::vector<double>& tangents() const { return m_w; }
+  double time() const { return m_t; }
+  double step_begin() const { return m_t_begin; }
+  int order() const { return m_order; }
+  std::size_t dimension() const { return m_x.size(); }
+
+ private:
+  void coefficients();
+
+  const kernel_set* m_kernels;
+  const taylor_kernels* m_taylor;
+  double m_abs_tol, m_rel_tol;
+  int m_order;
+  std::size_t m_vectors;
+  std::vector<taylor::dual> m_params, m_inputs, m_series, m_work;
+  std::vector<double> m_input_values, m_x, m_w;
+  double m_t = 0, m_t_begin = 0;
+};
 
 /// taylor_integrator<double> as an odeint dense-output stepper: initialize, do_step,
 /// calc_state, current_state/time/time_step — so integrate_with, npend::integrate and

@@ -7,7 +7,8 @@
 // the order. Each sum runs over one series forwards and another backwards; the one read
 // backwards is passed mirrored, r[m − j] = u[j], so both run forwards in memory and the sum
 // vectorises. The header is self-contained (no library), like <npend/chain_kernels.hpp>, and
-// templated on the number type so the same kernels run in double and long double.
+// templated on the number type so the same kernels run in double, long double and on dual
+// numbers (the variational equations).
 // (Jorba & Zou, "A software package for the numerical integration of ODEs by means of
 // high-order Taylor methods", Experimental Mathematics 14 (2005), section 2.)
 #pragma once
@@ -74,5 +75,40 @@ inline void sin_cos(T u0, const T* w_m, T* s, T* c, int m, int k) noexcept {
   s[k] = (dot(c + 1, w + 1, std::ptrdiff_t{k} - 1) + c[0] * w[0]) * inverse;
   c[k] = -(dot(s + 1, w + 1, std::ptrdiff_t{k} - 1) + s[0] * w[0]) * inverse;
 }
+
+/// A dual number: a value and its derivative along one direction (forward-mode automatic
+/// differentiation). The generated kernels run their recurrences on it too: started from the
+/// state x with derivative w, they give the Taylor coefficients of the solution in the values
+/// and, in the derivatives, those of the tangent vector w(t) that solves the variational
+/// equations w' = J(x(t)) w — the same recurrences differentiated, with no other kernel. The
+/// values are computed by the same operations in the same order as in double, so they are the
+/// double kernels' to the bit.
+struct dual {
+  double v = 0;  ///< the value
+  double d = 0;  ///< its derivative
+
+  constexpr dual() = default;
+  // Implicit from a number (a constant: no derivative), as the recurrences write T(1), T(k),
+  // and sums that start at 0.
+  constexpr dual(double value, double derivative = 0) noexcept : v(value), d(derivative) {}
+
+  constexpr dual& operator+=(dual b) noexcept {
+    v += b.v;
+    d += b.d;
+    return *this;
+  }
+};
+
+constexpr dual operator+(dual a, dual b) noexcept { return {a.v + b.v, a.d + b.d}; }
+constexpr dual operator-(dual a, dual b) noexcept { return {a.v - b.v, a.d - b.d}; }
+constexpr dual operator-(dual a) noexcept { return {-a.v, -a.d}; }
+constexpr dual operator*(dual a, dual b) noexcept { return {a.v * b.v, a.v * b.d + a.d * b.v}; }
+constexpr dual operator/(dual a, dual b) noexcept {
+  const double q = a.v / b.v;
+  return {q, (a.d - q * b.d) / b.v};
+}
+// Found by argument-dependent lookup where the recurrences call sin and cos (sin_cos).
+inline dual sin(dual a) noexcept { return {std::sin(a.v), std::cos(a.v) * a.d}; }
+inline dual cos(dual a) noexcept { return {std::cos(a.v), -std::sin(a.v) * a.d}; }
 
 }  // namespace npend::taylor

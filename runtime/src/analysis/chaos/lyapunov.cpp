@@ -18,6 +18,7 @@
 #include "npend/integrators/gauss_legendre.hpp"
 #include "npend/integrators/integrate_system.hpp"
 #include "npend/integrators/integration_error.hpp"
+#include "npend/integrators/taylor.hpp"
 
 namespace npend {
 
@@ -80,6 +81,36 @@ tangent_advance gauss_legendre_advance(const chain& c, double dt) {
   };
 }
 
+// The Taylor route: the variational equations' own Taylor series (taylor_tangents), each
+// chunk stepped adaptively to its end. A stop inside the chunk returns the whole steps of dt
+// done, with the state and vectors at that time, from the last step's polynomials.
+tangent_advance taylor_advance(const chain& c, const integration_options& o, Eigen::Index k) {
+  auto integrator = std::make_shared<taylor_tangents>(c.kernels_in_use(), o.abs_tol, o.rel_tol,
+                                                      static_cast<int>(k), o.taylor_order);
+  return [integrator, dt = o.dt](std::vector<double>& x, Eigen::MatrixXd& W, double t,
+                                 std::size_t steps, const step_poll& poll) {
+    const double end = t + static_cast<double>(steps) * dt;
+    // A step that lands on `end` may stop an ulp short of it in floating point.
+    const double slack = 4 * std::numeric_limits<double>::epsilon() * std::fabs(end);
+    integrator->reset(t, x.data(), W.data());
+    std::size_t done = 0;
+    while (end - integrator->time() > slack) {
+      integrator->step(1.0, end - integrator->time(), dt);
+      done = std::min(steps,
+                      static_cast<std::size_t>(std::floor((integrator->time() - t) / dt + 1e-9)));
+      if (end - integrator->time() > slack && poll(done)) {
+        done = std::min(done, steps - 1);
+        integrator->state_at(t + static_cast<double>(done) * dt - integrator->step_begin(),
+                             x.data(), W.data());
+        return done;
+      }
+    }
+    std::copy(integrator->state().begin(), integrator->state().end(), x.begin());
+    std::copy(integrator->tangents().begin(), integrator->tangents().end(), W.data());
+    return steps;
+  };
+}
+
 // A chunk's integration as the step poll sees it: its progress in steps, and the poll's
 // answer as the stop request.
 class poll_control final : public run_control {
@@ -137,12 +168,15 @@ void with_advance(const chain& c, const integration_options& o, Eigen::Index k, 
     case stepper_kind::gauss6:
       method = "tangent map";
       return body(gauss_legendre_advance<gauss_legendre6>(c, o.dt));
+    case stepper_kind::taylor:
+      method = "Taylor series of the variational equations";
+      return body(taylor_advance(c, o, k));
     default:
       break;
   }
   method = "variational equations";
   // No stepper on this route calls the Jacobian: rosenbrock4 is refused (see
-  // lyapunov_options) and Gauss–Legendre takes the tangent-map route.
+  // lyapunov_options), Gauss–Legendre and Taylor take their own routes.
   const auto system = detail::explicit_system(variational_system(c, k));
   const auto d = static_cast<std::size_t>(c.state_size());
   const std::size_t dim = d + d * static_cast<std::size_t>(k);

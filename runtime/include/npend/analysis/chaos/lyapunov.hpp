@@ -31,7 +31,10 @@ namespace npend {
 ///   system of dimension 2n(k + 1) (npend::integrate_system) — for the explicit Runge–Kutta
 ///   methods also the exact derivative of the discrete step, but not a symplectic one;
 ///   the adaptive ones control the error of the tangent vectors too;
-/// - rosenbrock4 and taylor are refused (variational_refusal says why).
+/// - taylor: the Taylor series of the state and the variational equations together, from the
+///   generated recurrences on dual numbers (taylor_tangents), each renormalisation interval
+///   stepped adaptively under abs_tol and rel_tol (dt only sets the interval's grid);
+/// - rosenbrock4 is refused (variational_refusal says why).
 struct lyapunov_options {
   integration_options integration;
   /// Time (s) between re-orthonormalisations, rounded to a whole number ≥ 1 of steps dt.
@@ -98,7 +101,8 @@ struct lyapunov_result {
   std::size_t renormalisations = 0;
   /// max |H − H0| / |H0| at the renormalisation times (|H − H0| for H0 = 0).
   double max_rel_energy_error = 0;
-  /// "tangent map" (Gauss–Legendre) or "variational equations".
+  /// "tangent map" (Gauss–Legendre), "Taylor series of the variational equations" (taylor) or
+  /// "variational equations" (the other steppers).
   std::string method;
   /// The state at `t` (dim 2n).
   std::vector<double> state;
