@@ -2,9 +2,12 @@
 // alone) of the triple pendulum over T = 1000 s at dt = 1e-3 — gauss6 with the exact tangent
 // map of its steps (the default), and rk4 integrating the variational equations — from the
 // demo's strong excitation (the arms zigzag from rest, ε = E/(m g l) = 1.5). Median of a few
-// runs. Then the wall time of the Floquet multipliers of the uniform-rod triple pendulum on
-// a vertically shaken pivot (Acheson's setting) over one drive period. Prints a Markdown
-// section (docs/benchmarks.md, through bench/run).
+// runs. Then taylor (the Taylor series of the variational equations) against gauss6 at equal
+// accuracy: each setting's error in the state at t = 10 s against a long double Taylor
+// reference, beside its time for the spectrum and for the maximal exponent. Then the wall time of
+// the Floquet multipliers of the uniform-rod triple pendulum on a vertically shaken pivot
+// (Acheson's setting) over one drive period. Prints a Markdown section (docs/benchmarks.md, through
+// bench/run).
 //
 //   npend_bench_lyapunov [--quick]     (--quick: T = 100 s and one run, a smoke run)
 #include "npend/analysis/chaos/lyapunov.hpp"
@@ -13,6 +16,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <numbers>
 #include <string>
@@ -20,6 +24,7 @@
 
 #include "npend/analysis/stability/floquet.hpp"
 #include "npend/excitation.hpp"
+#include "npend/integrators/taylor.hpp"
 
 namespace {
 
@@ -48,6 +53,62 @@ measurement measure(const npend::chain& c, const std::vector<double>& x0,
   }
   std::sort(times.begin(), times.end());
   return {times[times.size() / 2], result};
+}
+
+// The state at t_end from x0 by long double Taylor steps at 1e-19, the last cut to t_end.
+std::vector<long double> reference_state(const npend::chain& c, const std::vector<double>& x0,
+                                         double t_end) {
+  npend::taylor_integrator<long double> integrator(c.kernels_in_use(), 1e-19, 1e-19);
+  std::vector<long double> x(x0.begin(), x0.end());
+  integrator.reset(0, x.data());
+  const long double end = t_end;
+  while (integrator.time() < end) integrator.step(1, end - integrator.time(), 0.1L);
+  return integrator.state();
+}
+
+// taylor's variational series against gauss6's tangent map: for each setting the error of the
+// state the spectrum's run reaches at t = 10 s, and the time of the spectrum and of the
+// maximal exponent over t_end.
+void equal_accuracy_section(const npend::chain& c, const std::vector<double>& x0, double t_end,
+                            int runs) {
+  const auto reference = reference_state(c, x0, 10);
+  struct setting {
+    npend::stepper_kind stepper;
+    double dt, tol;
+  };
+  const std::vector<setting> settings{
+      {npend::stepper_kind::gauss6, 5e-3, 0},     {npend::stepper_kind::gauss6, 2e-3, 0},
+      {npend::stepper_kind::gauss6, 1e-3, 0},     {npend::stepper_kind::taylor, 1e-3, 1e-10},
+      {npend::stepper_kind::taylor, 1e-3, 1e-12}, {npend::stepper_kind::taylor, 1e-3, 1e-14}};
+  fmt::print(
+      "\n**At equal accuracy: taylor against gauss6.** The accuracy of a setting is the largest "
+      "error of the state its spectrum run reaches at t = 10 s, against a long double Taylor run "
+      "at 1e-19 (the chaotic start magnifies every error by e^(λ t)); the times are the spectrum's "
+      "and the maximal exponent's over T = {:g} s, medians of {} run{}. taylor steps under the "
+      "tolerance over the state and the vectors, dt = 1e-3 s only sets the grid of the "
+      "re-orthonormalisations (every 0.1 s).\n\n",
+      t_end, runs, runs == 1 ? "" : "s");
+  fmt::print(
+      "| stepper | setting | state error at t = 10 s | spectrum (s) | maximal exponent (s) | λ_1 "
+      "(1/s) |\n");
+  fmt::print("|---|---|---:|---:|---:|---:|\n");
+  for (const setting& s : settings) {
+    npend::lyapunov_options o;
+    o.integration.stepper = s.stepper;
+    o.integration.dt = s.dt;
+    if (s.tol > 0) o.integration.abs_tol = o.integration.rel_tol = s.tol;
+    o.integration.t_end = 10;
+    const auto ten = npend::lyapunov_spectrum(c, x0, o);
+    double error = 0;
+    for (std::size_t i = 0; i < x0.size(); ++i)
+      error = std::max(error, static_cast<double>(std::fabs(ten.state[i] - reference[i])));
+    o.integration.t_end = t_end;
+    const measurement spectrum = measure(c, x0, o, false, runs);
+    const measurement maximal = measure(c, x0, o, true, runs);
+    fmt::print("| {} | {} | {:.1e} | {:.2f} | {:.2f} | {:.4f} |\n", npend::stepper_name(s.stepper),
+               s.tol > 0 ? fmt::format("tol {:g}", s.tol) : fmt::format("dt {:g}", s.dt), error,
+               spectrum.seconds, maximal.seconds, spectrum.result.exponents[0]);
+  }
 }
 
 }  // namespace
@@ -88,6 +149,7 @@ int main(int argc, char** argv) {
       "\nThe exponents of the two steppers differ: at dt = 1e-3 their trajectories of this "
       "chaotic motion part after some tens of seconds, and finite-time exponents of the two "
       "runs need not agree (see the spread that `npend lyapunov` reports).\n");
+  equal_accuracy_section(c, x0, t_end, runs);
 
   // Floquet: the inverted uniform-rod triple pendulum (l = 0.2 m) on a pivot shaken
   // vertically with a = 2 mm at Ω = 1500 rad/s, one period of 400 gauss6 steps, the tangent

@@ -38,7 +38,8 @@ std::vector<std::pair<std::string, npend::chain_parameters>> models() {
 
 std::vector<double> start_of(const chain& c) {
   std::vector<double> x(static_cast<std::size_t>(c.state_size()));
-  for (std::size_t i = 0; i < x.size(); ++i) x[i] = 0.7 * std::sin(1.3 * static_cast<double>(i) + 0.4);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    x[i] = 0.7 * std::sin(1.3 * static_cast<double>(i) + 0.4);
   return x;
 }
 
@@ -71,7 +72,8 @@ std::vector<dual> dual_coefficients(const chain& c, const std::vector<double>& x
   if (t.input_size > 0) k.input_series(0.0, order, input_values.data());
   const std::vector<dual> params(k.packed().begin(), k.packed().end()),
       inputs(input_values.begin(), input_values.end());
-  std::vector<dual> series(x.size() * stride), work(static_cast<std::size_t>(t.work_slots) * stride);
+  std::vector<dual> series(x.size() * stride),
+      work(static_cast<std::size_t>(t.work_slots) * stride);
   for (std::size_t i = 0; i < x.size(); ++i) series[i * stride] = {x[i], w[i]};
   t.coefficients_dual(params.data(), inputs.data(), order, series.data(), work.data());
   return series;
@@ -81,8 +83,9 @@ std::vector<dual> dual_coefficients(const chain& c, const std::vector<double>& x
 
 using namespace taylor_tangents_test;
 
-TEST_CASE("taylor kernels on dual numbers: the values are the double kernels', the derivatives J w "
-          "and the coefficients' own derivatives") {
+TEST_CASE(
+    "taylor kernels on dual numbers: the values are the double kernels', the derivatives J w "
+    "and the coefficients' own derivatives") {
   constexpr int order = 8;
   constexpr auto stride = static_cast<std::size_t>(order + 1);
   for (const auto& [name, parameters] : models()) {
@@ -105,7 +108,8 @@ TEST_CASE("taylor kernels on dual numbers: the values are the double kernels', t
     for (std::size_t i = 0; i < d; ++i) {
       double jw = 0;
       for (std::size_t j = 0; j < d; ++j) jw += jac[i * d + j] * w[j];
-      worst_jw = std::max(worst_jw, std::fabs(duals[i * stride + 1].d - jw) / std::max(1.0, std::fabs(jw)));
+      worst_jw = std::max(worst_jw,
+                          std::fabs(duals[i * stride + 1].d - jw) / std::max(1.0, std::fabs(jw)));
     }
     CHECK(worst_jw < 1e-13);
     // Every order: the derivative of the double coefficient along w, by central differences
@@ -116,7 +120,8 @@ TEST_CASE("taylor kernels on dual numbers: the values are the double kernels', t
       up[i] += h * w[i];
       down[i] -= h * w[i];
     }
-    const auto plus = double_coefficients(c, up, order), minus = double_coefficients(c, down, order);
+    const auto plus = double_coefficients(c, up, order),
+               minus = double_coefficients(c, down, order);
     double worst_fd = 0, scale = 0;
     for (std::size_t i = 0; i < plain.size(); ++i) {
       worst_fd = std::max(worst_fd, std::fabs(duals[i].d - (plus[i] - minus[i]) / (2 * h)));
@@ -127,8 +132,9 @@ TEST_CASE("taylor kernels on dual numbers: the values are the double kernels', t
   }
 }
 
-TEST_CASE("taylor_tangents: the vectors are the flow's derivative, symplectic, and the state the "
-          "taylor stepper's") {
+TEST_CASE(
+    "taylor_tangents: the vectors are the flow's derivative, symplectic, and the state the "
+    "taylor stepper's") {
   const chain c(npend::chain_parameters::uniform(3));
   const std::vector<double> x0{0.5, -0.3, 0.4, 0.1, 0.0, -0.2};
   constexpr double t_end = 5, tol = 1e-14;
