@@ -173,6 +173,11 @@ function(npend_generated_library target)
   set(batch_sources ${sources})
   list(FILTER batch_sources INCLUDE REGEX "/batch_[0-9]+\\.cpp$")
   npend_use_wide_vectors(${target} ${batch_sources})
+  # The kernels and their index once more for each lane ISA variant (cmake/npend_lanes.cmake).
+  set(lane_sources ${sources})
+  list(FILTER lane_sources INCLUDE REGEX "/batch_([0-9]+|index)\\.cpp$")
+  npend_add_lane_variants(${target} SOURCES ${lane_sources} LIBRARIES PkgConfig::SLEEF
+                          OPTIONS -Wno-unused-variable)
 endfunction()
 
 # Under -march with AVX-512, GCC still prefers 256-bit vectors; the batch kernels and their

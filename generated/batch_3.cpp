@@ -3,6 +3,7 @@
 #include "batch_3.hpp"
 
 namespace npend::generated::batch_3 {
+inline namespace NPEND_BATCH_ISA_NAMESPACE {
 
 void rhs_batch(const double* x, const double* params, double* dxdt, int blocks,
                std::size_t stride) noexcept {
@@ -301,4 +302,5 @@ const batch_kernels kernels = {
     .tangents_batch = &tangents_batch,
 };
 
+}  // namespace NPEND_BATCH_ISA_NAMESPACE
 }  // namespace npend::generated::batch_3

@@ -3,6 +3,7 @@
 #include "batch_4.hpp"
 
 namespace npend::generated::batch_4 {
+inline namespace NPEND_BATCH_ISA_NAMESPACE {
 
 void rhs_batch(const double* x, const double* params, double* dxdt, int blocks,
                std::size_t stride) noexcept {
@@ -418,4 +419,5 @@ const batch_kernels kernels = {
     .tangents_batch = &tangents_batch,
 };
 
+}  // namespace NPEND_BATCH_ISA_NAMESPACE
 }  // namespace npend::generated::batch_4

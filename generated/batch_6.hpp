@@ -9,6 +9,7 @@
 #include <npend/batch_kernels.hpp>
 
 namespace npend::generated::batch_6 {
+inline namespace NPEND_BATCH_ISA_NAMESPACE {
 
 inline constexpr int links = 6;
 
@@ -36,4 +37,5 @@ void tangents_batch(const double* x, const double* ws, int count, const double* 
 /// This link count's entry of the runtime's batch kernel table.
 extern const batch_kernels kernels;
 
+}  // namespace NPEND_BATCH_ISA_NAMESPACE
 }  // namespace npend::generated::batch_6

@@ -11,6 +11,8 @@
 
 namespace npend::generated {
 
+inline namespace NPEND_BATCH_ISA_NAMESPACE {
+
 namespace {
 
 const batch_kernels* const table[] = {&batch_1::kernels, &batch_2::kernels, &batch_3::kernels, &batch_4::kernels, &batch_5::kernels, &batch_6::kernels};
@@ -23,4 +25,5 @@ const batch_kernels* find_batch(int links) noexcept {
   return nullptr;
 }
 
+}  // namespace NPEND_BATCH_ISA_NAMESPACE
 }  // namespace npend::generated

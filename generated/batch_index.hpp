@@ -9,7 +9,10 @@
 
 namespace npend::generated {
 
+inline namespace NPEND_BATCH_ISA_NAMESPACE {
+
 /// The batch kernels for `links` links, or nullptr when that link count was not built.
 const batch_kernels* find_batch(int links) noexcept;
 
+}  // namespace NPEND_BATCH_ISA_NAMESPACE
 }  // namespace npend::generated

@@ -355,6 +355,16 @@ const char* tangents_signature =
 
 std::string batch_stem(int links) { return fmt::format("batch_{}", links); }
 
+namespace {
+
+// The batch kernels' definitions sit in the inline namespace of the ISA they are compiled for
+// (npend/batch_math.hpp), so that one program holds them for several ISAs, picked at run
+// time (the map's lanes, runtime/src/analysis/chaos/map_lanes.hpp).
+constexpr const char* isa_namespace_open = "inline namespace NPEND_BATCH_ISA_NAMESPACE {\n";
+constexpr const char* isa_namespace_close = "}  // namespace NPEND_BATCH_ISA_NAMESPACE\n";
+
+}  // namespace
+
 chain_sources emit_batch(int n, const emitted_function& rhs) {
   if (rhs.layout != argument_layout::state || rhs.returns_scalar || rhs.takes_inputs)
     throw std::logic_error("emit_batch: expects the point-mass chain's rhs");
@@ -370,9 +380,9 @@ chain_sources emit_batch(int n, const emitted_function& rhs) {
                             "// at [i*W + l]. Parameters params = [m_1..m_n, l_1..l_n, g] "
                             "(dim 2n+1 = {1}), shared by the lanes.\n\n"
                             "#include <npend/batch_kernels.hpp>\n\n"
-                            "namespace npend::generated::{2} {{\n\n"
+                            "namespace npend::generated::{2} {{\n{3}\n"
                             "inline constexpr int links = {0};\n\n",
-                            n, chain_layout::param_size(n), stem);
+                            n, chain_layout::param_size(n), stem, isa_namespace_open);
   out.header += fmt::format(
       "/// Hamilton's equations on `blocks` blocks of W lanes, block b at x + b*stride and\n"
       "/// dxdt + b*stride (each block dim 2n*W = {}*W); each lane as chain_{}::rhs, with\n"
@@ -393,11 +403,11 @@ chain_sources emit_batch(int n, const emitted_function& rhs) {
       tangents_signature);
   out.header += fmt::format(
       "/// This link count's entry of the runtime's batch kernel table.\n"
-      "extern const batch_kernels kernels;\n\n}}  // namespace npend::generated::{}\n",
-      stem);
+      "extern const batch_kernels kernels;\n\n{}}}  // namespace npend::generated::{}\n",
+      isa_namespace_close, stem);
 
   out.source = banner + fmt::format("#include \"{}.hpp\"\n\n", stem) +
-               fmt::format("namespace npend::generated::{} {{\n\n", stem);
+               fmt::format("namespace npend::generated::{} {{\n{}\n", stem, isa_namespace_open);
   const lane_program plain = lane_body(n, *rhs.graph, rhs.outputs);
   out.source +=
       fmt::format("{} {{\n", batch_signature) +
@@ -414,8 +424,8 @@ chain_sources emit_batch(int n, const emitted_function& rhs) {
       "\nconst batch_kernels kernels = {{\n    .links = links,\n    .width = batch_width,\n"
       "    .rhs_batch = &rhs_batch,\n    .tangent_batch = &tangent_batch,\n"
       "    .tangents_batch = &tangents_batch,\n}};\n\n"
-      "}}  // namespace npend::generated::{}\n",
-      stem);
+      "{}}}  // namespace npend::generated::{}\n",
+      isa_namespace_close, stem);
   return out;
 }
 
@@ -428,7 +438,8 @@ chain_sources emit_batch_index(const std::vector<int>& links) {
        {{"batch_kernels", "find_batch",
          "The batch kernels for `links` links, or nullptr when that link count was not built.",
          "table", "batch"}},
-       false},
+       false,
+       "NPEND_BATCH_ISA_NAMESPACE"},
       links);
 }
 

@@ -480,9 +480,13 @@ chain_sources emit_lookup_index(const lookup_index& index, const std::vector<int
   std::string list;
   for (const int n : links) list += (list.empty() ? "" : ",") + std::to_string(n);
   const std::string banner = generated_banner("npend-gen --index " + list);
+  const std::string open_inline =
+      index.inline_namespace.empty() ? "" : "inline namespace " + index.inline_namespace + " {\n\n";
+  const std::string close_inline =
+      index.inline_namespace.empty() ? "" : "}  // namespace " + index.inline_namespace + "\n";
   chain_sources out;
   out.header = banner + "#pragma once\n\n" + index.intro + "\n#include <" + index.include +
-               ">\n\nnamespace npend::generated {\n\n";
+               ">\n\nnamespace npend::generated {\n\n" + open_inline;
   for (const auto& t : index.tables)
     out.header +=
         fmt::format("/// {}\nconst {}* {}(int links) noexcept;\n\n", t.doc, t.type, t.lookup);
@@ -490,12 +494,12 @@ chain_sources emit_lookup_index(const lookup_index& index, const std::vector<int
     out.header +=
         "/// The built link counts, ascending: a pointer to `*count` entries.\n"
         "const int* built_links(int* count) noexcept;\n\n";
-  out.header += "}  // namespace npend::generated\n";
+  out.header += close_inline + "}  // namespace npend::generated\n";
 
   out.source = banner + fmt::format("#include \"{}.hpp\"\n\n", index.stem);
   for (const auto& t : index.tables)
     for (const int n : links) out.source += fmt::format("#include \"{}_{}.hpp\"\n", t.stem, n);
-  out.source += "\nnamespace npend::generated {\n\nnamespace {\n";
+  out.source += "\nnamespace npend::generated {\n\n" + open_inline + "namespace {\n";
   for (const auto& t : index.tables) {
     out.source += fmt::format("\nconst {}* const {}[] = {{", t.type, t.array);
     for (std::size_t i = 0; i < links.size(); ++i)
@@ -519,7 +523,7 @@ chain_sources emit_lookup_index(const lookup_index& index, const std::vector<int
         "\nconst int* built_links(int* count) noexcept {\n"
         "  *count = static_cast<int>(sizeof(links_built) / sizeof(links_built[0]));\n"
         "  return links_built;\n}\n";
-  out.source += "\n}  // namespace npend::generated\n";
+  out.source += "\n" + close_inline + "}  // namespace npend::generated\n";
   return out;
 }
 

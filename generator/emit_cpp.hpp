@@ -85,6 +85,9 @@ struct lookup_index {
   std::string include;  ///< the header that declares the table types
   std::vector<table> tables;
   bool built_links = false;
+  /// An inline namespace around the declarations and definitions (empty: none), such as the
+  /// batch kernels' ISA namespace.
+  std::string inline_namespace;
 };
 chain_sources emit_lookup_index(const lookup_index& index, const std::vector<int>& links);
 

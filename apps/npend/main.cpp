@@ -1,14 +1,17 @@
 // npend: the command-line front end (see docs/commands.md for every command).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <stdexcept>
+#include <string>
 
 #include "command.hpp"
 #include "input_parsing.hpp"
+#include "npend/analysis/chaos/chaos_map.hpp"
 #include "npend/analysis/chaos/map_device.hpp"
-#include "npend/batch_math.hpp"
 #include "signal_cleanup.hpp"
 #include "terminal_run.hpp"
 
@@ -47,13 +50,21 @@ void refuse_empty_values(const CLI::App& command) {
   }
 }
 
-// npend's version and what this build and machine run the maps on: the batch kernels'
-// instruction set, and the GPU the maps' --device cuda would use (or why there is none).
+// npend's version and what this build and machine run the maps on: the batch lanes'
+// instruction set (and those it could take), and the GPU the maps' --device cuda would use
+// (or why there is none).
 std::string version_text() {
   const npend::cuda_status gpu = npend::find_cuda();
+  std::string lanes;
+  try {
+    lanes = std::string(npend::batch_lane_isa());
+  } catch (const std::invalid_argument& e) {  // a bad NPEND_LANE_ISA
+    lanes = e.what();
+  }
   return fmt::format(
-      "npend 0.1\nbatch kernels: {} ({} lanes)\nGPU maps (--device cuda): {}", npend::batch_isa(),
-      npend::batch_width,
+      "npend 0.1\nbatch lanes: {} (this machine: {}; NPEND_LANE_ISA picks one)\n"
+      "GPU maps (--device cuda): {}",
+      lanes, fmt::join(npend::batch_lane_isas(), ", "),
       gpu.usable ? fmt::format("{}; CUDA driver {}, NVRTC {}", gpu.device, gpu.driver, gpu.nvrtc)
                  : "not available: " + gpu.problem);
 }

@@ -30,7 +30,6 @@
 #include "npend/analysis/chaos/chaos_map.hpp"
 #include "npend/analysis/chaos/map_grid.hpp"
 #include "npend/analysis/chaos/map_run.hpp"
-#include "npend/batch_math.hpp"
 #include "output_file.hpp"
 #include "plotting.hpp"
 #include "section_spec.hpp"
@@ -418,8 +417,8 @@ nlohmann::json assemble_map(const map_job& job, const nlohmann::json& facts,
   summary["forbidden"] = forbidden;
   summary["failed"] = failed;
   if (quantity == map_quantity::flip) summary["no_flip"] = counts.no_flip;
-  // The batch lanes the cells ran on (0: cell by cell), and the ISA they were built for.
-  summary["batch"] = {{"isa", batch_isa()}, {"lanes", batch_lanes(run.base_chain())}};
+  // The batch lanes the cells ran on (0: cell by cell), and the ISA they ran on.
+  summary["batch"] = {{"isa", batch_lane_isa()}, {"lanes", batch_lanes(run.base_chain())}};
   summary["stepper"] = stepper_name(run.cell().stepping.stepper);
   summary["resumed"] = o.resume;
   summary["files"] = {"map.npy", "map.json", "map.gp", "map.png"};

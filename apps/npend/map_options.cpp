@@ -151,6 +151,13 @@ void add_map_view_options(CLI::App& cmd, map_command_options& o) {
 }
 
 map_view describe_map(const map_command_options& o) {
+  // The lanes read NPEND_LANE_ISA when the first cell runs; a name they cannot run is
+  // refused here, before any file is touched.
+  try {
+    batch_lane_isa();
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(e.what());
+  }
   // Any chain: damping, springs and a driven pivot are axes too; map_grid::validate refuses
   // what a quantity or axis cannot take (an energy axis on a chain that loses energy).
   const chain c = o.chain.make_chain(cli::model_support::any, "npend map");

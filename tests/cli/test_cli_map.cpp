@@ -2,6 +2,7 @@
 // bytes for any thread count, and a run killed part way then finished with --resume giving
 // the same bytes as an uninterrupted one.
 #include <doctest/doctest.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,9 +11,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string_view>
+#include <vector>
 
 #include "npend/analysis/chaos/chaos_map.hpp"
-#include "npend/batch_math.hpp"
 #include "support/test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -51,7 +53,7 @@ TEST_CASE("npend map: the .npy grid holds the library's flip time of every cell"
   // A point-mass chain's flip map runs on the batch lanes.
   CHECK(j["batch"]["lanes"].get<int>() ==
         npend::batch_lanes(npend::chain(npend::chain_parameters::uniform(2))));
-  CHECK(j["batch"]["isa"] == npend::batch_isa());
+  CHECK(j["batch"]["isa"] == npend::batch_lane_isa());
   const npy m = read_npy(dir / "map.npy");
   CHECK(m.header.find("'shape': (10, 12)") != std::string::npos);
   CHECK(m.header.find("'descr': '<f8'") != std::string::npos);
@@ -690,4 +692,41 @@ TEST_CASE(
   REQUIRE(run_npend("map merge " + dir.string()).exit_code == 0);
   CHECK(fs::exists(dir / "map.json"));
   CHECK_FALSE(fs::exists(dir / "tiles"));
+}
+
+TEST_CASE("npend map: NPEND_LANE_ISA picks the lanes' ISA, and a name it cannot run is refused") {
+  const fs::path dir = fs::path(npend::test::temporary_directory("cli-map-isa"));
+  const std::vector<std::string_view> isas = npend::batch_lane_isas();
+  const auto run_on = [&](std::string_view isa, const fs::path& out) {
+    return npend::test::run_shell(fmt::format("NPEND_LANE_ISA={} {} {} --json --out {}", isa,
+                                              NPEND_CLI_PATH, grid, out.string()));
+  };
+  const auto baseline = run_on(isas.front(), dir / "baseline");
+  REQUIRE(baseline.exit_code == 0);
+  CHECK(nlohmann::json::parse(baseline.out)["batch"]["isa"] == isas.front());
+  const npy first = read_npy(dir / "baseline" / "map.npy");
+  for (const std::string_view isa : isas) {
+    CAPTURE(isa);
+    const auto r = run_on(isa, dir / std::string(isa));
+    REQUIRE(r.exit_code == 0);
+    CHECK(nlohmann::json::parse(r.out)["batch"]["isa"] == isa);
+    // The cells' flip times agree to round-off (each ISA's own sines; fused multiply-adds).
+    const npy m = read_npy(dir / std::string(isa) / "map.npy");
+    REQUIRE(m.values.size() == first.values.size());
+    int differing = 0;
+    for (std::size_t i = 0; i < m.values.size(); ++i) {
+      const double a = m.values[i], b = first.values[i];
+      const bool same = std::isnan(a)   ? std::isnan(b)
+                        : std::isinf(a) ? a == b
+                                        : std::fabs(a - b) <= 1e-7 * std::max(1.0, std::fabs(a));
+      differing += same ? 0 : 1;
+    }
+    CHECK(differing == 0);
+  }
+  const auto refused = run_on("neon", dir / "neon");
+  CHECK(refused.exit_code == 2);
+  CHECK(refused.out.empty());
+  CHECK(refused.err.find("npend map: error: NPEND_LANE_ISA: the maps' lanes run on one of") == 0);
+  CHECK(refused.err.find("not 'neon'") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "neon"));
 }

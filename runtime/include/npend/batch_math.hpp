@@ -8,41 +8,89 @@
 // and std::cos); the rest of a kernel is +, -, *, / over the lanes in `#pragma omp simd`
 // loops, so every lane's arithmetic is the same whichever slot it sits in.
 //
-// Every translation unit of one build sees the same W: the kernels and their callers must be
-// compiled for the same target (the table entry records W, and the runtime checks it).
+// The target ISA is the compiler's (its -march), unless the translation unit is one of the
+// lanes' variants: compiled with NPEND_LANE_TARGET = NPEND_LANE_AVX2 or NPEND_LANE_AVX512F
+// above the compiler's own ISA, this header switches what follows it to that ISA with
+// `#pragma GCC target` (and never switches back). Such a unit includes this header after
+// every other header that is not itself lane code: what follows is compiled for an ISA the
+// CPU may lack, and the inline functions of a header first seen there would be compiled for
+// it too, and could be the copy the linker keeps for every caller
+// (tests/runtime/chaos/check_lane_objects.py checks the objects for that). Templates
+// declared before the switch keep the baseline ISA wherever they are instantiated.
+//
+// Every definition here and in the kernels sits in an inline namespace named after the ISA,
+// so that one program holds the kernels and lanes of several ISAs (the runtime picks one
+// when a map runs: runtime/src/analysis/chaos/map_lanes.hpp), and a consumer built with
+// -march=native against a baseline library holds two distinct batch_sincos rather than one,
+// picked by the linker, that half of its callers would call with the wrong lane count.
 #pragma once
 
 #include <sleef.h>
 
-#if defined(__AVX512F__) || defined(__AVX__)
+// All of GCC's intrinsics, whatever the compiler's ISA: a variant calls those of its own.
+#if defined(__SSE2__)
 #include <immintrin.h>
-#elif defined(__SSE2__)
-#include <emmintrin.h>
 #else
 #error "npend's batch kernels need x86-64 (SSE2 or later)"
 #endif
 
-// The definitions below differ with the target ISA, so they sit in an inline namespace named
-// after it: a program whose parts are compiled for different targets (a consumer built with
-// -march=native against a baseline library) then holds two distinct batch_sincos rather than
-// one, picked by the linker, that half of its callers would call with the wrong lane count.
-#if defined(__AVX512F__)
+#include "npend/batch_levels.hpp"
+
+#if defined(NPEND_LANE_TARGET) && NPEND_LANE_TARGET > NPEND_LANE_BASELINE
+#if !defined(__GNUC__) || defined(__clang__)
+#error "npend's lane variants need GCC's #pragma GCC target"
+#endif
+#define NPEND_BATCH_LEVEL NPEND_LANE_TARGET
+// GCC does not define __AVX2__ and the like under the pragma in C++, hence the levels.
+#if NPEND_LANE_TARGET == NPEND_LANE_AVX512F
+#pragma GCC target("avx512f,avx2,fma,prefer-vector-width=512")
+#elif NPEND_LANE_TARGET == NPEND_LANE_AVX2
+#pragma GCC target("avx2,fma")
+#else
+#error "NPEND_LANE_TARGET: a lane variant is NPEND_LANE_AVX2 or NPEND_LANE_AVX512F"
+#endif
+#else
+#define NPEND_BATCH_LEVEL NPEND_LANE_BASELINE
+#endif
+
+#if NPEND_BATCH_LEVEL == NPEND_LANE_AVX512F
 #define NPEND_BATCH_ISA_NAMESPACE isa_avx512f
-#elif defined(__AVX2__) && defined(__FMA__)
+#elif NPEND_BATCH_LEVEL == NPEND_LANE_AVX2
 #define NPEND_BATCH_ISA_NAMESPACE isa_avx2
-#elif defined(__AVX__)
+#elif NPEND_BATCH_LEVEL == NPEND_LANE_AVX
 #define NPEND_BATCH_ISA_NAMESPACE isa_avx
 #else
 #define NPEND_BATCH_ISA_NAMESPACE isa_sse2
+#endif
+
+// sleef.h declares its 256- and 512-bit functions only where the compiler's own ISA has
+// them; a variant above it declares the one it calls, with SLEEF's own types.
+#if NPEND_BATCH_LEVEL >= NPEND_LANE_AVX2 && !defined(Sleef___m256d_2_DEFINED)
+typedef struct {
+  __m256d x, y;
+} Sleef___m256d_2;
+#define Sleef___m256d_2_DEFINED
+#endif
+#if NPEND_BATCH_LEVEL == NPEND_LANE_AVX2 && !defined(__AVX__)
+extern "C" Sleef___m256d_2 Sleef_sincosd4_u10avx2(__m256d);
+#endif
+#if NPEND_BATCH_LEVEL == NPEND_LANE_AVX512F && !defined(Sleef___m512d_2_DEFINED)
+typedef struct {
+  __m512d x, y;
+} Sleef___m512d_2;
+#define Sleef___m512d_2_DEFINED
+#endif
+#if NPEND_BATCH_LEVEL == NPEND_LANE_AVX512F && !defined(__AVX512F__)
+extern "C" Sleef___m512d_2 Sleef_sincosd8_u10avx512f(__m512d);
 #endif
 
 namespace npend {
 inline namespace NPEND_BATCH_ISA_NAMESPACE {
 
 /// Lanes of a batch kernel: 8 (AVX-512F), 4 (AVX, AVX2) or 2 (SSE2).
-#if defined(__AVX512F__)
+#if NPEND_BATCH_LEVEL == NPEND_LANE_AVX512F
 inline constexpr int batch_width = 8;
-#elif defined(__AVX__)
+#elif NPEND_BATCH_LEVEL >= NPEND_LANE_AVX
 inline constexpr int batch_width = 4;
 #else
 inline constexpr int batch_width = 2;
@@ -56,11 +104,11 @@ inline constexpr int batch_blocks = 4;
 /// The instruction set the batch kernels were compiled for: "avx512f", "avx2" (AVX2 with
 /// FMA), "avx" or "sse2".
 constexpr const char* batch_isa() noexcept {
-#if defined(__AVX512F__)
+#if NPEND_BATCH_LEVEL == NPEND_LANE_AVX512F
   return "avx512f";
-#elif defined(__AVX2__) && defined(__FMA__)
+#elif NPEND_BATCH_LEVEL == NPEND_LANE_AVX2
   return "avx2";
-#elif defined(__AVX__)
+#elif NPEND_BATCH_LEVEL == NPEND_LANE_AVX
   return "avx";
 #else
   return "sse2";
@@ -72,15 +120,15 @@ constexpr const char* batch_isa() noexcept {
 /// variant of the CPU it runs on). Finite x of any size (SLEEF reduces the argument
 /// exactly); NaN for ±inf or NaN.
 inline void batch_sincos(const double* x, double* s, double* c) noexcept {
-#if defined(__AVX512F__)
+#if NPEND_BATCH_LEVEL == NPEND_LANE_AVX512F
   const Sleef___m512d_2 r = Sleef_sincosd8_u10avx512f(_mm512_loadu_pd(x));
   _mm512_storeu_pd(s, r.x);
   _mm512_storeu_pd(c, r.y);
-#elif defined(__AVX2__) && defined(__FMA__)
+#elif NPEND_BATCH_LEVEL == NPEND_LANE_AVX2
   const Sleef___m256d_2 r = Sleef_sincosd4_u10avx2(_mm256_loadu_pd(x));
   _mm256_storeu_pd(s, r.x);
   _mm256_storeu_pd(c, r.y);
-#elif defined(__AVX__)
+#elif NPEND_BATCH_LEVEL == NPEND_LANE_AVX
   const Sleef___m256d_2 r = Sleef_sincosd4_u10avx(_mm256_loadu_pd(x));
   _mm256_storeu_pd(s, r.x);
   _mm256_storeu_pd(c, r.y);

@@ -1,13 +1,24 @@
-#include "batch_lanes.hpp"
-
+// clang-format off
+// The lanes' own headers last: in a lane variant's unit (cmake/npend_lanes.cmake), the
+// first of them switches what follows to the variant's ISA (npend/batch_math.hpp).
 #include <algorithm>
-#include <batch_index.hpp>
+#include <array>
 #include <cmath>
+#include <cstddef>
 #include <limits>
+#include <optional>
+#include <utility>
+#include <vector>
 
+#include "npend/chain.hpp"
 #include "npend/integrators/gauss_legendre.hpp"
 
+#include "batch_lanes.hpp"
+#include <batch_index.hpp>
+// clang-format on
+
 namespace npend::detail {
+inline namespace NPEND_BATCH_ISA_NAMESPACE {
 
 const batch_kernels* lane_kernels(const chain& c) {
   if (c.is_physical()) return nullptr;
@@ -533,4 +544,5 @@ void lane_gauss<Stages>::copy_lane(std::size_t to, std::size_t from) {
 template class lane_gauss<2>;
 template class lane_gauss<3>;
 
+}  // namespace NPEND_BATCH_ISA_NAMESPACE
 }  // namespace npend::detail

@@ -14,10 +14,17 @@
 #include <utility>
 #include <vector>
 
-#include "npend/batch_kernels.hpp"
 #include "npend/chain.hpp"
 
+// clang-format off
+// Last: in a lane variant's unit, it switches what follows to the variant's ISA.
+#include "npend/batch_kernels.hpp"
+// clang-format on
+
+// The lanes are compiled once for each ISA the build has them for (cmake/npend_lanes.cmake),
+// so everything here sits in the ISA's inline namespace (npend/batch_math.hpp).
 namespace npend::detail {
+inline namespace NPEND_BATCH_ISA_NAMESPACE {
 
 // The batch kernels the lanes run chain `c` on, or nullptr.
 const batch_kernels* lane_kernels(const chain& c);
@@ -329,4 +336,5 @@ void run_on_lanes(Stepper& rk, const std::vector<std::size_t>& queue, const Star
   }
 }
 
+}  // namespace NPEND_BATCH_ISA_NAMESPACE
 }  // namespace npend::detail

@@ -12,6 +12,7 @@
 #include <random>
 #include <span>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "npend/analysis/chaos/chaos_map.hpp"
@@ -95,8 +96,10 @@ reference_flip reference_flip_time(const npend::chain& c, std::vector<double> x,
 }  // namespace
 
 TEST_CASE("flip_times: runs on the batch lanes for point-mass chains, not for physical ones") {
-  CHECK(npend::batch_lanes(npend::chain(npend::chain_parameters::uniform(2))) ==
-        4 * npend::batch_width);
+  // Four blocks of the lane ISA's vector of doubles.
+  const std::string_view isa = npend::batch_lane_isa();
+  const int doubles = isa == "avx512f" ? 8 : isa == "avx2" || isa == "avx" ? 4 : 2;
+  CHECK(npend::batch_lanes(npend::chain(npend::chain_parameters::uniform(2))) == 4 * doubles);
   npend::chain_parameters rods = npend::chain_parameters::uniform(2);
   rods.make_uniform_rods();
   CHECK(npend::batch_lanes(npend::chain(rods)) == 0);
@@ -186,7 +189,12 @@ TEST_CASE("flip_times: the value of the reference rk4 wherever the sines agree")
     starts.push_back(momentum(rng));
   }
   const npend::flip_options o{1.0, 0.01, 0};
+  // On the lanes of the build's own ISA, whose sines the reference checks (batch_sincos of
+  // this unit's ISA) and whose arithmetic fuses no multiply-adds, as the scalar kernels'.
+  const std::string isa(npend::batch_lane_isa());
+  npend::use_batch_lane_isa(npend::batch_lane_isas().front());
   const std::vector<double> got = npend::flip_times(c, starts, o);
+  npend::use_batch_lane_isa(isa);
   int agreed = 0, flipped = 0;
   for (std::size_t i = 0; i < got.size(); ++i) {
     const std::vector<double> x(starts.begin() + static_cast<long>(4 * i),

@@ -90,10 +90,26 @@ double flip_time(const chain& c, std::span<const double> x0, const flip_options&
 std::vector<double> flip_times(const chain& c, std::span<const double> starts,
                                const flip_options& options);
 
-/// Lanes flip_times and map_cells step at once for chain `c`: four blocks of
-/// npend::batch_width on a point-mass chain whose link count has batch kernels, 0 where they
-/// go cell by cell (physical chains).
+/// Lanes flip_times and map_cells step at once for chain `c`: four blocks of the lane ISA's
+/// width (8 with AVX-512F, 4 with AVX2, 2 with SSE2) on a point-mass chain whose link count
+/// has batch kernels, 0 where they go cell by cell (physical chains).
 int batch_lanes(const chain& c);
+
+/// The instruction sets the maps' batch lanes can run on here, lowest first: the compiler's
+/// own ISA ("sse2" in a default build) and the variants the build compiled above it ("avx2":
+/// AVX2 with FMA, "avx512f") that this CPU has.
+std::vector<std::string_view> batch_lane_isas();
+
+/// The ISA the lanes run on now: the last of batch_lane_isas(), unless the environment
+/// variable NPEND_LANE_ISA names another one of them (read when the first map runs) or
+/// use_batch_lane_isa chose one. Throws std::invalid_argument, naming NPEND_LANE_ISA, where
+/// that names none of them.
+std::string_view batch_lane_isa();
+
+/// Makes the maps run their lanes on `isa`, one of batch_lane_isas() (std::invalid_argument
+/// otherwise). The values of a map's cells agree across ISAs to round-off: each ISA has its
+/// own SLEEF sines, and AVX2 and AVX-512F fuse multiply-adds.
+void use_batch_lane_isa(std::string_view isa);
 
 /// What a map shows in each cell.
 enum class map_quantity {
