@@ -21,7 +21,9 @@ Run with PYTHONPATH at the build tree's python folder (bench/run does).
 import argparse
 import json
 import math
+import os
 import statistics
+import subprocess
 import sys
 import time
 
@@ -170,17 +172,44 @@ def numpy_flip_map(count, t_end, dt):
     return result
 
 
+LANE_ISAS = ("sse2", "avx2", "avx512f")
+
+
+def npend_flip_map(count, t_end, dt):
+    return np.asarray(npend.map(npend.Chain(2), x=("phi1", -3.0, 3.0, count),
+                                y=("phi2", -3.0, 3.0, count), quantity="flip", t_end=t_end,
+                                dt=dt, stepper="rk4", threads=1))
+
+
+def npend_map_seconds_on(isa, repeat, count, t_end, dt):
+    """npend.map's median time with its lanes on `isa` (NPEND_LANE_ISA, read once per
+    process: a child process of this script), or None where this build or CPU lacks it."""
+    env = dict(os.environ, NPEND_LANE_ISA=isa)
+    out = subprocess.run([sys.executable, __file__, "--npend-map-seconds",
+                          json.dumps([repeat, count, t_end, dt])],
+                         env=env, capture_output=True, text=True)
+    return json.loads(out.stdout) if out.returncode == 0 else None
+
+
+def sine_nanoseconds():
+    """NumPy's np.sin per element on 10^4 doubles: the part of the NumPy map that SIMD
+    dispatch (NumPy's own, to AVX-512 where the CPU has it) speeds up as it does npend's."""
+    x = np.linspace(-3.0, 3.0, 10_000)
+    y = np.empty_like(x)
+    seconds, _ = median_time(lambda: [np.sin(x, out=y) for _ in range(200)], 7)
+    return seconds / (200 * x.size) * 1e9
+
+
 def map_peers(repeat, count, t_end, dt):
-    chain = npend.Chain(2)
-    axis = ("phi1", -3.0, 3.0, count)
-    npend_s, values = median_time(lambda: np.asarray(npend.map(
-        chain, x=axis, y=("phi2", -3.0, 3.0, count), quantity="flip", t_end=t_end, dt=dt,
-        stepper="rk4", threads=1)), repeat)
+    npend_s, values = median_time(lambda: npend_flip_map(count, t_end, dt), repeat)
     # NumPy takes minutes at full size: one run (its spread is small next to the ratio)
     numpy_s, ref = median_time(lambda: numpy_flip_map(count, t_end, dt), 1 if count > 64 else 3)
     both = np.isfinite(values) & np.isfinite(ref)
+    by_isa = {isa: npend_map_seconds_on(isa, repeat, count, t_end, dt) for isa in LANE_ISAS}
     return {"count": count, "t_end": t_end, "dt": dt, "npend_seconds": npend_s,
             "numpy_seconds": numpy_s, "speedup": numpy_s / npend_s,
+            "lane_isa_seconds": {isa: t for isa, t in by_isa.items() if t is not None},
+            "numpy_sine_ns": sine_nanoseconds(),
             "cells_flipping_both": int(both.sum()),
             "flip_times_within_1e-2": int(np.sum(np.abs(values[both] - ref[both]) < 1e-2)),
             "npend_flips": int(np.isfinite(values).sum()), "numpy_flips": int(np.isfinite(ref).sum())}
@@ -199,7 +228,14 @@ def markdown(result):
               f"rk4 dt = {m['dt']}, one thread: npend.map {m['npend_seconds']:.2f} s, NumPy "
               f"vectorised rk4 {m['numpy_seconds']:.2f} s: npend {m['speedup']:.1f}× faster. "
               f"{m['flip_times_within_1e-2']} of the {m['cells_flipping_both']} cells that flip "
-              "in both agree to 1e-2 s (chaotic cells part by round-off)."]
+              "in both agree to 1e-2 s (chaotic cells part by round-off).",
+              "", "npend.map with its lanes on each ISA (NPEND_LANE_ISA; the default takes the "
+              "widest the CPU has): " + ", ".join(
+                  f"{isa} {t:.2f} s ({m['numpy_seconds'] / t:.1f}× NumPy)"
+                  for isa, t in m["lane_isa_seconds"].items()) + ". "
+              f"NumPy's np.sin takes {m['numpy_sine_ns']:.2f} ns an element here: where NumPy "
+              "runs its sines and cosines on AVX-512 too, they cost it about what SLEEF's cost "
+              "the lanes, and npend's lead is in the rest of the step."]
     return "\n".join(lines)
 
 
@@ -208,7 +244,12 @@ def main():
     parser.add_argument("--quick", action="store_true", help="a 32² map to t = 10 s, 3 repeats")
     parser.add_argument("--json", action="store_true",
                         help="print JSON (with the Markdown as its key 'markdown')")
+    parser.add_argument("--npend-map-seconds", metavar="JSON", help=argparse.SUPPRESS)
     args = parser.parse_args()
+    if args.npend_map_seconds:  # the child of npend_map_seconds_on
+        repeat, count, t_end, dt = json.loads(args.npend_map_seconds)
+        print(json.dumps(median_time(lambda: npend_flip_map(count, t_end, dt), repeat)[0]))
+        return 0
     repeat = 3 if args.quick else 7
     result = {"trajectory": trajectory_peers(repeat, [1e-6, 1e-8, 1e-10, 1e-12],
                                              [1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-14]),
