@@ -249,16 +249,14 @@ output_batch::~output_batch() {
 
 void output_batch::commit_all() {
   const std::lock_guard lock(batch_mutex);
-  for (std::size_t k = 0; k < batch_files.size(); ++k) {
-    if (std::rename(batch_files[k].temporary.c_str(), batch_files[k].path.c_str()) == 0) continue;
-    const int error = errno;
-    for (std::size_t rest = k; rest < batch_files.size(); ++rest)
-      ::unlink(batch_files[rest].temporary.c_str());
-    const fs::path path = batch_files[k].path;
-    batch_files.clear();
-    throw std::runtime_error(
-        fmt::format("cannot rename the output to '{}': {}", path.string(), std::strerror(error)));
-  }
+  for (std::size_t k = 0; k < batch_files.size(); ++k) try {
+      rename_into_place(batch_files[k].temporary, batch_files[k].path);
+    } catch (const std::runtime_error&) {
+      for (std::size_t rest = k + 1; rest < batch_files.size(); ++rest)
+        ::unlink(batch_files[rest].temporary.c_str());
+      batch_files.clear();
+      throw;
+    }
   batch_files.clear();
 }
 
@@ -297,29 +295,19 @@ void atomic_output_file::write(std::string_view text) {
   if (m_stream == nullptr) throw std::logic_error("atomic_output_file: already committed");
   errno = 0;
   if (std::fwrite(text.data(), 1, text.size(), m_stream) == text.size()) return;
-  const int error = errno;
+  const int error = errno != 0 ? errno : -1;
   discard();
-  throw write_error(fmt::format("writing '{}' failed: {}", m_path.string(),
-                                error != 0 ? std::strerror(error) : "disk full?"));
+  throw write_error(write_failure(m_path, error));
 }
 
 void atomic_output_file::commit(durability how) {
   if (m_stream == nullptr) throw std::logic_error("atomic_output_file: already committed");
-  // The first error wins: a write that failed before (the stream's error flag) leaves errno
-  // to whatever came after, so 0 reads "disk full?" rather than strerror(0), "Success".
-  errno = 0;
-  int error = 0;
-  if (std::fflush(m_stream) != 0 || std::ferror(m_stream) != 0 ||
-      (how == durability::synced && ::fsync(::fileno(m_stream)) != 0))
-    error = errno != 0 ? errno : -1;
-  errno = 0;
-  if (std::fclose(m_stream) != 0 && error == 0) error = errno != 0 ? errno : -1;
+  const int error = close_written_file(m_stream, how == durability::synced);
   m_stream = nullptr;
   if (error != 0) {
     ::unlink(m_temporary.c_str());
     m_cleanup.reset();
-    throw write_error(fmt::format("writing '{}' failed: {}", m_path.string(),
-                                  error > 0 ? std::strerror(error) : "disk full?"));
+    throw write_error(write_failure(m_path, error));
   }
   {
     const std::lock_guard lock(batch_mutex);
@@ -328,14 +316,9 @@ void atomic_output_file::commit(durability how) {
       return;
     }
   }
-  if (std::rename(m_temporary.c_str(), m_path.c_str()) != 0) {
-    const int rename_error = errno;
-    ::unlink(m_temporary.c_str());
-    m_cleanup.reset();
-    throw std::runtime_error(fmt::format("cannot rename the output to '{}': {}", m_path.string(),
-                                         std::strerror(rename_error)));
-  }
-  m_cleanup.reset();
+  // The signal cleanup stays armed until the rename has settled the temporary file.
+  const std::unique_ptr<signal_cleanup> cleanup = std::move(m_cleanup);
+  rename_into_place(m_temporary, m_path);
 }
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view content,

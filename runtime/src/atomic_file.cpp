@@ -59,30 +59,48 @@ fs::path create_hidden_sibling(const fs::path& path) {
   }
 }
 
+int close_written_file(std::FILE* stream, bool sync) noexcept {
+  // The first error wins: a write that failed before (the stream's error flag) leaves errno
+  // to whatever came after, so 0 reads -1, "disk full?", rather than strerror(0), "Success".
+  errno = 0;
+  int error = 0;
+  if (std::fflush(stream) != 0 || std::ferror(stream) != 0 ||
+      (sync && ::fsync(::fileno(stream)) != 0))
+    error = errno != 0 ? errno : -1;
+  errno = 0;
+  if (std::fclose(stream) != 0 && error == 0) error = errno != 0 ? errno : -1;
+  return error;
+}
+
+std::string write_failure(const fs::path& path, int error) {
+  return fmt::format("writing '{}' failed: {}", path.string(),
+                     error > 0 ? std::strerror(error) : "disk full?");
+}
+
+void rename_into_place(const fs::path& temporary, const fs::path& path) {
+  if (std::rename(temporary.c_str(), path.c_str()) == 0) return;
+  const int error = errno;
+  ::unlink(temporary.c_str());
+  throw std::runtime_error(
+      fmt::format("cannot rename the output to '{}': {}", path.string(), std::strerror(error)));
+}
+
 void write_file_whole(const fs::path& path, std::string_view content, bool sync) {
   const fs::path temporary = create_hidden_sibling(path);
   std::FILE* stream = std::fopen(temporary.c_str(), "wb");
-  // The first error wins; 0 (a short write that set no errno) reads "disk full?".
   int error = stream == nullptr ? errno : 0;
   if (stream != nullptr) {
     errno = 0;
-    if (std::fwrite(content.data(), 1, content.size(), stream) != content.size() ||
-        std::fflush(stream) != 0 || (sync && ::fsync(::fileno(stream)) != 0))
-      error = errno != 0 ? errno : -1;
-    errno = 0;
-    if (std::fclose(stream) != 0 && error == 0) error = errno != 0 ? errno : -1;
+    const bool written = std::fwrite(content.data(), 1, content.size(), stream) == content.size();
+    const int write_error = errno != 0 ? errno : -1;
+    error = close_written_file(stream, sync);
+    if (!written) error = write_error;
   }
   if (error != 0) {
     ::unlink(temporary.c_str());
-    throw std::runtime_error(fmt::format("writing '{}' failed: {}", path.string(),
-                                         error > 0 ? std::strerror(error) : "disk full?"));
+    throw std::runtime_error(write_failure(path, error));
   }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-    const int rename_error = errno;
-    ::unlink(temporary.c_str());
-    throw std::runtime_error(fmt::format("cannot rename the output to '{}': {}", path.string(),
-                                         std::strerror(rename_error)));
-  }
+  rename_into_place(temporary, path);
 }
 
 }  // namespace npend
