@@ -100,3 +100,86 @@ def test_cmake_install_carries_the_version_and_stubs(tmp_path):
     for name in ("_npend.pyi", "py.typed"):
         if (built / name).is_file():
             assert (packages[0] / name).is_file(), name
+
+
+FIRST_HOUR = """
+import concurrent.futures, json, sys
+import numpy as np
+import npend
+from scipy.integrate import solve_ivp
+
+chain = npend.Chain(3, masses=[1.0, 2.0, 1.5])
+x0 = [0.4, -0.3, 0.2, 0.0, 0.1, 0.0]
+# SciPy's solve_ivp on npend's right-hand side, against npend's own integration
+sol = solve_ivp(chain.fun, (0, 5), x0, method="DOP853", rtol=1e-11, atol=1e-11)
+t, X = npend.simulate(chain, x0, 5.0, stepper="taylor")
+ivp_gap = float(np.max(np.abs(sol.y[:, -1] - X[-1])))
+
+# Chains go to worker processes (pickled), and each worker's energy is this process's
+chains = [npend.Chain(2, masses=[1.0, m]) for m in (0.5, 1.0, 2.0)]
+with concurrent.futures.ProcessPoolExecutor(max_workers=2) as pool:
+    energies = list(pool.map(npend.Chain.hamiltonian, chains, [[1.0, 0.5, 0.0, 0.0]] * 3))
+local = [c.hamiltonian([1.0, 0.5, 0.0, 0.0]) for c in chains]
+
+# An animation as a notebook shows it inline
+import matplotlib
+matplotlib.use("Agg")
+import npend.plot
+t2, X2 = npend.simulate(npend.Chain(2), [2.0, 1.0, 0.0, 0.0], 1.0)
+html = npend.plot.animation(npend.Chain(2), t2, X2, fps=10).to_jshtml()
+
+# A resumable map: the second call finds every tile done
+folder = sys.argv[1]
+axes = dict(x=("phi1", -3.0, 3.0, 12), y=("phi2", -3.0, 3.0, 10), t_end=5.0)
+first = np.asarray(npend.map(npend.Chain(2), out=folder, **axes))
+again = np.asarray(npend.map(npend.Chain(2), out=folder, resume=True, **axes))
+print(json.dumps({"ivp_gap": ivp_gap, "energies": energies, "local": local,
+                  "frames_html": len(html), "has_frames": "data:image/png;base64" in html,
+                  "map_equal": bool(np.array_equal(first, again, equal_nan=True)),
+                  "map_shape": list(first.shape), "file": npend.__file__}))
+"""
+
+
+def test_first_hour_in_the_venv(installed, tmp_path):
+    """A new user's first hour, from the venv alone (no build tree on PYTHONPATH), as
+    docs/python.md's "A first hour" has it: solve_ivp on chain.fun, a process pool over
+    chains, an inline animation, a resumable map, and the tour notebook on a kernel of the
+    venv."""
+    python, home = installed
+    env = clean_environment(MPLCONFIGDIR=str(tmp_path / "matplotlib"))
+    out = subprocess.run([str(python), "-c", FIRST_HOUR, str(tmp_path / "map")], check=True,
+                         env=env, cwd=home, capture_output=True, text=True).stdout
+    found = json.loads(out)
+    venv_dir = os.path.realpath(python.parent.parent)
+    assert os.path.realpath(found["file"]).startswith(venv_dir + os.sep), found["file"]
+    assert found["ivp_gap"] < 1e-8
+    assert found["energies"] == found["local"]
+    assert found["has_frames"] and found["frames_html"] > 10_000
+    assert found["map_shape"] == [10, 12] and found["map_equal"]
+    assert any((tmp_path / "map").rglob("*")), "the map's tiles stay for --resume"
+
+    try:
+        import ipykernel  # noqa: F401
+        import nbconvert  # noqa: F401
+    except ImportError:
+        pytest.skip("nbconvert or ipykernel is missing (tools/setup.sh --test installs them)")
+    # The venv's own kernel, as a user registers it, so that the notebook imports the venv's
+    # npend: Debian's "python3" kernel runs /usr/bin/python3, which does not see it.
+    jupyter_env = clean_environment(MPLCONFIGDIR=str(tmp_path / "matplotlib"),
+                                    JUPYTER_RUNTIME_DIR=str(tmp_path / "jupyter"),
+                                    IPYTHONDIR=str(tmp_path / "ipython"),
+                                    PYDEVD_DISABLE_FILE_VALIDATION="1")
+    subprocess.run([str(python), "-m", "ipykernel", "install", "--prefix",
+                    str(python.parent.parent), "--name", "npend-venv"],
+                   check=True, env=jupyter_env, capture_output=True)
+    subprocess.run([str(python), "-m", "nbconvert", "--to", "notebook", "--execute",
+                    "--ExecutePreprocessor.timeout=120",
+                    "--ExecutePreprocessor.kernel_name=npend-venv",
+                    "--output-dir", str(tmp_path / "notebook"),
+                    str(ROOT / "examples" / "python" / "tour.ipynb")],
+                   check=True, env=jupyter_env, cwd=home, capture_output=True)
+    executed = json.loads((tmp_path / "notebook" / "tour.ipynb").read_text())
+    errors = [o for cell in executed["cells"] for o in cell.get("outputs", [])
+              if o.get("output_type") == "error"]
+    assert not errors, errors
+    assert sum(1 for cell in executed["cells"] if cell.get("outputs")) >= 3
