@@ -41,7 +41,21 @@ void check_tolerances(double abs_tol, double rel_tol) {
 }
 
 // The order given, or (0) the one the smaller positive tolerance asks for.
-int chosen_order(double abs_tol, double rel_tol, int order);
+int chosen_order(double abs_tol, double rel_tol, int order) {
+  check_tolerances(abs_tol, rel_tol);
+  if (order == 0) {
+    const double smaller =
+        abs_tol > 0 && rel_tol > 0 ? std::min(abs_tol, rel_tol) : std::max(abs_tol, rel_tol);
+    // Beyond taylor_max_order a tighter tolerance only shortens the steps (below double's
+    // precision it cannot be met anyway: the step size collapses and the run says so).
+    return std::min(taylor_order_for(std::min(smaller, 0.5)), taylor_max_order);
+  }
+  if (order < 2 || order > taylor_max_order)
+    throw std::invalid_argument(fmt::format(
+        "taylor stepper: the order {} must lie in 2..{} (0 chooses it from the tolerance)", order,
+        taylor_max_order));
+  return order;
+}
 
 // Jorba & Zou's step (taylor.hpp) from the bound ε·s and the norms of the last two
 // coefficients: +inf where both vanish (an equilibrium).
@@ -73,26 +87,6 @@ int taylor_order_for(double tolerance) {
         fmt::format("taylor_order_for: the tolerance {} must lie in (0, 1)", tolerance));
   return std::max(2, static_cast<int>(std::ceil(-0.5 * std::log(tolerance) + 1)));
 }
-
-namespace {
-
-int chosen_order(double abs_tol, double rel_tol, int order) {
-  check_tolerances(abs_tol, rel_tol);
-  if (order == 0) {
-    const double smaller =
-        abs_tol > 0 && rel_tol > 0 ? std::min(abs_tol, rel_tol) : std::max(abs_tol, rel_tol);
-    // Beyond taylor_max_order a tighter tolerance only shortens the steps (below double's
-    // precision it cannot be met anyway: the step size collapses and the run says so).
-    return std::min(taylor_order_for(std::min(smaller, 0.5)), taylor_max_order);
-  }
-  if (order < 2 || order > taylor_max_order)
-    throw std::invalid_argument(fmt::format(
-        "taylor stepper: the order {} must lie in 2..{} (0 chooses it from the tolerance)", order,
-        taylor_max_order));
-  return order;
-}
-
-}  // namespace
 
 template <class T>
 taylor_integrator<T>::taylor_integrator(const kernel_set& kernels, double abs_tol, double rel_tol,
@@ -151,10 +145,31 @@ T taylor_integrator<T>::step(T direction, T limit, T fallback) {
   return h;
 }
 
+// Horner's rule, four coordinates at a time: their sums are independent, so their
+// multiply-adds overlap rather than each waiting for the one before (a dense output on a
+// fine grid spent most of its time here). Each sum is the same operations in the same order
+// as one coordinate's Horner loop.
 template <class T>
 void taylor_integrator<T>::state_at(T tau, T* x) const {
   const auto stride = static_cast<std::size_t>(m_order + 1);
-  for (std::size_t i = 0; i < m_x.size(); ++i) {
+  const std::size_t d = m_x.size();
+  std::size_t i = 0;
+  for (; i + 4 <= d; i += 4) {
+    const T* c0 = m_series.data() + i * stride;
+    const T *c1 = c0 + stride, *c2 = c1 + stride, *c3 = c2 + stride;
+    T s0 = c0[m_order], s1 = c1[m_order], s2 = c2[m_order], s3 = c3[m_order];
+    for (int k = m_order - 1; k >= 0; --k) {
+      s0 = s0 * tau + c0[k];
+      s1 = s1 * tau + c1[k];
+      s2 = s2 * tau + c2[k];
+      s3 = s3 * tau + c3[k];
+    }
+    x[i] = s0;
+    x[i + 1] = s1;
+    x[i + 2] = s2;
+    x[i + 3] = s3;
+  }
+  for (; i < d; ++i) {
     const T* c = m_series.data() + i * stride;
     T sum = c[m_order];
     for (int k = m_order - 1; k >= 0; --k) sum = sum * tau + c[k];
@@ -234,6 +249,8 @@ double taylor_tangents::step(double direction, double limit, double fallback) {
   return h;
 }
 
+// Horner's rule for each series, the value and the derivative side by side (two
+// independent sums); the state's values from the first vector's series.
 void taylor_tangents::state_at(double tau, double* x, double* W) const {
   const auto stride = static_cast<std::size_t>(m_order + 1);
   const std::size_t d = m_x.size();
