@@ -10,7 +10,7 @@ namespace npend::generated::taylor_cart_5 {
 namespace {
 
 template <class T>
-[[gnu::always_inline]] inline void recurrences(const T* params, const T* inputs, int order, T* series, T* work) noexcept {
+void recurrences(const T* params, const T* inputs, int order, T* series, T* work) noexcept {
   using std::cos;
   using std::sin;
   const int P = order + 1;
@@ -1258,7 +1258,6 @@ template <class T>
 
 }  // namespace
 
-NPEND_TAYLOR_CLONES
 void coefficients(const double* params, const double* inputs, int order, double* series, double* work) noexcept {
   recurrences(params, inputs, order, series, work);
 }
@@ -1267,7 +1266,6 @@ void coefficients(const long double* params, const long double* inputs, int orde
   recurrences(params, inputs, order, series, work);
 }
 
-NPEND_TAYLOR_CLONES
 void coefficients(const npend::taylor::dual* params, const npend::taylor::dual* inputs, int order, npend::taylor::dual* series, npend::taylor::dual* work) noexcept {
   recurrences(params, inputs, order, series, work);
 }

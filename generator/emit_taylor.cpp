@@ -6,8 +6,6 @@
 #include <npend/chain_kernels.hpp>
 #include <set>
 #include <stdexcept>
-#include <string>
-#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -369,18 +367,14 @@ chain_sources emit_taylor(int n, const emitted_function& rhs, const std::string&
           "<npend/integrators/taylor_recurrences.hpp>\n\nnamespace npend::generated::{0} {{\n\n"
           "namespace {{\n\n",
           stem) +
-      // Inlined into each coefficients() and each of its clones (NPEND_TAYLOR_CLONES), so
-      // that every clone's recurrences are compiled for its ISA.
       fmt::format(
-          "template <class T>\n[[gnu::always_inline]] inline void recurrences(const T* params, "
-          "{}const T* inputs, int order, T* series, T* work) noexcept {{\n",
+          "template <class T>\nvoid recurrences(const T* params, {}const T* inputs, int order, "
+          "T* series, T* work) noexcept {{\n",
           printer.reads_inputs() ? "" : "[[maybe_unused]] ") +
       body + "}\n\n}  // namespace\n\n";
-  // long double runs on the x87 unit, which no vector ISA widens: one version.
   for (const char* type : {"double", "long double", "npend::taylor::dual"})
-    out.source += (std::string_view(type) == "long double" ? "" : "NPEND_TAYLOR_CLONES\n") +
-                  signature(type) +
-                  " {\n  recurrences(params, inputs, order, series, work);\n}\n\n";
+    out.source +=
+        signature(type) + " {\n  recurrences(params, inputs, order, series, work);\n}\n\n";
   out.source += fmt::format(
       "const taylor_kernels kernels = {{\n    .state_size = {},\n    .param_size = {},\n"
       "    .input_size = {},\n    .work_slots = work_slots,\n    .coefficients = &coefficients,\n"

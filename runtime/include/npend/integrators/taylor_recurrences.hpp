@@ -16,25 +16,11 @@
 #include <cmath>
 #include <cstddef>
 
-// The generated kernels for double and dual numbers are compiled for baseline x86-64 and
-// again for x86-64-v3 (AVX2 with FMA) and x86-64-v4 (AVX-512), and the dynamic loader picks
-// the version for the CPU once (GCC's function multiversioning, an ifunc): the default build
-// runs the recurrences' sums on the machine's full vector width, as the maps' lanes do.
-// One version with another compiler, architecture or C library.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__gnu_linux__)
-#define NPEND_TAYLOR_CLONES \
-  __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
-#else
-#define NPEND_TAYLOR_CLONES
-#endif
-
 namespace npend::taylor {
 
 /// Σ_{j<n} a[j] b[j] in four partial sums: one running sum would make every term wait for
-/// the one before (the latency of an add), four fill the vector units. Always inlined, as
-/// the recurrences below: a kernel calls them a hundred times, GCC's inliner otherwise
-/// stops short of that, and a copy out of line would run the baseline ISA in every clone
-/// of a kernel (NPEND_TAYLOR_CLONES).
+/// the one before (the latency of an add), four fill the vector units. Always inlined: a
+/// kernel calls it a hundred times, and GCC's inliner otherwise stops short of that.
 template <class T>
 [[gnu::always_inline]] inline T dot(const T* a, const T* b, std::ptrdiff_t n) noexcept {
   T s0 = 0, s1 = 0, s2 = 0, s3 = 0;
@@ -56,7 +42,7 @@ template <class T>
 /// statements before are still being computed, and a chain of dependent products waits only
 /// for those two terms each, not for a whole sum.
 template <class T>
-[[gnu::always_inline]] inline T product(const T* a, const T* b_m, int m, int k) noexcept {
+inline T product(const T* a, const T* b_m, int m, int k) noexcept {
   if (k == 0) return a[0] * b_m[m];
   const T earlier = dot(a + 1, b_m + (m - k + 1), std::ptrdiff_t{k} - 1);
   return earlier + (a[0] * b_m[m - k] + a[k] * b_m[m]);
@@ -65,7 +51,7 @@ template <class T>
 /// (a/b)[k] for c = a/b with c[0..k−1] known: (a[k] − Σ_{j=0..k−1} c[j] b[k−j]) / b[0],
 /// with b mirrored; the term with b[k] last, as in product.
 template <class T>
-[[gnu::always_inline]] inline T quotient(T a_k, const T* b_m, const T* c, int m, int k) noexcept {
+inline T quotient(T a_k, const T* b_m, const T* c, int m, int k) noexcept {
   if (k == 0) return a_k / b_m[m];
   const T earlier = dot(c + 1, b_m + (m - k + 1), std::ptrdiff_t{k} - 1);
   return (a_k - (earlier + c[0] * b_m[m - k])) / b_m[m];
@@ -76,7 +62,7 @@ template <class T>
 /// with w_m[m − j] = j u[j] (the weighted series of u, mirrored) filled up to j = k; u0 = u[0].
 /// The term with u[k] last, as in product.
 template <class T>
-[[gnu::always_inline]] inline void sin_cos(T u0, const T* w_m, T* s, T* c, int m, int k) noexcept {
+inline void sin_cos(T u0, const T* w_m, T* s, T* c, int m, int k) noexcept {
   if (k == 0) {
     using std::cos;
     using std::sin;
@@ -96,8 +82,7 @@ template <class T>
 /// and, in the derivatives, those of the tangent vector w(t) that solves the variational
 /// equations w' = J(x(t)) w — the same recurrences differentiated, with no other kernel. The
 /// values are computed by the same operations in the same order as in double, so they are the
-/// double kernels' to the bit where no multiply-add is fused, and to round-off where one is
-/// (the AVX2 and AVX-512 clones, NPEND_TAYLOR_CLONES).
+/// double kernels' to the bit.
 struct dual {
   double v = 0;  ///< the value
   double d = 0;  ///< its derivative
