@@ -1121,6 +1121,8 @@ def periodic_orbit(
     steps: int = 400,
     tol: float = 1e-11,
     max_iterations: int = 20,
+    segments: int = 1,
+    winding: Optional[Sequence[int]] = None,
 ) -> PeriodicOrbit:
     """The periodic orbit near a guess, by shooting with the exact monodromy matrix.
 
@@ -1149,6 +1151,12 @@ def periodic_orbit(
         Converged when max |phi(T) - x0| <= tol and |H(x0) - E| <= tol max(1, |E|).
     max_iterations : int, optional
         The most Newton corrections.
+    segments : int, optional
+        Multiple shooting: the period cut into this many segments, each integrated from its
+        own start and matched to the next, for strongly unstable orbits (1: single shooting).
+    winding : sequence of int, optional
+        A rotating orbit: whole turns of each angle per period (phi(T) = phi(0) + 2 pi
+        winding); needs ``phase="poincare"``. None: an oscillation.
 
     Returns
     -------
@@ -1173,7 +1181,8 @@ def periodic_orbit(
     """
     return _orbit(_npend.periodic_orbit(
         chain, x0, period, energy=energy, phase=phase, steps=steps, tol=tol,
-        max_iterations=max_iterations))
+        max_iterations=max_iterations, segments=segments,
+        winding=None if winding is None else [int(w) for w in winding]))
 
 
 def _orbit(d: dict) -> PeriodicOrbit:
@@ -1190,14 +1199,17 @@ def continue_mode(
     steps: int = 400,
     max_points: int = 200,
     thresholds: Sequence[float] = (0.01, 0.05),
+    segments: int = 1,
+    continuation: str = "arclength",
 ) -> NNMBranch:
     """A nonlinear normal mode: linear mode `mode` continued in energy as periodic orbits.
 
     As ``npend orbits``: the first orbit starts from the mode shape scaled to
-    `start_amplitude` (rad, the largest angle), each next one is shot (periodic_orbit,
-    turning point) at an energy predicted from the last two, with step-size control, up to
-    `energy_max`; for each threshold the orbit where |omega / omega_k - 1| reaches it is
-    located by regula falsi in the energy.
+    `start_amplitude` (rad, the largest angle); the family is followed by pseudo-arclength
+    (each orbit on the plane normal to the secant of the last two in (start, period), the
+    energy free, so it turns round folds in energy) or by steps in the energy, with step-size
+    control, up to `energy_max`; for each threshold the orbit where |omega / omega_k - 1|
+    reaches it is located by regula falsi in the energy.
 
     Parameters
     ----------
@@ -1215,6 +1227,11 @@ def continue_mode(
         At most this many orbits.
     thresholds : sequence of float, optional
         Relative frequency departures to locate (0.01 = 1 %).
+    segments : int, optional
+        Multiple shooting of each orbit (as ``--segments``), to follow strongly unstable
+        orbits further.
+    continuation : {"arclength", "natural"}, optional
+        Pseudo-arclength (the default) or steps in the energy.
 
     Returns
     -------
@@ -1239,7 +1256,8 @@ def continue_mode(
     0.99
     """
     d = _npend.continue_mode(chain, mode, energy_max, start_amplitude=start_amplitude,
-                             steps=steps, max_points=max_points, thresholds=list(thresholds))
+                             steps=steps, max_points=max_points, thresholds=list(thresholds),
+                             segments=segments, continuation=continuation)
     n = len(d["shape"])
     d["multipliers"] = np.asarray(d["multipliers"], dtype=np.complex128).reshape(
         len(d["energy"]), 2 * n - 2)

@@ -319,6 +319,9 @@ class PeriodicOrbit(_Result):
         The largest |multiplier| (1 when there are none).
     stable : bool
         Every multiplier has |mu| <= 1 + 1e-6.
+    winding : tuple of int
+        Whole turns of each angle per period (all 0 for an oscillation; empty for the orbits
+        of a branch).
     """
 
     converged: bool
@@ -332,6 +335,7 @@ class PeriodicOrbit(_Result):
     multipliers: np.ndarray
     max_multiplier: float
     stable: bool
+    winding: tuple = ()
 
 
 @dataclasses.dataclass(frozen=True, repr=False, eq=False)
@@ -392,6 +396,9 @@ class NNMBranch(_Result):
         |omega / omega_k - 1| reaches it, or None where the branch does not get there.
     bifurcations : tuple of StabilityChange
         Where the orbits lose or regain stability, by increasing energy.
+    folds : tuple of (int, float)
+        Where the energy along the branch turns back: the index of the orbit before the turn
+        and the turn's energy (J) from a parabola through three orbits.
     """
 
     mode: int
@@ -409,6 +416,7 @@ class NNMBranch(_Result):
     end_reason: str
     departures: dict
     bifurcations: tuple
+    folds: tuple = ()
 
 
 @dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool

@@ -352,11 +352,20 @@ periodic_orbit_options shooting_options(std::optional<double> energy, const std:
   return o;
 }
 
+continuation_method parse_continuation(const std::string& name) {
+  if (name == "arclength") return continuation_method::pseudo_arclength;
+  if (name == "natural") return continuation_method::natural;
+  throw std::invalid_argument(fmt::format("continuation: arclength or natural, got '{}'", name));
+}
+
 py::dict periodic_orbit_of(const chain& c, const py::handle& x0_in, double period,
                            std::optional<double> energy, const std::string& phase, int steps,
-                           double tol, int max_iterations) {
+                           double tol, int max_iterations, int segments,
+                           std::optional<std::vector<int>> winding) {
   const std::vector<double> x0 = to_vector(x0_in, static_cast<std::size_t>(c.state_size()), "x0");
   periodic_orbit_options o = shooting_options(energy, phase, steps, tol, max_iterations);
+  o.segments = segments;
+  if (winding) o.winding = *winding;
   python_interrupt interrupt;
   o.control = &interrupt;
   periodic_orbit_result r;
@@ -365,16 +374,21 @@ py::dict periodic_orbit_of(const chain& c, const py::handle& x0_in, double perio
     r = periodic_orbit(c, x0, period, o);
   }
   interrupt.raise_if_interrupted();
-  return point_dict(to_nnm_point(r), r.converged);
+  py::dict d = point_dict(to_nnm_point(r), r.converged);
+  d["winding"] = py::tuple(py::cast(r.winding));
+  return d;
 }
 
 py::dict continue_mode_of(const chain& c, int mode, double energy_max, double start_amplitude,
-                          int steps, int max_points, const std::vector<double>& thresholds) {
+                          int steps, int max_points, const std::vector<double>& thresholds,
+                          int segments, const std::string& continuation) {
   if (mode < 1 || mode > c.links())
     throw std::invalid_argument(
         fmt::format("mode: 1..{} (1 = the slowest), got {}", c.links(), mode));
   continuation_options o;
   o.orbit.steps = steps;
+  o.orbit.segments = segments;
+  o.method = parse_continuation(continuation);
   o.energy_max = energy_max;
   o.start_amplitude = start_amplitude;
   o.max_points = max_points;
@@ -425,6 +439,9 @@ py::dict continue_mode_of(const chain& c, int mode, double energy_max, double st
   d["stable"] = py::array(py::cast(stable));
   d["closure"] = to_numpy(std::move(closure), {k});
   d["end_reason"] = b.end_reason;
+  py::list folds;
+  for (const nnm_fold& f : b.folds) folds.append(py::make_tuple(f.after, f.energy));
+  d["folds"] = py::tuple(folds);
   py::dict found;
   for (std::size_t i = 0; i < departures.size(); ++i)
     found[py::float_(thresholds[i])] =
@@ -449,11 +466,13 @@ py::dict continue_mode_of(const chain& c, int mode, double energy_max, double st
 void bind_orbits(py::module_& m) {
   m.def("periodic_orbit", &periodic_orbit_of, py::arg("chain"), py::arg("x0"), py::arg("period"),
         py::kw_only(), py::arg("energy") = py::none(), py::arg("phase") = "turning_point",
-        py::arg("steps") = 400, py::arg("tol") = 1e-11, py::arg("max_iterations") = 20);
+        py::arg("steps") = 400, py::arg("tol") = 1e-11, py::arg("max_iterations") = 20,
+        py::arg("segments") = 1, py::arg("winding") = py::none());
   m.def("continue_mode", &continue_mode_of, py::arg("chain"), py::arg("mode"),
         py::arg("energy_max"), py::kw_only(), py::arg("start_amplitude") = 0.01,
         py::arg("steps") = 400, py::arg("max_points") = 200,
-        py::arg("thresholds") = std::vector<double>{0.01, 0.05});
+        py::arg("thresholds") = std::vector<double>{0.01, 0.05}, py::arg("segments") = 1,
+        py::arg("continuation") = "arclength");
 }
 
 void bind_series(py::module_& m) {

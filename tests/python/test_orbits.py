@@ -130,3 +130,43 @@ def test_changes_of_stability_as_the_command_line_finds_them():
     [same] = cli["modes"][0]["bifurcations"]
     assert same["kind"] == change.kind and same["energy"] == change.energy
     assert "StabilityChange(...)" in repr(branch)
+
+
+@pytest.mark.parametrize("turns", [1, -1])
+def test_a_rotating_pendulums_period_per_turn_is_2kappa_K_over_omega0(turns):
+    # Over the separatrix 2mgl the pendulum turns over: one turn lasts 2 kappa K(kappa^2)/omega0
+    # with kappa^2 = 2mgl/E (SciPy's ellipk takes the parameter m = kappa^2).
+    g, l, m = 9.81, 0.8, 1.5
+    chain = npend.Chain(1, masses=m, lengths=l, g=g)
+    energy = 2.5 * 2 * m * g * l
+    p = turns * math.sqrt(2 * m * l * l * energy)
+    kappa2 = 2 * m * g * l / energy
+    exact = 2 * math.sqrt(kappa2) * ellipk(kappa2) / math.sqrt(g / l)
+    orbit = npend.periodic_orbit(chain, [0.0, p], 1.05 * exact, phase="poincare",
+                                 winding=[turns])
+    assert orbit.converged and orbit.closure <= 1e-11
+    assert orbit.winding == (turns,)
+    assert orbit.period == pytest.approx(exact, rel=1e-10)
+    # Multiple shooting finds the same orbit.
+    segmented = npend.periodic_orbit(chain, [0.0, p], 1.05 * exact, phase="poincare",
+                                     winding=[turns], segments=4)
+    assert segmented.converged
+    assert segmented.period == pytest.approx(orbit.period, rel=1e-11)
+    with pytest.raises(ValueError, match="poincare"):
+        npend.periodic_orbit(chain, [0.0, p], exact, winding=[turns])
+
+
+def test_arclength_and_natural_continuation_trace_the_same_family():
+    chain = npend.Chain(2)
+    arc = npend.continue_mode(chain, 2, 5.0, thresholds=[0.01])
+    natural = npend.continue_mode(chain, 2, 5.0, thresholds=[0.01], continuation="natural")
+    assert arc.end_reason == natural.end_reason == "reached energy_max"
+    assert arc.folds == ()
+    # The same departure, located on either branch, to the locator's tolerance.
+    assert arc.departures[0.01].energy == pytest.approx(natural.departures[0.01].energy, rel=1e-8)
+    # Every arclength orbit's period lies on the natural branch's period-energy curve.
+    inside = (arc.energy >= natural.energy[0]) & (arc.energy <= natural.energy[-1])
+    between = np.interp(arc.energy[inside], natural.energy, natural.period)
+    assert np.allclose(arc.period[inside], between, rtol=2e-3)
+    with pytest.raises(ValueError, match="arclength or natural"):
+        npend.continue_mode(chain, 1, 1.0, continuation="bogus")

@@ -209,3 +209,166 @@ TEST_CASE(
   CHECK(npend::locate_bifurcations(one, npend::continue_mode(one, 0, single)).empty());
   CHECK_THROWS_AS(npend::locate_bifurcations(c, branch, opts.orbit, 0.0), std::invalid_argument);
 }
+
+TEST_CASE("continue_mode: pseudo-arclength follows the single pendulum to 1e-6 of its separatrix") {
+  // The period grows like log(1/(E_sep − E)) towards the separatrix E_sep = 2mgl; the
+  // arc in (φ0, T) keeps its steps where steps in the energy must shrink.
+  const double g = 9.81, l = 1.3, m = 0.7, separatrix = 2 * m * g * l;
+  const chain c(chain_parameters::uniform(1, m, l, g));
+  npend::continuation_options opts;
+  opts.energy_max = separatrix * (1 - 1e-6);
+  const npend::nnm_branch branch = npend::continue_mode(c, 0, opts);
+  CHECK(branch.end_reason == "reached energy_max");
+  REQUIRE(!branch.points.empty());
+  CHECK(branch.points.back().energy == doctest::Approx(opts.energy_max).epsilon(1e-12));
+  CHECK(branch.folds.empty());
+  for (const npend::nnm_point& p : branch.points) {
+    CHECK(p.closure <= 1e-11);
+    CHECK(std::fabs(p.period / pendulum_period(std::fabs(p.x0[0]), g, l) - 1) <= 1e-10);
+  }
+  // Natural continuation in the energy stalls before it (its last step fell below
+  // min_step_ratio of the energy).
+  npend::continuation_options natural = opts;
+  natural.method = npend::continuation_method::natural;
+  const npend::nnm_branch stalled = npend::continue_mode(c, 0, natural);
+  CHECK(stalled.end_reason.find("stopped converging") != std::string::npos);
+  CHECK(stalled.points.back().energy < branch.points.back().energy);
+}
+
+namespace {
+
+// The period of one turn of a pendulum rotating with energy H above the hanging rest, over
+// the separatrix E_sep = 2mgl: 2κK(κ)/ω0 with the modulus κ = √(E_sep/H).
+double rotation_period(double energy, double m, double g, double l) {
+  const double kappa = std::sqrt(2 * m * g * l / energy);
+  return 2 * kappa * std::comp_ellint_1(kappa) / std::sqrt(g / l);
+}
+
+}  // namespace
+
+TEST_CASE(
+    "rotating orbits: the single pendulum's period per turn, continued down to its separatrix") {
+  const double g = 9.81, l = 0.9, m = 1.2, separatrix = 2 * m * g * l;
+  const chain c(chain_parameters::uniform(1, m, l, g));
+  for (const int turns : {1, -1}) {
+    CAPTURE(turns);
+    npend::periodic_orbit_options shoot;
+    shoot.phase = npend::orbit_phase::poincare;
+    shoot.winding = {turns};
+    // Near the separatrix one pass over the period loses the orbit at the unstable top (its
+    // closure stalls at 1e-10); four segments keep each pass short.
+    shoot.segments = 4;
+    // At the bottom with the momentum of 3 E_sep, a period guess 10 % off.
+    const double energy = 3 * separatrix;
+    const std::vector<double> guess{0.0, turns * std::sqrt(2 * m * l * l * energy)};
+    const npend::periodic_orbit_result r =
+        npend::periodic_orbit(c, guess, 1.1 * rotation_period(energy, m, g, l), shoot);
+    REQUIRE(r.converged);
+    CHECK(r.closure <= 1e-11);
+    CHECK(r.winding == std::vector<int>{turns});
+    CHECK(r.period == doctest::Approx(rotation_period(energy, m, g, l)).epsilon(1e-10));
+    npend::continuation_options opts;
+    opts.orbit = shoot;
+    const double end = separatrix * (1 + 1e-6);
+    const npend::nnm_branch down = npend::continue_orbit(c, r, end, opts);
+    CHECK(down.end_reason == "reached the end energy");
+    CHECK(down.points.back().energy == doctest::Approx(end).epsilon(1e-12));
+    CHECK(down.points.size() > 5);
+    // Near the separatrix the period is the log of the distance to it, so a relative error ε
+    // in the energy (round-off accumulated over the steps) moves it by about ε/gap: 1e-10, or
+    // 1e-14/gap where larger (2e-9 measured at 1e-6, 4e-10 at 1e-5).
+    for (const npend::nnm_point& p : down.points) {
+      CHECK(p.closure <= 1e-11);
+      const double gap = p.energy / separatrix - 1;
+      CHECK(std::fabs(p.period / rotation_period(p.energy, m, g, l) - 1) <=
+            std::max(1e-10, 1e-14 / gap));
+    }
+    const npend::nnm_branch up = npend::continue_orbit(c, r, 30 * separatrix, opts);
+    CHECK(up.end_reason == "reached the end energy");
+    for (const npend::nnm_point& p : up.points)
+      CHECK(std::fabs(p.period / rotation_period(p.energy, m, g, l) - 1) <= 1e-10);
+  }
+}
+
+TEST_CASE("multiple shooting: follows the double pendulum's unstable in-phase family further") {
+  const chain c(chain_parameters::uniform(2, 1.0, 1.0, 9.81));
+  npend::continuation_options opts;
+  opts.energy_max = 56.5;
+  opts.min_step_ratio = 1e-4;
+  // Single shooting over the whole period loses the orbit once its largest multiplier
+  // passes about 1e5 (near 55.8 J); eight segments go on (|μ| ≈ 2e6 at 57 J).
+  const npend::nnm_branch single = npend::continue_mode(c, 0, opts);
+  CHECK(single.end_reason.find("stopped converging") != std::string::npos);
+  CHECK(single.points.back().energy < 56.5);
+  opts.orbit.segments = 8;
+  const npend::nnm_branch multiple = npend::continue_mode(c, 0, opts);
+  REQUIRE(multiple.end_reason == "reached energy_max");
+  const npend::nnm_point& top = multiple.points.back();
+  CHECK(top.max_multiplier > 3e5);
+  CHECK(top.closure <= 1e-11);
+  // The orbit single shooting finds from the segmented one's start at a lower energy is the
+  // same, to the shooting's tolerance amplified by the multiplier.
+  const npend::nnm_point* mid = nullptr;
+  for (const npend::nnm_point& p : multiple.points)
+    if (p.energy > 50 && !mid) mid = &p;
+  REQUIRE(mid != nullptr);
+  npend::periodic_orbit_options once = opts.orbit;
+  once.segments = 1;
+  once.energy = mid->energy;
+  once.steps =
+      static_cast<int>(std::ceil(opts.orbit.steps * mid->period / multiple.points.front().period));
+  const auto again = npend::periodic_orbit(c, mid->x0, mid->period, once);
+  REQUIRE(again.converged);
+  CHECK(again.period == doctest::Approx(mid->period).epsilon(1e-9));
+  CHECK(again.max_multiplier == doctest::Approx(mid->max_multiplier).epsilon(1e-4));
+}
+
+TEST_CASE("periodic_orbit: finite-difference monodromy finds the exact map's orbit") {
+  const chain c(chain_parameters::uniform(3));
+  const std::vector<double> guess{0.2, 0.25, 0.3, 0, 0, 0};
+  npend::periodic_orbit_options exact;
+  const double period = 2 * std::numbers::pi / 2.0196;
+  const auto a = npend::periodic_orbit(c, guess, period, exact);
+  npend::periodic_orbit_options differences = exact;
+  differences.monodromy = npend::monodromy_method::finite_difference;
+  const auto b = npend::periodic_orbit(c, guess, period, differences);
+  REQUIRE(a.converged);
+  REQUIRE(b.converged);
+  CHECK(b.period == doctest::Approx(a.period).epsilon(1e-10));
+  for (std::size_t i = 0; i < a.x0.size(); ++i)
+    CHECK(b.x0[i] == doctest::Approx(a.x0[i]).epsilon(1e-9));
+  // The same multipliers (up to the order of those with equal moduli).
+  REQUIRE(a.multipliers.size() == b.multipliers.size());
+  for (const std::complex<double>& mu : a.multipliers) {
+    double nearest = 1e300;
+    for (const std::complex<double>& nu : b.multipliers)
+      nearest = std::min(nearest, std::abs(mu - nu));
+    CHECK(nearest <= 1e-6);
+  }
+}
+
+TEST_CASE("periodic_orbit: refuses a rotating orbit at a turning point and bad segments") {
+  const chain c(chain_parameters::uniform(2));
+  const std::vector<double> x{0.1, 0.1, 0, 0};
+  npend::periodic_orbit_options o;
+  o.winding = {1, 0};
+  CHECK_THROWS_WITH_AS(npend::periodic_orbit(c, x, 1.0, o), doctest::Contains("poincare"),
+                       std::invalid_argument);
+  o.winding = {1};
+  CHECK_THROWS_WITH_AS(npend::periodic_orbit(c, x, 1.0, o),
+                       doctest::Contains("winding has 1 entries"), std::invalid_argument);
+  o.winding.clear();
+  o.segments = 0;
+  CHECK_THROWS_WITH_AS(npend::periodic_orbit(c, x, 1.0, o), doctest::Contains("segments"),
+                       std::invalid_argument);
+  o.segments = o.steps + 1;
+  CHECK_THROWS_AS(npend::periodic_orbit(c, x, 1.0, o), std::invalid_argument);
+  npend::continuation_options opts;
+  opts.energy_max = 1;
+  opts.orbit.winding = {1, 0};
+  opts.orbit.phase = npend::orbit_phase::poincare;
+  CHECK_THROWS_WITH_AS(npend::continue_mode(c, 0, opts), doctest::Contains("winding must be zero"),
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(npend::continue_orbit(c, npend::periodic_orbit_result{}, 1.0, {}),
+                       doctest::Contains("converged orbit"), std::invalid_argument);
+}

@@ -5,21 +5,22 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
+#include "analysis/detail/conservative_chain.hpp"
 #include "analysis/detail/monodromy.hpp"
 #include "npend/analysis/stability/normal_modes.hpp"
+#include "npend/chain_system.hpp"
+#include "npend/integrators/gauss_legendre.hpp"
 #include "npend/integrators/integration_error.hpp"
 
 namespace npend {
 
-namespace {
-
-// Shooting needs a conserved H and an autonomous flow: damping spirals every orbit in, a
-// drive makes the period the drive's (Floquet's business), and a cart adds the conserved
-// momentum p_x, a second trivial pair of multipliers this step does not separate.
-void check_conservative(const chain& c, const char* who) {
+void detail::check_conservative(const chain& c, const char* who) {
   const chain_parameters& p = c.parameters();
   if (p.is_damped())
     throw std::invalid_argument(fmt::format(
@@ -29,41 +30,88 @@ void check_conservative(const chain& c, const char* who) {
   if (p.pivot.moves())
     throw std::invalid_argument(fmt::format(
         "{}: the pivot is driven ({}); free periodic orbits need a fixed pivot (a driven "
-        "chain's orbits have the drive's period: see floquet_analysis)",
+        "chain's orbits have the drive's period: see forced_orbit)",
         who, p.pivot.describe()));
   if (c.has_cart())
     throw std::invalid_argument(
         fmt::format("{}: the chain hangs from a cart; periodic orbits need a fixed pivot", who));
 }
 
-// One Gauss–Legendre pass over the period from x0: the end state, the monodromy and each
-// angle's largest |φ_i| over the start and the step points.
-struct period_pass {
-  std::vector<double> end;
-  Eigen::MatrixXd monodromy;
-  std::vector<double> amplitudes;
+namespace {
+
+// The unknowns of the shooting: the first segment's start (its q only at a turning point),
+// the other segments' whole starts, then T.
+struct shooting_layout {
+  int d = 0, nq = 0, segments = 1;
+  bool turning = false;
+  int first() const { return turning ? nq : d; }
+  int size() const { return first() + (segments - 1) * d + 1; }
+  int start_column(int segment) const { return segment == 0 ? 0 : first() + (segment - 1) * d; }
+  int period_column() const { return size() - 1; }
 };
 
-period_pass integrate_period(const chain& c, const std::vector<double>& x0, double period,
-                             int steps) {
-  period_pass r;
-  r.end = x0;
-  r.amplitudes.resize(static_cast<std::size_t>(c.links()));
-  const auto track = [&](std::span<const double> x) {
-    for (int i = 0; i < c.links(); ++i) {
-      double& a = r.amplitudes[static_cast<std::size_t>(i)];
-      a = std::max(a, std::fabs(x[static_cast<std::size_t>(c.angle_index(i))]));
-    }
-  };
-  track(x0);
-  detail::monodromy(c, r.end, period, steps, 0, steps, nullptr, r.monodromy, track);
-  return r;
-}
+// The rows besides the segments' matching: H(x0) = E unless the energy is free (along an arc),
+// the Poincaré phase condition, and the pseudo-arclength plane ⟨t, (x0 free, T) − u⟩ = 0.
+struct shooting_constraints {
+  std::optional<double> energy;
+  std::optional<Eigen::VectorXd> phase_normal;  // with phase_point: ⟨n, x0 − point⟩ = 0
+  std::vector<double> phase_point;
+  std::optional<Eigen::VectorXd> arc_tangent;  // dim first() + 1
+  Eigen::VectorXd arc_point;
+};
 
-Eigen::VectorXd orbit_flow(const chain& c, const std::vector<double>& x) {
+Eigen::VectorXd orbit_flow(const chain& c, std::span<const double> x) {
   Eigen::VectorXd f(c.state_size());
   c.rhs(x, std::span<double>(f.data(), static_cast<std::size_t>(f.size())));
   return f;
+}
+
+// ∇H from the flow: on a fixed pivot f = (∂H/∂p, −∂H/∂q).
+Eigen::VectorXd energy_gradient(const chain& c, std::span<const double> x) {
+  const Eigen::VectorXd f = orbit_flow(c, x);
+  const int nq = c.coordinates();
+  Eigen::VectorXd g(f.size());
+  g.head(nq) = -f.tail(f.size() - nq);
+  g.tail(f.size() - nq) = f.head(nq);
+  return g;
+}
+
+// One segment: x runs to its end over `duration` in `steps` Gauss–Legendre steps, every
+// state after a step seen by `track`.
+void flow_segment(const chain& c, std::vector<double>& x, double duration, int steps,
+                  const std::function<void(std::span<const double>)>& track) {
+  gauss_legendre<3> stepper;
+  const auto system = make_implicit_system(c);
+  const double dt = duration / steps;
+  for (int k = 0; k < steps; ++k) {
+    stepper.do_step(system, x, k * dt, dt);
+    if (track) track(x);
+  }
+}
+
+// The segment's end and ∂end/∂start, exact or by forward differences.
+Eigen::MatrixXd segment_with_tangent(const chain& c, std::vector<double>& x, double duration,
+                                     int steps, monodromy_method method,
+                                     const std::function<void(std::span<const double>)>& track) {
+  Eigen::MatrixXd tangent;
+  if (method == monodromy_method::exact) {
+    detail::monodromy(c, x, duration, steps, 0, steps, nullptr, tangent, track);
+    return tangent;
+  }
+  const std::vector<double> start = x;
+  flow_segment(c, x, duration, steps, track);
+  const int d = c.state_size();
+  tangent.resize(d, d);
+  for (int j = 0; j < d; ++j) {
+    std::vector<double> nudged = start;
+    const double h = std::sqrt(std::numeric_limits<double>::epsilon()) *
+                     std::max(1.0, std::fabs(start[static_cast<std::size_t>(j)]));
+    nudged[static_cast<std::size_t>(j)] += h;
+    flow_segment(c, nudged, duration, steps, {});
+    for (int i = 0; i < d; ++i)
+      tangent(i, j) = (nudged[static_cast<std::size_t>(i)] - x[static_cast<std::size_t>(i)]) / h;
+  }
+  return tangent;
 }
 
 // The multipliers by descending |μ| without the trivial pair: the two closest to +1 (the
@@ -85,114 +133,187 @@ void set_multipliers(const Eigen::MatrixXd& m, double stability_tolerance,
   r.stable = r.max_multiplier <= 1 + stability_tolerance;
 }
 
-}  // namespace
+void check_shooting_options(const chain& c, const periodic_orbit_options& o, const char* who) {
+  if (o.steps < 2)
+    throw std::invalid_argument(fmt::format("{}: steps must be >= 2, got {}", who, o.steps));
+  if (o.segments < 1 || o.segments > o.steps)
+    throw std::invalid_argument(fmt::format("{}: segments must be between 1 and steps ({}), got {}",
+                                            who, o.steps, o.segments));
+  if (!(o.tolerance > 0))
+    throw std::invalid_argument(
+        fmt::format("{}: tolerance must be positive, got {}", who, o.tolerance));
+  if (!o.winding.empty() && o.winding.size() != static_cast<std::size_t>(c.links()))
+    throw std::invalid_argument(
+        fmt::format("{}: winding has {} entries; the {}-link chain needs {}", who, o.winding.size(),
+                    c.links(), c.links()));
+  const bool rotates =
+      std::any_of(o.winding.begin(), o.winding.end(), [](int w) { return w != 0; });
+  if (rotates && o.phase == orbit_phase::turning_point)
+    throw std::invalid_argument(fmt::format(
+        "{}: a rotating orbit (winding not zero) has no turning point; use the poincare phase",
+        who));
+}
 
-periodic_orbit_result periodic_orbit(const chain& c, std::span<const double> x0_guess,
-                                     double T_guess, const periodic_orbit_options& options) {
-  check_conservative(c, "periodic_orbit");
-  const int d = c.state_size(), nq = c.coordinates();
-  if (x0_guess.size() != static_cast<std::size_t>(d))
-    throw std::invalid_argument(
-        fmt::format("periodic_orbit: x0_guess has {} entries; the {}-link "
-                    "chain needs {}",
-                    x0_guess.size(), c.links(), d));
-  if (!(T_guess > 0) || !std::isfinite(T_guess))
-    throw std::invalid_argument(
-        fmt::format("periodic_orbit: T_guess must be positive and finite, got {}", T_guess));
-  if (options.steps < 2)
-    throw std::invalid_argument(
-        fmt::format("periodic_orbit: steps must be >= 2, got {}", options.steps));
-  if (!(options.tolerance > 0))
-    throw std::invalid_argument(
-        fmt::format("periodic_orbit: tolerance must be positive, got {}", options.tolerance));
-
-  const bool turning = options.phase == orbit_phase::turning_point;
-  std::vector<double> x(x0_guess.begin(), x0_guess.end());
-  if (turning) std::fill(x.begin() + nq, x.end(), 0.0);
-  const std::vector<double> guess = x;
-  const Eigen::VectorXd f_guess = orbit_flow(c, guess);
-  const double energy = std::isnan(options.energy) ? c.hamiltonian(x) : options.energy;
-  // Unknowns: the free entries of x0 (q only at a turning point), then T.
-  const int free = turning ? nq : d, rows = d + 1 + (turning ? 0 : 1);
-  double period = T_guess;
+// Newton on the multiple-shooting system from the guess (x0, T): the segments' matching rows
+// (φ(T/m; s_i) − s_{i+1}, the last one against s_0 shifted by the winding) and the
+// constraints' rows. The correction is the least-squares, minimum-norm solution: energy
+// conservation makes one matching row depend on the others, so the square system would be
+// singular, and since the residual vanishes at the orbit the convergence stays quadratic.
+periodic_orbit_result shoot(const chain& c, std::vector<double> x, double period,
+                            const periodic_orbit_options& options,
+                            const shooting_constraints& constraints) {
+  shooting_layout L{c.state_size(), c.coordinates(), options.segments,
+                    options.phase == orbit_phase::turning_point};
+  const int d = L.d, m = L.segments;
+  const int seg_steps = (options.steps + m - 1) / m;
+  std::vector<double> shift(static_cast<std::size_t>(d));
+  for (std::size_t i = 0; i < options.winding.size(); ++i)
+    shift[static_cast<std::size_t>(c.angle_index(static_cast<int>(i)))] =
+        2 * std::numbers::pi * options.winding[i];
+  if (L.turning) std::fill(x.begin() + L.nq, x.end(), 0.0);
 
   periodic_orbit_result r;
+  r.winding = options.winding;
+  r.winding.resize(static_cast<std::size_t>(c.links()));
+  // The starts of the segments: the first is x, the others where the guess's flow takes it.
+  std::vector<std::vector<double>> starts(static_cast<std::size_t>(m), x);
+  try {
+    for (int i = 1; i < m; ++i) {
+      starts[static_cast<std::size_t>(i)] = starts[static_cast<std::size_t>(i - 1)];
+      flow_segment(c, starts[static_cast<std::size_t>(i)], period / m, seg_steps, {});
+    }
+  } catch (const integration_error&) {
+    r.x0 = x;
+    r.period = period;
+    r.energy = c.hamiltonian(x);
+    return r;
+  }
+  const int rows = m * d + (constraints.energy ? 1 : 0) + (constraints.phase_normal ? 1 : 0) +
+                   (constraints.arc_tangent ? 1 : 0);
+  Eigen::MatrixXd total;
   for (int iteration = 0;; ++iteration) {
     if (stop_requested(options.control)) {
       r.stopped = true;
       break;
     }
-    period_pass pass;
-    try {
-      pass = integrate_period(c, x, period, options.steps);
-    } catch (const integration_error&) {
-      break;  // the step cannot follow this guess: not converged
-    }
+    std::vector<double> amplitudes(static_cast<std::size_t>(c.links()));
+    const auto track = [&](std::span<const double> s) {
+      for (int i = 0; i < c.links(); ++i) {
+        double& a = amplitudes[static_cast<std::size_t>(i)];
+        a = std::max(a, std::fabs(s[static_cast<std::size_t>(c.angle_index(i))]));
+      }
+    };
+    track(starts[0]);
     Eigen::VectorXd residual(rows);
+    Eigen::MatrixXd jac = Eigen::MatrixXd::Zero(rows, L.size());
+    total = Eigen::MatrixXd::Identity(d, d);
     r.closure = 0;
-    for (int i = 0; i < d; ++i) {
-      const auto u = static_cast<std::size_t>(i);
-      residual(i) = pass.end[u] - x[u];
-      r.closure = std::max(r.closure, std::fabs(residual(i)));
+    bool failed = false;
+    for (int i = 0; i < m && !failed; ++i) {
+      std::vector<double> end = starts[static_cast<std::size_t>(i)];
+      Eigen::MatrixXd tangent;
+      try {
+        tangent = segment_with_tangent(c, end, period / m, seg_steps, options.monodromy, track);
+      } catch (const integration_error&) {
+        failed = true;  // the step cannot follow this guess: not converged
+        break;
+      }
+      total = tangent * total;
+      const bool last = i == m - 1;
+      const std::vector<double>& next = starts[static_cast<std::size_t>(last ? 0 : i + 1)];
+      for (int k = 0; k < d; ++k) {
+        const auto u = static_cast<std::size_t>(k);
+        residual(i * d + k) = end[u] - next[u] - (last ? shift[u] : 0.0);
+        r.closure = std::max(r.closure, std::fabs(residual(i * d + k)));
+      }
+      const int own = L.start_column(i), own_width = i == 0 ? L.first() : d;
+      jac.block(i * d, own, d, own_width) = tangent.leftCols(own_width);
+      const int other = L.start_column(last ? 0 : i + 1), other_width = last ? L.first() : d;
+      for (int k = 0; k < other_width; ++k) jac(i * d + k, other + k) -= 1;
+      jac.block(i * d, L.period_column(), d, 1) = orbit_flow(c, end) / m;
     }
-    residual(d) = c.hamiltonian(x) - energy;
-    const Eigen::VectorXd f0 = orbit_flow(c, x);
-    if (!turning)
-      residual(d + 1) = f_guess.dot(Eigen::Map<const Eigen::VectorXd>(x.data(), d) -
-                                    Eigen::Map<const Eigen::VectorXd>(guess.data(), d));
+    if (failed) break;
+    int row = m * d;
+    double energy_error = 0;
+    if (constraints.energy) {
+      residual(row) = c.hamiltonian(starts[0]) - *constraints.energy;
+      energy_error = std::fabs(residual(row));
+      jac.block(row, 0, 1, L.first()) = energy_gradient(c, starts[0]).head(L.first()).transpose();
+      ++row;
+    }
+    if (constraints.phase_normal) {
+      const Eigen::VectorXd& n = *constraints.phase_normal;
+      residual(row) = n.dot(Eigen::Map<const Eigen::VectorXd>(starts[0].data(), d) -
+                            Eigen::Map<const Eigen::VectorXd>(constraints.phase_point.data(), d));
+      jac.block(row, 0, 1, L.first()) = n.head(L.first()).transpose();
+      ++row;
+    }
+    if (constraints.arc_tangent) {
+      const Eigen::VectorXd& t = *constraints.arc_tangent;
+      Eigen::VectorXd u(L.first() + 1);
+      u.head(L.first()) = Eigen::Map<const Eigen::VectorXd>(starts[0].data(), L.first());
+      u(L.first()) = period;
+      residual(row) = t.dot(u - constraints.arc_point);
+      jac.block(row, 0, 1, L.first()) = t.head(L.first()).transpose();
+      jac(row, L.period_column()) = t(L.first());
+      ++row;
+    }
     r.iterations = iteration;
+    r.amplitudes = amplitudes;
     if (!std::isfinite(r.closure)) break;
-    if (r.closure <= options.tolerance &&
-        std::fabs(residual(d)) <= options.tolerance * std::max(1.0, std::fabs(energy))) {
+    const double energy_scale =
+        std::max(1.0, std::fabs(constraints.energy ? *constraints.energy : 0.0));
+    if (r.closure <= options.tolerance && energy_error <= options.tolerance * energy_scale) {
       r.converged = true;
-      r.amplitudes = pass.amplitudes;
-      set_multipliers(pass.monodromy, options.stability_tolerance, r);
+      set_multipliers(total, options.stability_tolerance, r);
       break;
     }
     if (iteration == options.max_iterations) break;
-
-    // ∂/∂x0 of φ(T) − x0 is M − I; ∂/∂T is f(φ(T)). On a fixed pivot f = (∂H/∂p, −∂H/∂q),
-    // so ∇H comes from f without another kernel.
-    const Eigen::VectorXd f_end = orbit_flow(c, pass.end);
-    Eigen::MatrixXd jac = Eigen::MatrixXd::Zero(rows, free + 1);
-    for (int j = 0; j < free; ++j) {
-      jac.col(j).head(d) = pass.monodromy.col(j);
-      jac(j, j) -= 1;
-      jac(d, j) = j < nq ? -f0(nq + j) : f0(j - nq);
-      if (!turning) jac(d + 1, j) = f_guess(j);
-    }
-    jac.col(free).head(d) = f_end;
     const Eigen::VectorXd step = jac.completeOrthogonalDecomposition().solve(-residual);
-    for (int j = 0; j < free; ++j) x[static_cast<std::size_t>(j)] += step(j);
-    period += step(free);
+    for (int j = 0; j < L.first(); ++j) starts[0][static_cast<std::size_t>(j)] += step(j);
+    for (int i = 1; i < m; ++i)
+      for (int k = 0; k < d; ++k)
+        starts[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)] +=
+            step(L.start_column(i) + k);
+    period += step(L.period_column());
     if (!(period > 0) || !std::isfinite(period)) break;
   }
-  r.x0 = x;
+  r.x0 = starts[0];
   r.period = period;
-  r.energy = c.hamiltonian(x);
+  r.energy = c.hamiltonian(starts[0]);
   return r;
 }
 
-namespace {
-
-// The guess at energy e: the secant through the last two points (in x0 and T against E),
-// or from a single point the harmonic scaling (angles ∝ √E, the period unchanged).
-std::pair<std::vector<double>, double> predict_orbit(const std::vector<nnm_point>& points,
-                                                     double e) {
-  const nnm_point& b = points.back();
-  std::vector<double> x = b.x0;
-  if (points.size() == 1) {
-    const double s = std::sqrt(e / b.energy);
-    for (double& v : x) v *= s;
-    return {x, b.period};
-  }
-  const nnm_point& a = points[points.size() - 2];
-  const double t = (e - b.energy) / (b.energy - a.energy);
-  for (std::size_t i = 0; i < x.size(); ++i) x[i] += t * (b.x0[i] - a.x0[i]);
-  return {x, b.period + t * (b.period - a.period)};
+// The phase condition's rows for a guess: a Poincaré plane through it across the flow.
+void set_phase(const chain& c, const periodic_orbit_options& options,
+               const std::vector<double>& guess, shooting_constraints& k) {
+  if (options.phase != orbit_phase::poincare) return;
+  k.phase_normal = orbit_flow(c, guess);
+  k.phase_point = guess;
 }
 
 }  // namespace
+
+periodic_orbit_result periodic_orbit(const chain& c, std::span<const double> x0_guess,
+                                     double T_guess, const periodic_orbit_options& options) {
+  detail::check_conservative(c, "periodic_orbit");
+  if (x0_guess.size() != static_cast<std::size_t>(c.state_size()))
+    throw std::invalid_argument(
+        fmt::format("periodic_orbit: x0_guess has {} entries; the {}-link "
+                    "chain needs {}",
+                    x0_guess.size(), c.links(), c.state_size()));
+  if (!(T_guess > 0) || !std::isfinite(T_guess))
+    throw std::invalid_argument(
+        fmt::format("periodic_orbit: T_guess must be positive and finite, got {}", T_guess));
+  check_shooting_options(c, options, "periodic_orbit");
+  std::vector<double> x(x0_guess.begin(), x0_guess.end());
+  if (options.phase == orbit_phase::turning_point)
+    std::fill(x.begin() + c.coordinates(), x.end(), 0.0);
+  shooting_constraints k;
+  k.energy = std::isnan(options.energy) ? c.hamiltonian(x) : options.energy;
+  set_phase(c, options, x, k);
+  return shoot(c, x, T_guess, options, k);
+}
 
 nnm_point to_nnm_point(const periodic_orbit_result& r) {
   return {.energy = r.energy,
@@ -207,13 +328,210 @@ nnm_point to_nnm_point(const periodic_orbit_result& r) {
           .iterations = r.iterations};
 }
 
+namespace {
+
+// A family followed from its first orbit towards energy_end, by options.method.
+class family_walk {
+ public:
+  family_walk(const chain& c, const continuation_options& options, double energy_end,
+              std::string end_word, nnm_branch& branch)
+      : c_(c), o_(options), end_(energy_end), end_word_(std::move(end_word)), b_(branch) {}
+
+  void run(const periodic_orbit_result& first) {
+    first_period_ = first.period;
+    direction_ = end_ > first.energy ? 1.0 : -1.0;
+    b_.points.push_back(to_nnm_point(first));
+    // A mode's family starts at a tiny energy and doubles it; an orbit's family steps a
+    // twentieth of the way to the end.
+    double step = (b_.mode >= 0 ? std::fabs(first.energy) : std::fabs(end_ - first.energy) / 20) *
+                  o_.initial_step_ratio;
+    // Two points at fixed energies give the arc its first secant.
+    while (b_.points.size() < 2 || o_.method == continuation_method::natural) {
+      if (finished()) return;
+      const double last = b_.points.back().energy;
+      const double e = direction_ > 0 ? std::min(last + step, end_) : std::max(last - step, end_);
+      const periodic_orbit_result r = at_energy(e);
+      if (r.stopped) return stop();
+      if (r.converged) {
+        b_.points.push_back(to_nnm_point(r));
+        if (e == end_) return end(fmt::format("reached {}", end_word_));
+        if (r.iterations <= 4) step *= 1.5;
+        continue;
+      }
+      step /= 2;
+      if (step < o_.min_step_ratio * std::max(std::fabs(last), 1e-300))
+        return end(fmt::format(
+            "the shooting stopped converging beyond E = {} J (the energy step fell below "
+            "min_step_ratio)",
+            last));
+    }
+    along_arc();
+  }
+
+ private:
+  bool finished() {
+    if (static_cast<int>(b_.points.size()) < o_.max_points) return false;
+    end("max_points reached");
+    return true;
+  }
+  void end(std::string reason) { b_.end_reason = std::move(reason); }
+  void stop() {
+    b_.stopped = true;
+    end("stopped");
+  }
+
+  periodic_orbit_options shooting(double period) const {
+    periodic_orbit_options s = o_.orbit;
+    if (o_.steps_follow_period && period > first_period_)
+      s.steps = static_cast<int>(std::ceil(s.steps * period / first_period_));
+    return s;
+  }
+
+  // The orbit at energy e from the prediction through the last two points (one point: the
+  // harmonic scaling of the angles' offsets, the period unchanged).
+  periodic_orbit_result at_energy(double e) const {
+    const nnm_point& b = b_.points.back();
+    std::vector<double> x = b.x0;
+    double period = b.period;
+    if (b_.points.size() == 1) {
+      const double s = std::sqrt(e / b.energy);
+      if (b_.mode >= 0 && std::isfinite(s) && s > 0)
+        for (double& v : x) v *= s;
+    } else {
+      const nnm_point& a = b_.points[b_.points.size() - 2];
+      const double t = (e - b.energy) / (b.energy - a.energy);
+      for (std::size_t i = 0; i < x.size(); ++i) x[i] += t * (b.x0[i] - a.x0[i]);
+      period += t * (b.period - a.period);
+    }
+    if (!(period > 0) || !std::isfinite(period)) return {};  // extrapolated past sense
+    const periodic_orbit_options s = shooting(period);
+    shooting_constraints k;
+    k.energy = e;
+    set_phase(c_, s, x, k);
+    return shoot(c_, x, period, s, k);
+  }
+
+  // (the start's free entries, T): the coordinates the arc is measured in.
+  Eigen::VectorXd arc_coordinates(const nnm_point& p) const {
+    const int free =
+        o_.orbit.phase == orbit_phase::turning_point ? c_.coordinates() : c_.state_size();
+    Eigen::VectorXd u(free + 1);
+    for (int j = 0; j < free; ++j) u(j) = p.x0[static_cast<std::size_t>(j)];
+    u(free) = p.period;
+    return u;
+  }
+
+  void along_arc() {
+    double ds =
+        (arc_coordinates(b_.points.back()) - arc_coordinates(b_.points[b_.points.size() - 2]))
+            .norm();
+    while (!finished()) {
+      const nnm_point& a = b_.points[b_.points.size() - 2];
+      const nnm_point& b = b_.points.back();
+      const Eigen::VectorXd ub = arc_coordinates(b), secant = ub - arc_coordinates(a);
+      const Eigen::VectorXd t = secant / secant.norm();
+      const Eigen::VectorXd predicted = ub + ds * t;
+      const int free = static_cast<int>(predicted.size()) - 1;
+      std::vector<double> x(b.x0.size());
+      for (std::size_t i = 0; i < x.size(); ++i)
+        x[i] = b.x0[i] + ds / secant.norm() * (b.x0[i] - a.x0[i]);
+      const double period = predicted(free);
+      shooting_constraints k;
+      k.arc_tangent = t;
+      k.arc_point = predicted;
+      const periodic_orbit_options s = shooting(period);
+      set_phase(c_, s, x, k);
+      const periodic_orbit_result r =
+          period > 0 ? shoot(c_, x, period, s, k) : periodic_orbit_result{};
+      if (r.stopped) return stop();
+      if (!r.converged) {
+        ds /= 2;
+        if (ds < o_.min_step_ratio * ub.norm())
+          return end(fmt::format(
+              "the shooting stopped converging beyond E = {} J (the arclength step fell below "
+              "min_step_ratio)",
+              b.energy));
+        continue;
+      }
+      // A corrector that lands far off the predicted arc (its secant turned by more than
+      // about 37°) has likely jumped to another family: a shorter step instead.
+      const Eigen::VectorXd turn = arc_coordinates(to_nnm_point(r)) - ub;
+      if (turn.dot(t) < 0.8 * turn.norm()) {
+        ds /= 2;
+        if (ds < o_.min_step_ratio * ub.norm())
+          return end(fmt::format(
+              "the family turned too sharply to follow beyond E = {} J (the arclength step fell "
+              "below min_step_ratio)",
+              b.energy));
+        continue;
+      }
+      if (direction_ * (r.energy - end_) >= 0) {
+        // Past the end: the orbit at the end energy itself, between b and r.
+        b_.points.push_back(to_nnm_point(r));
+        const periodic_orbit_result last = at_energy(end_);
+        b_.points.pop_back();
+        if (last.stopped) return stop();
+        if (last.converged) {
+          note_fold(last);
+          b_.points.push_back(to_nnm_point(last));
+          return end(fmt::format("reached {}", end_word_));
+        }
+        ds /= 2;  // not reached from here: a shorter arc step lands closer
+        continue;
+      }
+      if (direction_ * (r.energy - b_.points.front().energy) < 0)
+        return end(fmt::format("the branch turned back {} its first energy",
+                               direction_ > 0 ? "below" : "above"));
+      note_fold(r);
+      b_.points.push_back(to_nnm_point(r));
+      if (r.iterations <= 4) ds *= 1.5;
+    }
+  }
+
+  // The energy turns back between the last point and r: a fold, its extreme energy from the
+  // parabola through the last three energies against the arc's point count.
+  void note_fold(const periodic_orbit_result& r) {
+    const std::size_t n = b_.points.size();
+    if (n < 2) return;
+    const double e0 = b_.points[n - 2].energy, e1 = b_.points[n - 1].energy, e2 = r.energy;
+    if ((e1 - e0) * (e2 - e1) >= 0) return;
+    const double curvature = e0 - 2 * e1 + e2;
+    const double vertex = curvature != 0 ? e1 - (e2 - e0) * (e2 - e0) / (8 * curvature) : e1;
+    b_.folds.push_back({.after = n - 1, .energy = vertex});
+  }
+
+  const chain& c_;
+  const continuation_options& o_;
+  double end_;
+  std::string end_word_;
+  nnm_branch& b_;
+  double first_period_ = 0, direction_ = 1;
+};
+
+void check_continuation(const continuation_options& o, const char* who) {
+  if (o.max_points < 1)
+    throw std::invalid_argument(
+        fmt::format("{}: max_points must be >= 1, got {}", who, o.max_points));
+  if (!(o.initial_step_ratio > 0) || !(o.min_step_ratio > 0))
+    throw std::invalid_argument(
+        fmt::format("{}: initial_step_ratio and min_step_ratio must be positive", who));
+}
+
+}  // namespace
+
 nnm_branch continue_mode(const chain& c, int mode, const continuation_options& options) {
-  check_conservative(c, "continue_mode");
+  detail::check_conservative(c, "continue_mode");
+  check_shooting_options(c, options.orbit, "continue_mode");
+  check_continuation(options, "continue_mode");
   const int n = c.links();
   if (mode < 0 || mode >= n)
     throw std::invalid_argument(
         fmt::format("continue_mode: mode {} is out of range; the {}-link chain has modes 0..{}",
                     mode, n, n - 1));
+  if (std::any_of(options.orbit.winding.begin(), options.orbit.winding.end(),
+                  [](int w) { return w != 0; }))
+    throw std::invalid_argument(
+        "continue_mode: a normal mode's family oscillates; its winding must be zero");
   if (!(options.start_amplitude > 0) || !std::isfinite(options.start_amplitude))
     throw std::invalid_argument(fmt::format(
         "continue_mode: start_amplitude must be positive, got {}", options.start_amplitude));
@@ -239,52 +557,34 @@ nnm_branch continue_mode(const chain& c, int mode, const continuation_options& o
         fmt::format("continue_mode: energy_max ({} J) must exceed the first point's energy ({} J)",
                     options.energy_max, e0));
 
-  periodic_orbit_options shoot = options.orbit;
-  shoot.energy = e0;
+  periodic_orbit_options shoot_first = options.orbit;
+  shoot_first.energy = e0;
   const periodic_orbit_result first =
-      periodic_orbit(c, x, 2 * std::numbers::pi / m.frequency, shoot);
+      periodic_orbit(c, x, 2 * std::numbers::pi / m.frequency, shoot_first);
   if (first.stopped || !first.converged) {
     branch.stopped = first.stopped;
     branch.end_reason = first.stopped ? "stopped" : "the first point did not converge";
     return branch;
   }
-  branch.points.push_back(to_nnm_point(first));
-  double step = e0 * options.initial_step_ratio;
-  while (true) {
-    if (static_cast<int>(branch.points.size()) >= options.max_points) {
-      branch.end_reason = "max_points reached";
-      break;
-    }
-    const double last = branch.points.back().energy;
-    const double e = std::min(last + step, options.energy_max);
-    const auto [guess, period] = predict_orbit(branch.points, e);
-    shoot.energy = e;
-    const periodic_orbit_result r = periodic_orbit(c, guess, period, shoot);
-    if (r.stopped) {
-      branch.stopped = true;
-      branch.end_reason = "stopped";
-      break;
-    }
-    if (r.converged) {
-      branch.points.push_back(to_nnm_point(r));
-      if (e >= options.energy_max) {
-        branch.end_reason = "reached energy_max";
-        break;
-      }
-      if (r.iterations <= 4) step *= 1.5;
-      continue;
-    }
-    // Near a fold in energy or the separatrix the prediction misses: shorter steps, and
-    // once they are negligible the branch ends here.
-    step /= 2;
-    if (step < options.min_step_ratio * last) {
-      branch.end_reason = fmt::format(
-          "the shooting stopped converging beyond E = {} J (the energy step fell below "
-          "min_step_ratio)",
-          last);
-      break;
-    }
-  }
+  family_walk(c, options, options.energy_max, "energy_max", branch).run(first);
+  return branch;
+}
+
+nnm_branch continue_orbit(const chain& c, const periodic_orbit_result& start, double energy_end,
+                          const continuation_options& options) {
+  detail::check_conservative(c, "continue_orbit");
+  check_shooting_options(c, options.orbit, "continue_orbit");
+  check_continuation(options, "continue_orbit");
+  if (!start.converged || start.x0.size() != static_cast<std::size_t>(c.state_size()))
+    throw std::invalid_argument(
+        "continue_orbit: the start must be a converged orbit of this chain");
+  if (!std::isfinite(energy_end) || energy_end == start.energy)
+    throw std::invalid_argument(fmt::format(
+        "continue_orbit: the end energy must be finite and differ from the orbit's ({} J), got {}",
+        start.energy, energy_end));
+  nnm_branch branch;
+  branch.mode = -1;
+  family_walk(c, options, energy_end, "the end energy", branch).run(start);
   return branch;
 }
 

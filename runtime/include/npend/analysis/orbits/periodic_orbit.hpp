@@ -25,16 +25,36 @@ enum class orbit_phase {
   poincare,
 };
 
+/// How the shooting gets the monodromy matrix ∂φ(T)/∂x0.
+enum class monodromy_method {
+  /// The exact tangent map of the Gauss–Legendre step, carried along the one pass.
+  exact,
+  /// Forward differences of 2n + 1 passes (the start and each coordinate nudged by
+  /// √ε·max(1, |x_j|)), as continuation codes without a variational system do it. Kept for
+  /// the benchmark against the exact map; it converges more slowly and less far.
+  finite_difference,
+};
+
 struct periodic_orbit_options {
   /// Gauss–Legendre (order 6) steps over the period: the orbit is exact for that map, whose
-  /// period differs from the flow's by about steps⁻⁶. At least 2 (even for turning_point).
+  /// period differs from the flow's by about steps⁻⁶. At least 2 and at least `segments`;
+  /// each segment takes ⌈steps / segments⌉.
   int steps = 400;
+  /// Multiple shooting: the period is cut into this many segments, each integrated from its
+  /// own start, and Newton matches each segment's end to the next start. An unstable orbit's
+  /// errors then grow over T/segments instead of T. 1: single shooting.
+  int segments = 1;
+  /// Rotating orbits: whole turns of each angle per period (empty or all zero: an
+  /// oscillation). The orbit closes as φ_i(T) = φ_i(0) + 2π·winding[i], p(T) = p(0). A
+  /// rotating orbit has no turning point: it needs orbit_phase::poincare.
+  std::vector<int> winding;
   /// The energy H(x0) = E (J) the orbit keeps. NaN: the guess's energy.
   double energy = std::numeric_limits<double>::quiet_NaN();
   orbit_phase phase = orbit_phase::turning_point;
   /// Converged when ‖φ(T) − x0‖∞ ≤ tolerance and |H(x0) − E| ≤ tolerance·max(1, |E|).
   double tolerance = 1e-11;
   int max_iterations = 20;
+  monodromy_method monodromy = monodromy_method::exact;
   /// Stable when every non-trivial multiplier has |μ| ≤ 1 + stability_tolerance.
   double stability_tolerance = 1e-6;
   run_control* control = nullptr;  ///< not owned; may be null
@@ -45,10 +65,14 @@ struct periodic_orbit_result {
   std::vector<double> x0;  ///< the start (dim 2n)
   double period = 0;       ///< T (s)
   double energy = 0;       ///< H(x0) (J)
-  double closure = 0;      ///< ‖φ(T) − x0‖∞ of the last integration
-  int iterations = 0;      ///< Newton corrections taken
-  /// max |φ_i| (rad) over the start and the states after each step, per angle (dim n).
+  /// ‖φ(T) − x0 − 2πw‖∞ of the last integration; with several segments the largest
+  /// mismatch between a segment's end and the next start.
+  double closure = 0;
+  int iterations = 0;  ///< Newton corrections taken
+  /// max |φ_i| (rad) over the start and the states after each step, per angle (dim n); a
+  /// rotating angle's exceeds π.
   std::vector<double> amplitudes;
+  std::vector<int> winding;  ///< the turns per period it was shot with (dim n)
   /// The monodromy's eigenvalues by descending |μ|, without the trivial pair at +1 that the
   /// flow direction and the energy give (dim 2n − 2).
   std::vector<std::complex<double>> multipliers;
@@ -69,17 +93,35 @@ struct periodic_orbit_result {
 periodic_orbit_result periodic_orbit(const chain& c, std::span<const double> x0_guess,
                                      double T_guess, const periodic_orbit_options& options = {});
 
+/// How a family of orbits is followed from one point to the next.
+enum class continuation_method {
+  /// Each point shot at a fixed energy from a secant prediction in the energy: ends at a
+  /// fold in energy, and crawls where the period grows fast (towards the separatrix).
+  natural,
+  /// Pseudo-arclength (Keller): each point is the intersection of the family with the
+  /// plane normal to the secant of the last two points in (start, period), at a distance
+  /// along it; the energy is an unknown. Turns round folds in energy.
+  pseudo_arclength,
+};
+
 struct continuation_options {
   periodic_orbit_options orbit;  ///< each point's shooting (its energy is set per point)
+  continuation_method method = continuation_method::pseudo_arclength;
   /// The first point: angles = start_amplitude · shape / max |shape| (rad), p = 0.
   double start_amplitude = 0.01;
-  double energy_max = 0;  ///< continue up to this energy (J); must exceed the first point's
+  /// continue_mode: continue up to this energy (J); must exceed the first point's.
+  double energy_max = 0;
   int max_points = 200;
-  /// The step in energy starts at the first point's energy × initial_step_ratio and grows
-  /// by 1.5 after an easy point (≤ 4 iterations), halves after a failure.
+  /// The first step in energy is the first point's energy × initial_step_ratio
+  /// (continue_orbit: a twentieth of the way to the end × initial_step_ratio); a step grows
+  /// by 1.5 after an easy point (≤ 4 iterations) and halves after a failure.
   double initial_step_ratio = 1.0;
-  /// The branch ends when a failed step would fall below this fraction of the energy.
+  /// The branch ends when a failed step would fall below this fraction of the energy (or,
+  /// along the arc, of the last point's size in (start, period)).
   double min_step_ratio = 1e-6;
+  /// Each orbit takes orbit.steps × max(1, T / T₀) steps (T₀ the first point's period), so
+  /// that the step size stays the first orbit's while the period grows towards a separatrix.
+  bool steps_follow_period = true;
 };
 
 /// One converged point of a branch.
@@ -96,27 +138,46 @@ struct nnm_point {
   int iterations = 0;
 };
 
+/// Where the energy along a branch turns back (a fold: the family continues, towards lower
+/// energies), bracketed by two neighbouring points.
+struct nnm_fold {
+  std::size_t after = 0;  ///< the index of the point before the turn
+  double energy = 0;      ///< the largest (or smallest) energy of the parabola through three points
+};
+
 /// The point of a branch that a converged shooting result is.
 nnm_point to_nnm_point(const periodic_orbit_result& r);
 
 struct nnm_branch {
-  int mode = 0;                   ///< k (0-based, ascending linear frequency)
-  double linear_frequency = 0;    ///< ω_k of the linear mode (rad/s)
-  std::vector<double> shape;      ///< its mode shape (dim n)
-  std::vector<nnm_point> points;  ///< by increasing energy
+  int mode = 0;                 ///< k (0-based, ascending linear frequency)
+  double linear_frequency = 0;  ///< ω_k of the linear mode (rad/s)
+  std::vector<double> shape;    ///< its mode shape (dim n)
+  /// In the order of the family: by increasing energy, except past a fold.
+  std::vector<nnm_point> points;
+  std::vector<nnm_fold> folds;  ///< where the energy turned back
   /// Why the branch ended: "reached energy_max", "max_points reached", "the shooting stopped
-  /// converging at E = … (step below min_step_ratio)", "stopped".
+  /// converging beyond E = … (the step fell below min_step_ratio)", "the branch turned back
+  /// below its first energy", "stopped".
   std::string end_reason;
   bool stopped = false;  ///< a run control stopped it
 };
 
 /// The nonlinear normal mode family of linear mode `mode` (0-based, ascending ω) of the
-/// hanging chain, continued in energy (natural-parameter continuation: each point is the
-/// shooting at a fixed energy from a secant prediction of the last two, with step-size
-/// control; it cannot turn round a fold in energy, where it ends). Throws
-/// std::invalid_argument as periodic_orbit does, and for a mode index out of range, a
-/// non-positive start_amplitude or energy_max below the first point's energy.
+/// hanging chain, continued from a small amplitude up to options.energy_max (the first two
+/// points at fixed energies, then by options.method, with step-size control; the last point
+/// is shot at energy_max itself). Throws std::invalid_argument as periodic_orbit does, and
+/// for a mode index out of range, a non-positive start_amplitude or energy_max below the
+/// first point's energy.
 nnm_branch continue_mode(const chain& c, int mode, const continuation_options& options);
+
+/// The family of a converged orbit (an oscillation or a rotating orbit: `start` was shot
+/// with options.orbit, whose winding and phase it keeps), continued in energy towards
+/// `energy_end` (up or down) as continue_mode continues a mode; options.energy_max and
+/// start_amplitude are not used. The branch's mode is −1 and its linear frequency 0. Throws
+/// std::invalid_argument for an orbit that did not converge or has the wrong size, and as
+/// periodic_orbit does.
+nnm_branch continue_orbit(const chain& c, const periodic_orbit_result& start, double energy_end,
+                          const continuation_options& options);
 
 /// Where a branch's frequency ω first departs from the linear ω_k by the relative `shift`
 /// (|ω/ω_k − 1| = shift, e.g. 0.01 for the paper's 1 %, §6.4): the orbit at that energy,
