@@ -39,6 +39,7 @@ void add_backbone_command(CLI::App& app, command_list& commands);
 void add_corrections_command(CLI::App& app, command_list& commands);
 void add_orbits_command(CLI::App& app, command_list& commands);
 void add_orbit_command(CLI::App& app, command_list& commands);
+void add_upo_command(CLI::App& app, command_list& commands);
 void add_explore_command(CLI::App& app, command_list& commands);
 
 }  // namespace npend::app

@@ -92,6 +92,7 @@ int main(int argc, char** argv) {
   npend::app::add_backbone_command(app, commands);
   npend::app::add_orbits_command(app, commands);
   npend::app::add_orbit_command(app, commands);
+  npend::app::add_upo_command(app, commands);
   npend::app::add_corrections_command(app, commands);
   npend::app::add_simulate_command(app, commands);
   npend::app::add_animate_command(app, commands);

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <iostream>
@@ -15,6 +16,7 @@
 #include "chain_options.hpp"
 #include "command.hpp"
 #include "input_parsing.hpp"
+#include "npend/analysis/orbits/forced_orbit.hpp"
 #include "npend/analysis/orbits/periodic_orbit.hpp"
 #include "npend/analysis/stability/backbone.hpp"
 #include "series_output.hpp"
@@ -27,7 +29,8 @@ namespace {
 
 struct orbits_command_options {
   cli::chain_options chain;
-  std::string mode, energy_max, start_amplitude, steps, max_points, thresholds;
+  std::string mode, energy_max, start_amplitude, steps, max_points, thresholds, segments;
+  std::string continuation = "arclength";
   bool json = false;
   std::string out;
 };
@@ -37,6 +40,13 @@ struct mode_result {
   std::vector<std::pair<double, std::optional<nnm_point>>> departures;  // shift, orbit
   std::vector<nnm_bifurcation> bifurcations;
 };
+
+continuation_method parse_continuation(const std::string& name) {
+  if (name == "arclength") return continuation_method::pseudo_arclength;
+  if (name == "natural") return continuation_method::natural;
+  throw cli::input_error(
+      fmt::format("--continuation: arclength (the default) or natural, got '{}'", name));
+}
 
 continuation_options make_continuation(const orbits_command_options& o) {
   continuation_options opts;
@@ -55,6 +65,10 @@ continuation_options make_continuation(const orbits_command_options& o) {
   if (!o.max_points.empty())
     opts.max_points =
         static_cast<int>(cli::parse_whole_number(o.max_points, "--max-points", 2, 100000));
+  if (!o.segments.empty())
+    opts.orbit.segments =
+        static_cast<int>(cli::parse_whole_number(o.segments, "--segments", 1, opts.orbit.steps));
+  opts.method = parse_continuation(o.continuation);
   return opts;
 }
 
@@ -186,16 +200,30 @@ nlohmann::json point_json(const nnm_point& p, double linear_frequency) {
           {"iterations", p.iterations}};
 }
 
+void print_folds(const nnm_branch& b) {
+  for (const nnm_fold& f : b.folds)
+    fmt::print("fold: the energy turns back at E = {:.10g} J (after orbit {})\n", f.energy,
+               f.after + 1);
+}
+
+nlohmann::json folds_json(const nnm_branch& b) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const nnm_fold& f : b.folds) list.push_back({{"after", f.after}, {"energy", f.energy}});
+  return list;
+}
+
 void print_results(const chain& c, const std::vector<mode_result>& results,
                    const continuation_options& opts) {
   const int n = c.links();
   fmt::print(
       "Nonlinear normal modes of the {}-link chain: periodic orbits through a turning point\n"
-      "(p = 0), continued in energy from each linear mode at {:g} rad; shooting with the exact\n"
-      "monodromy matrix (Gauss-Legendre, {} steps per period), closure ||phi(T) - x0|| <= {:g}.\n"
+      "(p = 0), continued {} from each linear mode at {:g} rad; shooting with the exact\n"
+      "monodromy matrix (Gauss-Legendre, {} steps per period{}), closure ||phi(T) - x0|| <= {:g}.\n"
       "stable: every Floquet multiplier but the trivial pair has |mu| <= 1 + {:g}.\n",
-      n, opts.start_amplitude, opts.orbit.steps, opts.orbit.tolerance,
-      opts.orbit.stability_tolerance);
+      n, opts.method == continuation_method::pseudo_arclength ? "by pseudo-arclength" : "in energy",
+      opts.start_amplitude, opts.orbit.steps,
+      opts.orbit.segments > 1 ? fmt::format(", {} segments", opts.orbit.segments) : "",
+      opts.orbit.tolerance, opts.orbit.stability_tolerance);
   for (const mode_result& r : results) {
     const nnm_branch& b = r.branch;
     fmt::print("\nMode {}: omega_{} = {:.8g} rad/s, shape ({:.4f}); {} orbits, {}\n", b.mode + 1,
@@ -222,6 +250,7 @@ void print_results(const chain& c, const std::vector<mode_result>& results,
           100 * shift, b.mode + 1, orbit->energy, orbit->frequency,
           fmt::join(orbit->amplitudes, ", "));
     }
+    print_folds(b);
     for (const nnm_bifurcation& f : r.bifurcations)
       fmt::print(
           "{} at E = {:.10g} J (omega = {:.8g} rad/s): {} above; multipliers {} (stable "
@@ -304,11 +333,14 @@ int run_orbits(const orbits_command_options& o) {
                     {"linear_frequency", r.branch.linear_frequency},
                     {"shape", r.branch.shape},
                     {"end_reason", r.branch.end_reason},
+                    {"folds", folds_json(r.branch)},
                     {"points", points},
                     {"departures", departures}});
   }
   nlohmann::json j = describe_chain(c);
   j.update(nlohmann::json{{"steps", opts.orbit.steps},
+                          {"segments", opts.orbit.segments},
+                          {"continuation", o.continuation},
                           {"start_amplitude", opts.start_amplitude},
                           {"energy_max", opts.energy_max},
                           {"tolerance", opts.orbit.tolerance},
@@ -321,25 +353,363 @@ int run_orbits(const orbits_command_options& o) {
 struct orbit_command_options {
   cli::chain_options chain;
   cli::start_options start;
-  std::string period, phase = "turning_point", steps;
+  std::string period, phase, steps, winding, segments;
   bool json = false;
+  // A free orbit: its family continued in energy to `continue_to`. A driven pivot: the forced
+  // orbit over `periods` drive periods, and its continuation in the drive frequency up or
+  // down to `continue_to`. Either branch written to `out`.
+  std::string periods, continue_to, out;
 };
+
+nlohmann::json forced_point_json(const forced_point& p) {
+  return {{"frequency", p.frequency},
+          {"period", p.period},
+          {"x0", p.x0},
+          {"amplitudes", p.amplitudes},
+          {"multipliers", json_complex_list(p.multipliers)},
+          {"max_multiplier", p.max_multiplier},
+          {"stable", p.stable},
+          {"closure", p.closure},
+          {"iterations", p.iterations}};
+}
+
+std::string forced_multipliers_text(const std::vector<std::complex<double>>& multipliers) {
+  std::string out;
+  for (const auto& mu : multipliers)
+    out += fmt::format("{}{:.6g}{:+.6g}i", out.empty() ? "" : " ", mu.real(), mu.imag());
+  return out;
+}
+
+void write_drive_files(series_output& files, const chain& c, const drive_branch& branch) {
+  const int n = c.links();
+  std::vector<std::string> names{"omega", "a_omega", "period"};
+  for (int i = 1; i <= n; ++i) names.push_back(fmt::format("amplitude_phi{}", i));
+  names.insert(names.end(), {"max_multiplier", "stable", "closure", "iterations"});
+  const double a = c.parameters().pivot.amplitude;
+  std::vector<std::vector<double>> table(names.size()), changes(4);
+  for (const forced_point& p : branch.points) {
+    std::vector<double> row{p.frequency, a * p.frequency, p.period};
+    row.insert(row.end(), p.amplitudes.begin(), p.amplitudes.end());
+    row.insert(row.end(), {p.max_multiplier, p.stable ? 1.0 : 0.0, p.closure,
+                           static_cast<double>(p.iterations)});
+    for (std::size_t k = 0; k < row.size(); ++k) table[k].push_back(row[k]);
+  }
+  for (const drive_stability_change& s : branch.changes) {
+    changes[0].push_back(s.frequency);
+    changes[1].push_back(a * s.frequency);
+    changes[2].push_back(s.stable_above ? 1.0 : 0.0);
+    changes[3].push_back(static_cast<double>(s.kind));
+  }
+  const std::string data = files.write_csv("", names, table);
+  const std::string marks = files.write_csv(
+      "changes",
+      std::vector<std::string>{"omega", "a_omega", "stable_above",
+                               "kind (0 branch point, 1 period doubling, 2 complex pair)"},
+      changes);
+  cli::plot_panel panel{
+      .title = fmt::format("Forced orbit of the {}-link chain over the drive frequency (pivot {})",
+                           n, c.parameters().pivot.describe()),
+      .xlabel = "drive frequency Ω (rad/s)",
+      .ylabel = "largest multiplier |μ|_{max}",
+      .log_y = true,
+      .commands = {"set key top right", "set grid"}};
+  const std::size_t stable_column = 3 + static_cast<std::size_t>(n) + 2;
+  panel.curves.push_back(
+      {data, fmt::format("1:{}", stable_column - 1), "lines lw 2 lc rgb '#1f77b4'", "max |μ|"});
+  panel.curves.push_back(
+      {data, fmt::format("(${} > 0.5 ? $1 : 1/0):{}", stable_column, stable_column - 1),
+       "points pt 7 ps 0.6 lc rgb '#2ca02c'", "stable"});
+  if (!branch.changes.empty())
+    panel.curves.push_back(
+        {marks, "1:(1)", "points pt 8 ps 1.8 lw 2 lc rgb '#d62728'", "changes of stability"});
+  files.write_plot({.description = {"npend orbit --continue-to: the forced orbit's largest "
+                                    "Floquet multiplier over the drive frequency",
+                                    fmt::format("data: {} (per orbit), {} (the changes of "
+                                                "stability)",
+                                                data, marks)},
+                    .panels = {panel}});
+}
+
+// npend orbit on a driven pivot: the forced orbit (and with --continue-to its branch).
+int run_forced_orbit(const chain& c, const std::vector<double>& guess,
+                     const orbit_command_options& o) {
+  if (!o.period.empty())
+    throw cli::input_error(
+        "--period: not with a driven pivot (the forced orbit's period is the drive's, times "
+        "--periods)");
+  if (!o.phase.empty())
+    throw cli::input_error("--phase: not with a driven pivot (the drive fixes the orbit's phase)");
+  for (const auto& [given, name] :
+       {std::pair{&o.winding, "--winding"}, std::pair{&o.segments, "--segments"}})
+    if (!given->empty())
+      throw cli::input_error(fmt::format("{}: not with a driven pivot (free orbits only)", name));
+  if (!o.out.empty() && o.continue_to.empty())
+    throw cli::input_error("--out: only with --continue-to (the branch's table and plot)");
+  drive_continuation_options opts;
+  if (!o.periods.empty())
+    opts.orbit.periods = static_cast<int>(cli::parse_whole_number(o.periods, "--periods", 1, 1000));
+  if (!o.steps.empty())
+    opts.orbit.steps = static_cast<int>(cli::parse_whole_number(o.steps, "--steps", 20, 1e6));
+  const double a = c.parameters().pivot.amplitude;
+  cli::terminal_run control;
+  opts.orbit.control = &control;
+  if (!o.continue_to.empty()) {
+    opts.frequency_end = cli::parse_number(o.continue_to, "--continue-to");
+    if (!(opts.frequency_end > 0) || !std::isfinite(opts.frequency_end))
+      throw cli::input_error(
+          fmt::format("--continue-to: a positive drive frequency in rad/s, got {}", o.continue_to));
+    series_output files(o.out);
+    drive_branch branch;
+    try {
+      branch = continue_drive(c, guess, opts);
+    } catch (const std::invalid_argument& e) {
+      throw cli::input_error(e.what());
+    }
+    control.finish();
+    if (branch.stopped) {
+      fmt::print(stderr, "npend orbit: interrupted{}\n",
+                 o.out.empty() ? "" : fmt::format("; nothing written to {}", o.out));
+      return control.exit_code();
+    }
+    if (branch.points.empty())
+      throw std::runtime_error(
+          "the shooting did not converge at the first drive frequency: give a start closer to "
+          "the forced orbit");
+    if (files.enabled()) write_drive_files(files, c, branch);
+    if (o.json) {
+      nlohmann::json j = describe_chain(c), points = nlohmann::json::array(),
+                     changes = nlohmann::json::array();
+      for (const forced_point& p : branch.points) points.push_back(forced_point_json(p));
+      for (const drive_stability_change& s : branch.changes)
+        changes.push_back({{"kind", std::string(nnm_bifurcation_name(s.kind))},
+                           {"frequency", s.frequency},
+                           {"a_omega", a * s.frequency},
+                           {"bracket", s.bracket},
+                           {"stable_above", s.stable_above},
+                           {"stable_side", forced_point_json(s.stable_side)},
+                           {"unstable_side", forced_point_json(s.unstable_side)}});
+      j.update(nlohmann::json{{"steps", opts.orbit.steps},
+                              {"periods", opts.orbit.periods},
+                              {"frequency_end", opts.frequency_end},
+                              {"tolerance", opts.orbit.tolerance},
+                              {"end_reason", branch.end_reason},
+                              {"points", points},
+                              {"changes", changes}});
+      files.add_to(j);
+      std::cout << j.dump(2) << "\n";
+      return 0;
+    }
+    fmt::print(
+        "Forced orbit of the {}-link chain (pivot {}) over {} drive period(s), continued in the "
+        "drive frequency\nfrom {:g} to {:g} rad/s ({} Gauss-Legendre steps per drive period, "
+        "closure <= {:g}): {} orbits, {}\n",
+        c.links(), c.parameters().pivot.describe(), opts.orbit.periods,
+        branch.points.front().frequency, opts.frequency_end, opts.orbit.steps, opts.orbit.tolerance,
+        branch.points.size(), branch.end_reason);
+    fmt::print("{:>14}  {:>12}  {:>12}  {:>10}  {:>14}  {}\n", "Omega (rad/s)", "a*Omega",
+               "max|phi|", "closure", "max|mu|", "stable");
+    for (const forced_point& p : branch.points) {
+      double largest = 0;
+      for (double v : p.amplitudes) largest = std::max(largest, v);
+      fmt::print("{:>14.8g}  {:>12.6g}  {:>12.6g}  {:>10.2g}  {:>14.10g}  {}\n", p.frequency,
+                 a * p.frequency, largest, p.closure, p.max_multiplier, p.stable ? "yes" : "no");
+    }
+    if (branch.changes.empty()) fmt::print("no change of stability on the branch\n");
+    for (const drive_stability_change& s : branch.changes)
+      fmt::print(
+          "{} at Omega = {:.12g} rad/s (a*Omega = {:.10g} m/s, bracket {:.2g}): stable {}; "
+          "multipliers {} (stable side) and {} (unstable side)\n",
+          nnm_bifurcation_name(s.kind), s.frequency, a * s.frequency, s.bracket,
+          s.stable_above ? "above" : "below", forced_multipliers_text(s.stable_side.multipliers),
+          forced_multipliers_text(s.unstable_side.multipliers));
+    files.print();
+    return 0;
+  }
+  forced_orbit_result r;
+  try {
+    r = forced_orbit(c, guess, opts.orbit);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(e.what());
+  }
+  control.finish();
+  if (r.stopped) {
+    fmt::print(stderr, "npend orbit: interrupted\n");
+    return control.exit_code();
+  }
+  if (!r.converged)
+    throw std::runtime_error(fmt::format(
+        "the shooting did not converge (closure {:.3g} at its last iterate): give a start "
+        "closer to the forced orbit (its state at t = 0), or continue it from a drive frequency "
+        "where it is known with --continue-to",
+        r.closure));
+  if (o.json) {
+    nlohmann::json j = describe_chain(c);
+    j["orbit"] = forced_point_json(to_forced_point(r));
+    j["steps"] = opts.orbit.steps;
+    j["periods"] = opts.orbit.periods;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  fmt::print(
+      "Forced orbit of the {}-link chain, pivot {} ({} drive period(s); {} Newton steps, {} "
+      "Gauss-Legendre steps per drive period)\n",
+      c.links(), c.parameters().pivot.describe(), opts.orbit.periods, r.iterations,
+      opts.orbit.steps);
+  fmt::print("start x0     ({}) at t = 0\n", fmt::join(r.x0, ", "));
+  fmt::print("period       {:.15g} s (drive frequency {:.12g} rad/s)\n", r.period, r.frequency);
+  fmt::print("closure      {:.3g} (max |phi(T) - x0|)\n", r.closure);
+  fmt::print("amplitudes   ({:.10f}) rad\n", fmt::join(r.amplitudes, ", "));
+  fmt::print("multipliers  {} (max |mu| {:.10g}: {})\n", forced_multipliers_text(r.multipliers),
+             r.max_multiplier, r.stable ? "stable" : "unstable");
+  return 0;
+}
+
+bool rotates(const std::vector<int>& winding) {
+  return std::any_of(winding.begin(), winding.end(), [](int w) { return w != 0; });
+}
+
+// The shooting of a free orbit from the command's options: a rotating orbit (--winding) is
+// on the Poincaré plane unless --phase says otherwise (and the library refuses a turning
+// point for it).
+periodic_orbit_options free_orbit_options(const chain& c, const orbit_command_options& o) {
+  periodic_orbit_options opts;
+  if (!o.winding.empty()) {
+    for (const double w : cli::parse_number_list(o.winding, "--winding")) {
+      if (w != std::round(w) || std::fabs(w) > 1000)
+        throw cli::input_error(
+            fmt::format("--winding: whole turns per period for each angle, got {}", w));
+      opts.winding.push_back(static_cast<int>(w));
+    }
+    if (opts.winding.size() != static_cast<std::size_t>(c.links()))
+      throw cli::input_error(fmt::format("--winding: {} values for the {}-link chain",
+                                         opts.winding.size(), c.links()));
+  }
+  if (o.phase == "poincare" || (o.phase.empty() && rotates(opts.winding)))
+    opts.phase = orbit_phase::poincare;
+  else if (!o.phase.empty() && o.phase != "turning_point")
+    throw cli::input_error(fmt::format("--phase: turning_point or poincare, got '{}'", o.phase));
+  if (!o.steps.empty())
+    opts.steps = static_cast<int>(cli::parse_whole_number(o.steps, "--steps", 20, 1e6));
+  if (!o.segments.empty())
+    opts.segments =
+        static_cast<int>(cli::parse_whole_number(o.segments, "--segments", 1, opts.steps));
+  return opts;
+}
+
+void write_family_files(series_output& files, const chain& c, const nnm_branch& b) {
+  const int n = c.links();
+  std::vector<std::string> names{"energy", "period", "frequency"};
+  for (int i = 1; i <= n; ++i) names.push_back(fmt::format("amplitude_phi{}", i));
+  names.insert(names.end(), {"max_multiplier", "stable", "closure", "iterations"});
+  std::vector<std::vector<double>> table(names.size());
+  for (const nnm_point& p : b.points) {
+    std::vector<double> row{p.energy, p.period, p.frequency};
+    row.insert(row.end(), p.amplitudes.begin(), p.amplitudes.end());
+    row.insert(row.end(), {p.max_multiplier, p.stable ? 1.0 : 0.0, p.closure,
+                           static_cast<double>(p.iterations)});
+    for (std::size_t k = 0; k < row.size(); ++k) table[k].push_back(row[k]);
+  }
+  const std::string data = files.write_csv("", names, table);
+  const std::size_t stable_column = 3 + static_cast<std::size_t>(n) + 2;
+  cli::plot_panel panel{.title = fmt::format("A family of periodic orbits of the {}-link chain", n),
+                        .xlabel = "energy E (J)",
+                        .ylabel = "frequency ω = 2π/T (rad/s)",
+                        .commands = {"set key top right", "set grid"}};
+  panel.curves.push_back({data, "1:3", "lines lw 1.5 lc rgb '#21918c'", "the family"});
+  panel.curves.push_back({data, fmt::format("(${} == 1 ? $1 : 1/0):3", stable_column),
+                          "points pt 7 ps 0.6 lc rgb '#21918c'", "stable"});
+  panel.curves.push_back({data, fmt::format("(${} == 0 ? $1 : 1/0):3", stable_column),
+                          "points pt 6 ps 0.8 lc rgb '#d62728'", "unstable"});
+  files.write_plot({.description = {"npend orbit --continue-to: frequency against energy along "
+                                    "the orbit's family",
+                                    fmt::format("data: {} (per orbit)", data)},
+                    .panels = {panel}});
+}
+
+// npend orbit --continue-to E: the family of the orbit found, continued in energy.
+int run_family(const chain& c, const periodic_orbit_result& start,
+               const periodic_orbit_options& shooting, const orbit_command_options& o,
+               cli::terminal_run& control) {
+  const double end = cli::parse_number(o.continue_to, "--continue-to");
+  if (!std::isfinite(end) || end == start.energy)
+    throw cli::input_error(
+        fmt::format("--continue-to: an energy in J other than the orbit's ({:.10g} J), got {}",
+                    start.energy, o.continue_to));
+  continuation_options opts;
+  opts.orbit = shooting;
+  series_output files(o.out);
+  opts.orbit.control = &control;
+  nnm_branch b;
+  try {
+    b = continue_orbit(c, start, end, opts);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(e.what());
+  }
+  control.finish();
+  if (b.stopped) {
+    fmt::print(stderr, "npend orbit: interrupted{}\n",
+               o.out.empty() ? "" : fmt::format("; nothing written to {}", o.out));
+    return control.exit_code();
+  }
+  if (files.enabled()) write_family_files(files, c, b);
+  if (o.json) {
+    nlohmann::json points = nlohmann::json::array();
+    for (const nnm_point& p : b.points) {
+      nlohmann::json j = point_json(p, p.frequency);
+      j.erase("ratio");
+      points.push_back(j);
+    }
+    nlohmann::json j = describe_chain(c);
+    j.update(nlohmann::json{{"winding", start.winding},
+                            {"steps", opts.orbit.steps},
+                            {"segments", opts.orbit.segments},
+                            {"energy_end", end},
+                            {"end_reason", b.end_reason},
+                            {"folds", folds_json(b)},
+                            {"points", points}});
+    files.add_to(j);
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  fmt::print(
+      "The family of the orbit at E = {:.10g} J (period {:.10g} s{}) continued by "
+      "pseudo-arclength to E = {:g} J: {} orbits, {}\n",
+      start.energy, start.period,
+      rotates(start.winding) ? fmt::format(", winding ({})", fmt::join(start.winding, ", ")) : "",
+      end, b.points.size(), b.end_reason);
+  fmt::print("{:>14}  {:>14}  {:>14}  {:>12}  {:>12}  {}\n", "energy (J)", "period (s)",
+             "omega (rad/s)", "max|phi|", "max|mu|", "stable");
+  for (const nnm_point& p : b.points) {
+    double largest = 0;
+    for (double a : p.amplitudes) largest = std::max(largest, a);
+    fmt::print("{:>14.10g}  {:>14.10g}  {:>14.10g}  {:>12.6g}  {:>12.6g}  {}\n", p.energy, p.period,
+               p.frequency, largest, p.max_multiplier, p.stable ? "yes" : "no");
+  }
+  print_folds(b);
+  files.print();
+  return 0;
+}
 
 // npend orbit: one periodic orbit from a guess of its start and period.
 int run_orbit(const orbit_command_options& o) {
+  {
+    // A driven pivot: the forced orbit (damping is refused there, by the library).
+    const chain driven = o.chain.make_chain(cli::model_support::any, "npend orbit");
+    if (driven.parameters().pivot.moves())
+      return run_forced_orbit(driven, o.start.make_state(driven), o);
+    if (!o.periods.empty())
+      throw cli::input_error(
+          "--periods: only with a driven pivot (--pivot vertical:A:OMEGA or horizontal:A:OMEGA)");
+  }
   const chain c = o.chain.make_chain(cli::model_support::conservative, "npend orbit");
   const std::vector<double> guess = o.start.make_state(c);
   if (o.period.empty()) throw cli::input_error("--period is required (a guess of T in s)");
   const double period = cli::parse_number(o.period, "--period");
   if (!(period > 0) || !std::isfinite(period))
     throw cli::input_error(fmt::format("--period: a positive time in s, got {}", o.period));
-  periodic_orbit_options opts;
-  if (o.phase == "poincare")
-    opts.phase = orbit_phase::poincare;
-  else if (o.phase != "turning_point")
-    throw cli::input_error(fmt::format("--phase: turning_point or poincare, got '{}'", o.phase));
-  if (!o.steps.empty())
-    opts.steps = static_cast<int>(cli::parse_whole_number(o.steps, "--steps", 20, 1e6));
+  if (!o.out.empty() && o.continue_to.empty())
+    throw cli::input_error("--out: only with --continue-to (the family's table and plot)");
+  periodic_orbit_options opts = free_orbit_options(c, o);
   cli::terminal_run control;
   opts.control = &control;
   periodic_orbit_result r;
@@ -359,14 +729,17 @@ int run_orbit(const orbit_command_options& o) {
         "period closer to the orbit (for a normal mode, npend orbits continues it from small "
         "amplitude)",
         r.closure));
+  if (!o.continue_to.empty()) return run_family(c, r, opts, o, control);
   const nnm_point p = to_nnm_point(r);
   if (o.json) {
     nlohmann::json j = describe_chain(c);
     nlohmann::json orbit = point_json(p, p.frequency);
     orbit.erase("ratio");
+    orbit["winding"] = r.winding;
     j["orbit"] = orbit;
     j["steps"] = opts.steps;
-    j["phase"] = o.phase;
+    j["segments"] = opts.segments;
+    j["phase"] = opts.phase == orbit_phase::poincare ? "poincare" : "turning_point";
     std::cout << j.dump(2) << "\n";
     return 0;
   }
@@ -377,7 +750,9 @@ int run_orbit(const orbit_command_options& o) {
   fmt::print("start x0     ({})\n", fmt::join(r.x0, ", "));
   fmt::print("period       {:.15g} s (frequency {:.12g} rad/s)\n", r.period, p.frequency);
   fmt::print("energy       {:.15g} J\n", r.energy);
-  fmt::print("closure      {:.3g} (max |phi(T) - x0|)\n", r.closure);
+  fmt::print("closure      {:.3g} (max |phi(T) - x0 - 2 pi winding|)\n", r.closure);
+  if (rotates(r.winding))
+    fmt::print("winding      ({}) turns per period\n", fmt::join(r.winding, ", "));
   fmt::print("amplitudes   ({:.10f}) rad\n", fmt::join(r.amplitudes, ", "));
   fmt::print("multipliers  {} (max |mu| {:.10g}: {})\n", multipliers_text(p), r.max_multiplier,
              r.stable ? "stable" : "unstable");
@@ -403,6 +778,12 @@ void add_orbits_command(CLI::App& app, command_list& commands) {
                   "Gauss-Legendre steps per period of each orbit (default 400)");
   cmd->add_option("--max-points", o->max_points,
                   "At most this many orbits per branch (default 200)");
+  cmd->add_option("--segments", o->segments,
+                  "Multiple shooting: cut each period into this many segments (default 1); "
+                  "follows strongly unstable orbits further");
+  cmd->add_option("--continuation", o->continuation,
+                  "arclength (default: pseudo-arclength, turns round folds in energy) or "
+                  "natural (steps in the energy)");
   cmd->add_option("--thresholds", o->thresholds,
                   "Relative frequency departures to locate on each branch (default: 0.01,0.05)");
   cmd->add_flag("--json", o->json, "Print JSON (every orbit, its start and multipliers)");
@@ -417,14 +798,35 @@ void add_orbit_command(CLI::App& app, command_list& commands) {
   CLI::App* cmd = app.add_subcommand(
       "orbit",
       "One periodic orbit from a guess of its start and period: Newton's method with the exact "
-      "monodromy matrix at the start's energy; its period, amplitudes and Floquet multipliers");
+      "monodromy matrix at the start's energy; its period, amplitudes and Floquet multipliers. "
+      "On a driven pivot the forced orbit of the drive's period, and with --continue-to its "
+      "branch over the drive frequency");
   o->chain.add_to(*cmd);
   o->start.add_to(*cmd);
-  cmd->add_option("--period", o->period, "A guess of the period T in s (required)");
+  cmd->add_option("--period", o->period,
+                  "A guess of the period T in s (required, unless the pivot is driven)");
   cmd->add_option("--phase", o->phase,
                   "turning_point (default: the orbit's start has p = 0) or poincare (on the "
-                  "plane through the guess across the flow: any orbit)");
-  cmd->add_option("--steps", o->steps, "Gauss-Legendre steps per period (default 400)");
+                  "plane through the guess across the flow: any orbit; the default with "
+                  "--winding)");
+  cmd->add_option("--winding", o->winding,
+                  "A rotating orbit: whole turns of each angle per period, e.g. 1,0,0 (default: "
+                  "an oscillation)");
+  cmd->add_option("--segments", o->segments,
+                  "Multiple shooting: cut the period into this many segments (default 1), for "
+                  "strongly unstable orbits");
+  cmd->add_option("--steps", o->steps,
+                  "Gauss-Legendre steps per period, or per drive period on a driven pivot "
+                  "(default 400)");
+  cmd->add_option("--periods", o->periods,
+                  "Driven pivot: the forced orbit's period in drive periods (default 1)");
+  cmd->add_option("--continue-to", o->continue_to,
+                  "Continue the orbit's family by pseudo-arclength up or down to this energy "
+                  "(J); on a driven pivot, the forced orbit in the drive frequency from the "
+                  "--pivot OMEGA to this one (rad/s), locating its changes of stability");
+  cmd->add_option("--out", o->out,
+                  "With --continue-to: write FILE.csv (one row per orbit), on a driven pivot "
+                  "FILE_changes.csv, and the plot FILE.png with its gnuplot script FILE.gp");
   cmd->add_flag("--json", o->json, "Print JSON");
   commands.push_back({cmd, [o] { return run_orbit(*o); }});
 }
