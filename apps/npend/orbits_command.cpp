@@ -31,7 +31,7 @@ struct orbits_command_options {
   cli::chain_options chain;
   std::string mode, energy_max, start_amplitude, steps, max_points, thresholds, segments;
   std::string continuation = "arclength";
-  bool json = false;
+  bool json = false, branches = false;
   std::string out;
 };
 
@@ -39,6 +39,9 @@ struct mode_result {
   nnm_branch branch;
   std::vector<std::pair<double, std::optional<nnm_point>>> departures;  // shift, orbit
   std::vector<nnm_bifurcation> bifurcations;
+  // With --branches: the family born at each bifurcation (empty where none), continued to
+  // --energy-max.
+  std::vector<nnm_branch> families;
 };
 
 continuation_method parse_continuation(const std::string& name) {
@@ -131,6 +134,30 @@ void write_orbits_files(series_output& files, const chain& c,
   const std::string departures = files.write_csv(
       "departures", std::vector<std::string>{"mode", "shift", "energy", "frequency", "max_angle"},
       marks);
+  // --branches: the families born at the bifurcations, one row per orbit.
+  std::vector<std::vector<double>> born(7);
+  bool switched = false;
+  for (const mode_result& r : results)
+    for (std::size_t k = 0; k < r.families.size(); ++k) {
+      switched = true;
+      for (const nnm_point& p : r.families[k].points) {
+        const std::vector<double> row{static_cast<double>(r.branch.mode + 1),
+                                      r.bifurcations[k].energy,
+                                      p.energy,
+                                      p.period,
+                                      p.frequency,
+                                      p.max_multiplier,
+                                      p.stable ? 1.0 : 0.0};
+        for (std::size_t i = 0; i < row.size(); ++i) born[i].push_back(row[i]);
+      }
+    }
+  const std::string families =
+      switched ? files.write_csv(
+                     "families",
+                     std::vector<std::string>{"mode", "bifurcation_energy", "energy", "period",
+                                              "frequency", "max_multiplier", "stable"},
+                     born)
+               : std::string();
   const std::string bifurcations =
       files.write_csv("bifurcations",
                       std::vector<std::string>{"mode", "energy", "frequency",
@@ -169,6 +196,9 @@ void write_orbits_files(series_output& files, const chain& c,
   if (!changes[0].empty())
     panel.curves.push_back(
         {bifurcations, "2:3", "points pt 8 ps 1.8 lw 2 lc rgb '#d62728'", "changes of stability"});
+  if (!families.empty())
+    panel.curves.push_back({families, "3:5", "points pt 1 ps 0.7 lc rgb 'black'",
+                            "families born at the bifurcations (--branches)"});
   if (n == 1)
     panel.curves.push_back({data, fmt::format("2:{}", names.size()),
                             "lines lw 1 dt 3 lc rgb 'black'", "exact: 2π / (4 K(k)/ω_0)"});
@@ -212,6 +242,22 @@ nlohmann::json folds_json(const nnm_branch& b) {
   return list;
 }
 
+// One line for a family born at a bifurcation (--branches): where it starts and ends.
+void print_family_summary(const nnm_branch& b) {
+  if (b.points.empty()) {
+    fmt::print("  new family: none ({})\n", b.end_reason);
+    return;
+  }
+  const nnm_point &first = b.points.front(), &last = b.points.back();
+  const auto stable_count =
+      std::count_if(b.points.begin(), b.points.end(), [](const nnm_point& p) { return p.stable; });
+  fmt::print(
+      "  new family: {} orbits from E = {:.8g} J (T = {:.8g} s) to E = {:.8g} J (T = {:.8g} s, "
+      "max|mu| {:.4g}), {} of them stable; {}\n",
+      b.points.size(), first.energy, first.period, last.energy, last.period, last.max_multiplier,
+      stable_count, b.end_reason);
+}
+
 void print_results(const chain& c, const std::vector<mode_result>& results,
                    const continuation_options& opts) {
   const int n = c.links();
@@ -251,13 +297,16 @@ void print_results(const chain& c, const std::vector<mode_result>& results,
           fmt::join(orbit->amplitudes, ", "));
     }
     print_folds(b);
-    for (const nnm_bifurcation& f : r.bifurcations)
+    for (std::size_t k = 0; k < r.bifurcations.size(); ++k) {
+      const nnm_bifurcation& f = r.bifurcations[k];
       fmt::print(
           "{} at E = {:.10g} J (omega = {:.8g} rad/s): {} above; multipliers {} (stable "
           "side) and {} (unstable side)\n",
           nnm_bifurcation_name(f.kind), f.energy, f.stable_side.frequency,
           f.loses_stability ? "unstable" : "stable again", multipliers_text(f.stable_side),
           multipliers_text(f.unstable_side));
+      if (k < r.families.size()) print_family_summary(r.families[k]);
+    }
     if (!b.points.empty() && !b.points.back().multipliers.empty())
       fmt::print("multipliers of the last orbit: {}\n", multipliers_text(b.points.back()));
   }
@@ -291,6 +340,9 @@ int run_orbits(const orbits_command_options& o) {
       if (!r.branch.stopped)
         r.departures.emplace_back(shift, locate_departure(c, r.branch, shift, opts.orbit));
     if (!r.branch.stopped) r.bifurcations = locate_bifurcations(c, r.branch, opts.orbit);
+    if (o.branches && !r.branch.stopped)
+      for (const nnm_bifurcation& f : r.bifurcations)
+        r.families.push_back(switch_branch(c, f, opts.energy_max, opts));
     if (r.branch.stopped || control.interrupted()) {
       control.finish();
       fmt::print(stderr, "npend orbits: interrupted in mode {}{}\n", modes[i] + 1,
@@ -321,13 +373,24 @@ int run_orbits(const orbits_command_options& o) {
           {{"shift", shift},
            {"orbit", orbit ? point_json(*orbit, r.branch.linear_frequency) : nlohmann::json()}});
     nlohmann::json changes = nlohmann::json::array();
-    for (const nnm_bifurcation& f : r.bifurcations)
-      changes.push_back(
-          {{"kind", std::string(nnm_bifurcation_name(f.kind))},
-           {"energy", f.energy},
-           {"loses_stability", f.loses_stability},
-           {"stable_side", point_json(f.stable_side, r.branch.linear_frequency)},
-           {"unstable_side", point_json(f.unstable_side, r.branch.linear_frequency)}});
+    for (std::size_t k = 0; k < r.bifurcations.size(); ++k) {
+      const nnm_bifurcation& f = r.bifurcations[k];
+      nlohmann::json change{
+          {"kind", std::string(nnm_bifurcation_name(f.kind))},
+          {"energy", f.energy},
+          {"loses_stability", f.loses_stability},
+          {"stable_side", point_json(f.stable_side, r.branch.linear_frequency)},
+          {"unstable_side", point_json(f.unstable_side, r.branch.linear_frequency)}};
+      if (k < r.families.size()) {
+        nlohmann::json family_points = nlohmann::json::array();
+        for (const nnm_point& p : r.families[k].points)
+          family_points.push_back(point_json(p, r.branch.linear_frequency));
+        change["family"] = {{"end_reason", r.families[k].end_reason},
+                            {"folds", folds_json(r.families[k])},
+                            {"points", family_points}};
+      }
+      changes.push_back(change);
+    }
     list.push_back({{"mode", r.branch.mode + 1},
                     {"bifurcations", changes},
                     {"linear_frequency", r.branch.linear_frequency},
@@ -786,6 +849,9 @@ void add_orbits_command(CLI::App& app, command_list& commands) {
                   "natural (steps in the energy)");
   cmd->add_option("--thresholds", o->thresholds,
                   "Relative frequency departures to locate on each branch (default: 0.01,0.05)");
+  cmd->add_flag("--branches", o->branches,
+                "Switch branches: continue the family born at each branch point or period "
+                "doubling up to --energy-max");
   cmd->add_flag("--json", o->json, "Print JSON (every orbit, its start and multipliers)");
   cmd->add_option("--out", o->out,
                   "Write FILE.csv (one row per orbit), FILE_departures.csv and the "

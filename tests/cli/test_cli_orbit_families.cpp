@@ -95,3 +95,32 @@ TEST_CASE("npend orbit and orbits: bad winding, segments and continuation exit 2
   CHECK(run_npend("orbits --links 2 --energy-max 1 --continuation bogus").exit_code == 2);
   CHECK(run_npend("orbits --links 2 --energy-max 1 --segments 0").exit_code == 2);
 }
+
+TEST_CASE(
+    "npend orbits --branches: the family born at the triple pendulum's third mode's branch point") {
+  const auto dir = std::filesystem::path(npend::test::temporary_directory("cli-branches"));
+  const auto r = run_npend(
+      "orbits --links 3 --mode 3 --energy-max 6 --thresholds 0.01 --branches "
+      "--json --out " +
+      (dir / "nnm.csv").string());
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  const auto& change = j["modes"][0]["bifurcations"][0];
+  CHECK(change["kind"] == "branch point");
+  const auto& family = change["family"];
+  CHECK(family["end_reason"] == "reached the end energy");
+  REQUIRE(family["points"].size() > 5);
+  // It leaves the old family at the bifurcation, with its period, and is stable there.
+  const auto& first = family["points"][0];
+  CHECK(first["energy"].get<double>() ==
+        doctest::Approx(change["energy"].get<double>()).epsilon(1e-3));
+  CHECK(first["period"].get<double>() ==
+        doctest::Approx(change["stable_side"]["period"].get<double>()).epsilon(1e-5));
+  CHECK(first["stable"] == true);
+  for (const auto& p : family["points"]) CHECK(p["closure"].get<double>() <= 1e-11);
+  CHECK(family["points"].back()["energy"].get<double>() == doctest::Approx(6.0).epsilon(1e-12));
+  std::ifstream csv(dir / "nnm_families.csv");
+  std::string header;
+  std::getline(csv, header);
+  CHECK(header == "mode,bifurcation_energy,energy,period,frequency,max_multiplier,stable");
+}

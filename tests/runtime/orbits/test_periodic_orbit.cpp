@@ -7,6 +7,7 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -371,4 +372,59 @@ TEST_CASE("periodic_orbit: refuses a rotating orbit at a turning point and bad s
                        std::invalid_argument);
   CHECK_THROWS_WITH_AS(npend::continue_orbit(c, npend::periodic_orbit_result{}, 1.0, {}),
                        doctest::Contains("converged orbit"), std::invalid_argument);
+}
+
+TEST_CASE("switch_branch: the family born where the triple pendulum's third mode loses stability") {
+  const chain c(chain_parameters::uniform(3));
+  npend::continuation_options opts;
+  opts.energy_max = 6;
+  const npend::nnm_branch primary = npend::continue_mode(c, 2, opts);
+  REQUIRE(primary.end_reason == "reached energy_max");
+  const auto found = npend::locate_bifurcations(c, primary, opts.orbit);
+  REQUIRE(found.size() == 1);
+  const npend::nnm_branch born = npend::switch_branch(c, found[0], 6.0, opts);
+  REQUIRE(born.end_reason == "reached the end energy");
+  REQUIRE(born.points.size() > 5);
+  // It starts at the bifurcation with its period, and takes over the stability the old
+  // family loses there (a supercritical pitchfork).
+  CHECK(born.points.front().energy == doctest::Approx(found[0].energy).epsilon(1e-3));
+  CHECK(born.points.front().period == doctest::Approx(found[0].stable_side.period).epsilon(1e-5));
+  CHECK(born.points.front().stable);
+  // Every orbit closes again under rkf78 ...
+  for (const npend::nnm_point& p : born.points) {
+    CHECK(p.closure <= 1e-11);
+    npend::integration_options run;
+    run.stepper = npend::stepper_kind::rkf78;
+    run.t_end = p.period;
+    run.dt = p.period;
+    run.abs_tol = run.rel_tol = 1e-14;
+    const npend::integration_result back = npend::integrate(c, p.x0, run);
+    double gap = 0;
+    for (std::size_t i = 0; i < p.x0.size(); ++i)
+      gap = std::max(gap, std::fabs(back.state[i] - p.x0[i]));
+    CHECK(gap <= 1e-9);
+  }
+  // ... and is another orbit than the old family's at the same energy: at 6 J it never comes
+  // near the old orbit's turning point.
+  const npend::nnm_point& old = primary.points.back();
+  const npend::nnm_point& fresh = born.points.back();
+  CHECK(fresh.energy == doctest::Approx(old.energy).epsilon(1e-12));
+  npend::integration_options run;
+  run.stepper = npend::stepper_kind::rkf78;
+  run.t_end = fresh.period;
+  run.dt = fresh.period / 400;
+  run.abs_tol = run.rel_tol = 1e-12;
+  double nearest = 1e300;
+  npend::integrate(c, fresh.x0, run, [&](double, std::span<const double> x) {
+    double gap = 0;
+    for (std::size_t i = 0; i < old.x0.size(); ++i)
+      gap = std::max(gap, std::fabs(x[i] - old.x0[i]));
+    nearest = std::min(nearest, gap);
+    return npend::observer_action::proceed;
+  });
+  CHECK(nearest > 0.05);
+  // A complex pair has no family of the same period.
+  npend::nnm_bifurcation pair = found[0];
+  pair.kind = npend::nnm_bifurcation_kind::complex_pair;
+  CHECK(npend::switch_branch(c, pair, 6.0, opts).points.empty());
 }

@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -337,10 +338,12 @@ class family_walk {
               std::string end_word, nnm_branch& branch)
       : c_(c), o_(options), end_(energy_end), end_word_(std::move(end_word)), b_(branch) {}
 
-  void run(const periodic_orbit_result& first) {
+  // From the family's first orbits (one, or two known to lie on it, in its direction).
+  void run(std::span<const periodic_orbit_result> firsts) {
+    const periodic_orbit_result& first = firsts.front();
     first_period_ = first.period;
     direction_ = end_ > first.energy ? 1.0 : -1.0;
-    b_.points.push_back(to_nnm_point(first));
+    for (const periodic_orbit_result& r : firsts) b_.points.push_back(to_nnm_point(r));
     // A mode's family starts at a tiny energy and doubles it; an orbit's family steps a
     // twentieth of the way to the end.
     double step = (b_.mode >= 0 ? std::fabs(first.energy) : std::fabs(end_ - first.energy) / 20) *
@@ -566,7 +569,8 @@ nnm_branch continue_mode(const chain& c, int mode, const continuation_options& o
     branch.end_reason = first.stopped ? "stopped" : "the first point did not converge";
     return branch;
   }
-  family_walk(c, options, options.energy_max, "energy_max", branch).run(first);
+  family_walk(c, options, options.energy_max, "energy_max", branch)
+      .run(std::span<const periodic_orbit_result>(&first, 1));
   return branch;
 }
 
@@ -584,7 +588,8 @@ nnm_branch continue_orbit(const chain& c, const periodic_orbit_result& start, do
         start.energy, energy_end));
   nnm_branch branch;
   branch.mode = -1;
-  family_walk(c, options, energy_end, "the end energy", branch).run(start);
+  family_walk(c, options, energy_end, "the end energy", branch)
+      .run(std::span<const periodic_orbit_result>(&start, 1));
   return branch;
 }
 
@@ -696,6 +701,121 @@ std::vector<nnm_bifurcation> locate_bifurcations(const chain& c, const nnm_branc
     found.push_back(std::move(f));
   }
   return found;
+}
+
+namespace {
+
+// The direction in x0 along which a new family leaves the orbit p: at a branch point the
+// smallest right singular vector of the fixed-energy shooting Jacobian (rows φ(T) − x0,
+// H(x0) − E and the plane across the flow; columns x0 and T), at a period doubling the
+// monodromy's eigenvector whose eigenvalue is nearest −1. Normalised to ‖v‖∞ = 1.
+Eigen::VectorXd new_direction(const chain& c, const nnm_point& p, const periodic_orbit_options& o,
+                              bool doubling) {
+  const int d = c.state_size();
+  std::vector<double> end = p.x0;
+  const Eigen::MatrixXd m = segment_with_tangent(c, end, p.period, o.steps, o.monodromy, {});
+  Eigen::VectorXd v(d);
+  if (doubling) {
+    const Eigen::EigenSolver<Eigen::MatrixXd> eigen(m);
+    Eigen::Index k = 0;
+    for (Eigen::Index i = 1; i < eigen.eigenvalues().size(); ++i)
+      if (std::abs(eigen.eigenvalues()(i) + 1.0) < std::abs(eigen.eigenvalues()(k) + 1.0)) k = i;
+    v = eigen.eigenvectors().col(k).real();
+  } else {
+    const Eigen::VectorXd f0 = orbit_flow(c, p.x0);
+    Eigen::MatrixXd jac = Eigen::MatrixXd::Zero(d + 2, d + 1);
+    jac.topLeftCorner(d, d) = m - Eigen::MatrixXd::Identity(d, d);
+    jac.block(0, d, d, 1) = orbit_flow(c, end);
+    jac.block(d, 0, 1, d) = energy_gradient(c, p.x0).transpose();
+    jac.block(d + 1, 0, 1, d) = f0.transpose();
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jac, Eigen::ComputeFullV);
+    v = svd.matrixV().col(d).head(d);
+  }
+  return v / v.cwiseAbs().maxCoeff();
+}
+
+double start_distance(const std::vector<double>& a, const std::vector<double>& b) {
+  double gap = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) gap = std::max(gap, std::fabs(a[i] - b[i]));
+  return gap;
+}
+
+}  // namespace
+
+nnm_branch switch_branch(const chain& c, const nnm_bifurcation& at, double energy_end,
+                         const continuation_options& options) {
+  detail::check_conservative(c, "switch_branch");
+  check_shooting_options(c, options.orbit, "switch_branch");
+  check_continuation(options, "switch_branch");
+  nnm_branch branch;
+  branch.mode = -1;
+  if (at.kind == nnm_bifurcation_kind::complex_pair) {
+    branch.end_reason =
+        "a complex pair leaves the circle: no family of the same period branches off";
+    return branch;
+  }
+  const bool doubling = at.kind == nnm_bifurcation_kind::period_doubling;
+  // The unstable side's orbit: there the new direction is already separated from the others.
+  const nnm_point& base = at.unstable_side;
+  periodic_orbit_options shoot = options.orbit;
+  shoot.phase = orbit_phase::poincare;
+  const Eigen::VectorXd v = new_direction(c, base, shoot, doubling);
+  double scale = 1;
+  for (const double x : base.x0) scale = std::max(scale, std::fabs(x));
+  const double side = energy_end > at.energy ? 1.0 : -1.0;
+  // An orbit of the new family at energy e, from the bifurcation's orbit moved by `along` ·
+  // v: converged, and neither the old family's orbit there nor (period doubling) that orbit
+  // run twice.
+  const auto new_orbit = [&](double e, double along) -> std::optional<periodic_orbit_result> {
+    periodic_orbit_options o = shoot;
+    o.energy = e;
+    const periodic_orbit_result old = periodic_orbit(c, base.x0, base.period, o);
+    std::vector<double> guess = base.x0;
+    for (std::size_t i = 0; i < guess.size(); ++i)
+      guess[i] += along * v(static_cast<Eigen::Index>(i));
+    const periodic_orbit_result r =
+        periodic_orbit(c, guess, doubling ? 2 * base.period : base.period, o);
+    if (!r.converged) return std::nullopt;
+    if (old.converged && !doubling && start_distance(r.x0, old.x0) <= 1e-6) return std::nullopt;
+    if (doubling) {
+      const periodic_orbit_result single = periodic_orbit(c, r.x0, r.period / 2, o);
+      if (single.converged && start_distance(single.x0, r.x0) <= 1e-6) return std::nullopt;
+    }
+    return r;
+  };
+  for (const double offset : {1e-4, 1e-3, 1e-2}) {
+    const double e1 = at.energy * (1 + side * offset), e2 = at.energy * (1 + 2 * side * offset);
+    for (const double distance : {0.01, 0.03, 0.1, 0.3})
+      for (const double sign : {1.0, -1.0}) {
+        if (stop_requested(options.orbit.control)) {
+          branch.stopped = true;
+          branch.end_reason = "stopped";
+          return branch;
+        }
+        // A pitchfork's new orbits move away as √|E − E_b|: the second point √2 farther.
+        const double along = sign * distance * scale * std::sqrt(offset);
+        const auto first = new_orbit(e1, along);
+        if (!first) continue;
+        const auto second = new_orbit(e2, std::sqrt(2.0) * along);
+        if (!second) continue;
+        continuation_options follow = options;
+        follow.orbit = shoot;
+        follow.orbit.energy = std::numeric_limits<double>::quiet_NaN();
+        const std::array<periodic_orbit_result, 2> firsts{*first, *second};
+        if (side * (energy_end - second->energy) <= 0) {
+          for (const periodic_orbit_result& r : firsts) branch.points.push_back(to_nnm_point(r));
+          branch.end_reason = "reached the end energy";
+          return branch;
+        }
+        family_walk(c, follow, energy_end, "the end energy", branch).run(firsts);
+        return branch;
+      }
+  }
+  branch.end_reason = fmt::format(
+      "no orbit of a new family was found {} the bifurcation (a family on the other side "
+      "needs an end energy there)",
+      side > 0 ? "above" : "below");
+  return branch;
 }
 
 }  // namespace npend

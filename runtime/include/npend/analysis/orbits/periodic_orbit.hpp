@@ -220,4 +220,19 @@ std::vector<nnm_bifurcation> locate_bifurcations(const chain& c, const nnm_branc
                                                  const periodic_orbit_options& options = {},
                                                  double energy_tolerance = 1e-8);
 
+/// The family that branches off at a change of stability located by locate_bifurcations,
+/// continued towards energy_end as continue_orbit continues a family (options.orbit's phase
+/// is replaced by the Poincaré plane: a family born at a branch point need not pass through
+/// a turning point). The new direction v: at a branch point, the null direction the
+/// fixed-energy shooting equations gain (the smallest singular vector of their Jacobian in
+/// (x0, T) at the bracket's orbit, orthogonal to the flow); at a period doubling, the
+/// monodromy's eigenvector at −1, the new orbits having twice the period. Orbits are shot at
+/// energies a little to either side of the bifurcation, from its orbit moved along ±v by
+/// growing distances; the first that converges away from the old family's orbit at that
+/// energy (more than 1e-6 from it in x0, and for a period doubling not the old orbit run
+/// twice) starts the new family. The branch is empty, with end_reason saying why, when none
+/// is found or for a complex pair (no family of the same period to switch to). mode is −1.
+nnm_branch switch_branch(const chain& c, const nnm_bifurcation& at, double energy_end,
+                         const continuation_options& options);
+
 }  // namespace npend
