@@ -1201,6 +1201,7 @@ def continue_mode(
     thresholds: Sequence[float] = (0.01, 0.05),
     segments: int = 1,
     continuation: str = "arclength",
+    branches: bool = False,
 ) -> NNMBranch:
     """A nonlinear normal mode: linear mode `mode` continued in energy as periodic orbits.
 
@@ -1232,6 +1233,9 @@ def continue_mode(
         orbits further.
     continuation : {"arclength", "natural"}, optional
         Pseudo-arclength (the default) or steps in the energy.
+    branches : bool, optional
+        Branch switching (as ``--branches``): each bifurcation's `family` holds the orbits of
+        the family born there, continued up to `energy_max`.
 
     Returns
     -------
@@ -1257,7 +1261,8 @@ def continue_mode(
     """
     d = _npend.continue_mode(chain, mode, energy_max, start_amplitude=start_amplitude,
                              steps=steps, max_points=max_points, thresholds=list(thresholds),
-                             segments=segments, continuation=continuation)
+                             segments=segments, continuation=continuation,
+                             branches=branches)
     n = len(d["shape"])
     d["multipliers"] = np.asarray(d["multipliers"], dtype=np.complex128).reshape(
         len(d["energy"]), 2 * n - 2)
@@ -1266,6 +1271,7 @@ def continue_mode(
     d["bifurcations"] = tuple(
         StabilityChange(kind=b["kind"], energy=b["energy"], loses_stability=b["loses_stability"],
                         stable_side=_orbit(b["stable_side"]),
-                        unstable_side=_orbit(b["unstable_side"]))
+                        unstable_side=_orbit(b["unstable_side"]),
+                        family=tuple(_orbit(p) for p in b["family"]))
         for b in d["bifurcations"])
     return NNMBranch(**d)

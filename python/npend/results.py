@@ -354,6 +354,10 @@ class StabilityChange(_Result):
         Stable below the energy and unstable above (False: the reverse).
     stable_side, unstable_side : PeriodicOrbit
         The orbits at the bracket's ends.
+    family : tuple of PeriodicOrbit
+        With ``continue_mode(..., branches=True)``: the orbits of the family born here
+        (branch switching), by the order of its continuation up to energy_max; empty
+        otherwise, and for a complex pair.
     """
 
     kind: str
@@ -361,6 +365,7 @@ class StabilityChange(_Result):
     loses_stability: bool
     stable_side: PeriodicOrbit
     unstable_side: PeriodicOrbit
+    family: tuple = ()
 
 
 @dataclasses.dataclass(frozen=True, repr=False, eq=False)  # == on arrays is no bool

@@ -381,7 +381,7 @@ py::dict periodic_orbit_of(const chain& c, const py::handle& x0_in, double perio
 
 py::dict continue_mode_of(const chain& c, int mode, double energy_max, double start_amplitude,
                           int steps, int max_points, const std::vector<double>& thresholds,
-                          int segments, const std::string& continuation) {
+                          int segments, const std::string& continuation, bool branches) {
   if (mode < 1 || mode > c.links())
     throw std::invalid_argument(
         fmt::format("mode: 1..{} (1 = the slowest), got {}", c.links(), mode));
@@ -401,12 +401,16 @@ py::dict continue_mode_of(const chain& c, int mode, double energy_max, double st
   nnm_branch b;
   std::vector<std::optional<nnm_point>> departures;
   std::vector<nnm_bifurcation> changes;
+  std::vector<nnm_branch> families;
   {
     py::gil_scoped_release no_gil;
     b = continue_mode(c, mode - 1, o);
     for (const double shift : thresholds)
       if (!b.stopped) departures.push_back(locate_departure(c, b, shift, o.orbit));
     if (!b.stopped) changes = locate_bifurcations(c, b, o.orbit);
+    if (branches && !b.stopped)
+      for (const nnm_bifurcation& f : changes)
+        families.push_back(switch_branch(c, f, energy_max, o));
   }
   interrupt.raise_if_interrupted();
   const auto k = static_cast<py::ssize_t>(b.points.size());
@@ -448,13 +452,18 @@ py::dict continue_mode_of(const chain& c, int mode, double energy_max, double st
         departures[i] ? py::object(point_dict(*departures[i])) : py::object(py::none());
   d["departures"] = found;
   py::list bifurcations;
-  for (const nnm_bifurcation& f : changes) {
+  for (std::size_t c_index = 0; c_index < changes.size(); ++c_index) {
+    const nnm_bifurcation& f = changes[c_index];
     py::dict change;
     change["kind"] = std::string(nnm_bifurcation_name(f.kind));
     change["energy"] = f.energy;
     change["loses_stability"] = f.loses_stability;
     change["stable_side"] = point_dict(f.stable_side);
     change["unstable_side"] = point_dict(f.unstable_side);
+    py::list family;
+    if (c_index < families.size())
+      for (const nnm_point& p : families[c_index].points) family.append(point_dict(p));
+    change["family"] = family;
     bifurcations.append(change);
   }
   d["bifurcations"] = bifurcations;
@@ -472,7 +481,7 @@ void bind_orbits(py::module_& m) {
         py::arg("energy_max"), py::kw_only(), py::arg("start_amplitude") = 0.01,
         py::arg("steps") = 400, py::arg("max_points") = 200,
         py::arg("thresholds") = std::vector<double>{0.01, 0.05}, py::arg("segments") = 1,
-        py::arg("continuation") = "arclength");
+        py::arg("continuation") = "arclength", py::arg("branches") = false);
 }
 
 void bind_series(py::module_& m) {

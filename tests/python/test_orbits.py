@@ -170,3 +170,23 @@ def test_arclength_and_natural_continuation_trace_the_same_family():
     assert np.allclose(arc.period[inside], between, rtol=2e-3)
     with pytest.raises(ValueError, match="arclength or natural"):
         npend.continue_mode(chain, 1, 1.0, continuation="bogus")
+
+
+def test_branch_switching_returns_the_family_born_at_each_branch_point():
+    chain = npend.Chain(3)
+    branch = npend.continue_mode(chain, 3, 6.0, thresholds=[0.01], branches=True)
+    (change,) = branch.bifurcations
+    assert change.kind == "branch point"
+    family = change.family
+    assert len(family) > 5
+    # Born at the bifurcation with its period, stable where the old family is not.
+    assert family[0].energy == pytest.approx(change.energy, rel=1e-3)
+    assert family[0].period == pytest.approx(change.stable_side.period, rel=1e-5)
+    assert family[0].stable and not change.unstable_side.stable
+    # Each orbit closes again under SciPy's DOP853 on npend's right-hand side.
+    last = family[-1]
+    assert last.energy == pytest.approx(6.0, rel=1e-12)
+    back = solve_ivp(lambda t, x: chain.fun(t, x), (0, last.period), last.x0, method="DOP853",
+                     rtol=1e-13, atol=1e-13)
+    assert np.max(np.abs(back.y[:, -1] - last.x0)) < 1e-8
+    assert npend.continue_mode(chain, 3, 6.0, thresholds=[0.01]).bifurcations[0].family == ()

@@ -428,3 +428,55 @@ TEST_CASE("switch_branch: the family born where the triple pendulum's third mode
   pair.kind = npend::nnm_bifurcation_kind::complex_pair;
   CHECK(npend::switch_branch(c, pair, 6.0, opts).points.empty());
 }
+
+TEST_CASE(
+    "switch_branch: a period doubling on the double pendulum gives orbits of twice the period") {
+  // The in-phase mode's family born at its branch point (39.63 J) itself period-doubles at
+  // 42.57 J.
+  const chain c(chain_parameters::uniform(2));
+  npend::continuation_options opts;
+  opts.energy_max = 44;
+  const npend::nnm_branch primary = npend::continue_mode(c, 0, opts);
+  const auto first = npend::locate_bifurcations(c, primary, opts.orbit);
+  REQUIRE(!first.empty());
+  const npend::nnm_branch secondary = npend::switch_branch(c, first[0], 44, opts);
+  REQUIRE(!secondary.points.empty());
+  npend::periodic_orbit_options poincare = opts.orbit;
+  poincare.phase = npend::orbit_phase::poincare;
+  const auto changes = npend::locate_bifurcations(c, secondary, poincare);
+  const auto doubling =
+      std::find_if(changes.begin(), changes.end(), [](const npend::nnm_bifurcation& f) {
+        return f.kind == npend::nnm_bifurcation_kind::period_doubling;
+      });
+  REQUIRE(doubling != changes.end());
+  // On the stable side a pair has nearly met at −1; on the unstable side the largest
+  // multiplier is real and below −1.
+  const auto& calm = doubling->stable_side.multipliers;
+  CHECK(std::any_of(calm.begin(), calm.end(),
+                    [](std::complex<double> mu) { return std::abs(mu + 1.0) < 1e-2; }));
+  CHECK(doubling->unstable_side.multipliers.front().real() < -1);
+  CHECK(std::fabs(doubling->unstable_side.multipliers.front().imag()) == 0.0);
+  const npend::nnm_branch doubled = npend::switch_branch(c, *doubling, 44, opts);
+  REQUIRE(doubled.points.size() > 3);
+  const double base = doubling->stable_side.period;
+  CHECK(doubled.points.front().period == doctest::Approx(2 * base).epsilon(1e-2));
+  for (const npend::nnm_point& p : doubled.points) {
+    CHECK(p.closure <= 1e-11);
+    // Closed after the whole period under rkf78, but not after half of it: not the old
+    // orbit run twice.
+    npend::integration_options run;
+    run.stepper = npend::stepper_kind::rkf78;
+    run.abs_tol = run.rel_tol = 1e-14;
+    double half_gap = 0, gap = 0;
+    for (const double fraction : {0.5, 1.0}) {
+      run.t_end = run.dt = fraction * p.period;
+      const npend::integration_result back = npend::integrate(c, p.x0, run);
+      double g = 0;
+      for (std::size_t i = 0; i < p.x0.size(); ++i)
+        g = std::max(g, std::fabs(back.state[i] - p.x0[i]));
+      (fraction < 1 ? half_gap : gap) = g;
+    }
+    CHECK(gap <= 1e-7 * std::max(1.0, p.max_multiplier));
+    CHECK(half_gap > 1e-3);
+  }
+}

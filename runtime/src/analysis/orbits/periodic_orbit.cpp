@@ -776,7 +776,13 @@ nnm_branch switch_branch(const chain& c, const nnm_bifurcation& at, double energ
     const periodic_orbit_result r =
         periodic_orbit(c, guess, doubling ? 2 * base.period : base.period, o);
     if (!r.converged) return std::nullopt;
-    if (old.converged && !doubling && start_distance(r.x0, old.x0) <= 1e-6) return std::nullopt;
+    // The old family's orbit, perhaps crossing another plane: the same start, or the same
+    // period (at one energy, distinct families' periods differ by far more than the 1e-10 the
+    // closure leaves).
+    if (old.converged && !doubling &&
+        (start_distance(r.x0, old.x0) <= 1e-6 ||
+         std::fabs(r.period - old.period) <= 1e-8 * old.period))
+      return std::nullopt;
     if (doubling) {
       const periodic_orbit_result single = periodic_orbit(c, r.x0, r.period / 2, o);
       if (single.converged && start_distance(single.x0, r.x0) <= 1e-6) return std::nullopt;

@@ -232,6 +232,8 @@ std::vector<nnm_bifurcation> locate_bifurcations(const chain& c, const nnm_branc
 /// energy (more than 1e-6 from it in x0, and for a period doubling not the old orbit run
 /// twice) starts the new family. The branch is empty, with end_reason saying why, when none
 /// is found or for a complex pair (no family of the same period to switch to). mode is −1.
+/// Its orbits lie on Poincaré planes: locate_bifurcations on it needs options with
+/// orbit_phase::poincare (a turning-point shooting would look for another family's orbits).
 nnm_branch switch_branch(const chain& c, const nnm_bifurcation& at, double energy_end,
                          const continuation_options& options);
 
