@@ -192,7 +192,36 @@ periodic_orbit_result shoot(const chain& c, std::vector<double> x, double period
   const int rows = m * d + (constraints.energy ? 1 : 0) + (constraints.phase_normal ? 1 : 0) +
                    (constraints.arc_tangent ? 1 : 0);
   Eigen::MatrixXd total;
-  for (int iteration = 0;; ++iteration) {
+  // With options.line_search, damped Newton: a correction that leaves a larger residual (or
+  // a state the steps cannot follow) is taken again at half its length, up to max_halvings
+  // times, from the last accepted iterate, and the shooting gives up when none of them
+  // helps.
+  constexpr int max_halvings = 3;
+  const double energy_scale =
+      std::max(1.0, std::fabs(constraints.energy ? *constraints.energy : 0.0));
+  std::vector<std::vector<double>> accepted_starts = starts;
+  double accepted_period = period, accepted_norm = std::numeric_limits<double>::infinity();
+  Eigen::VectorXd last_step;
+  int halvings = 0;
+  const auto apply = [&](const Eigen::VectorXd& step) {
+    starts = accepted_starts;
+    period = accepted_period;
+    for (int j = 0; j < L.first(); ++j) starts[0][static_cast<std::size_t>(j)] += step(j);
+    for (int i = 1; i < m; ++i)
+      for (int k = 0; k < d; ++k)
+        starts[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)] +=
+            step(L.start_column(i) + k);
+    period += step(L.period_column());
+  };
+  // A step back to half the last correction; false when that is used up.
+  const auto retreat = [&]() {
+    if (last_step.size() == 0 || halvings == max_halvings) return false;
+    ++halvings;
+    last_step /= 2;
+    apply(last_step);
+    return true;
+  };
+  for (int iteration = 0;;) {
     if (stop_requested(options.control)) {
       r.stopped = true;
       break;
@@ -233,7 +262,10 @@ periodic_orbit_result shoot(const chain& c, std::vector<double> x, double period
       for (int k = 0; k < other_width; ++k) jac(i * d + k, other + k) -= 1;
       jac.block(i * d, L.period_column(), d, 1) = orbit_flow(c, end) / m;
     }
-    if (failed) break;
+    if (failed) {
+      if (options.line_search && retreat()) continue;
+      break;
+    }
     int row = m * d;
     double energy_error = 0;
     if (constraints.energy) {
@@ -259,24 +291,31 @@ periodic_orbit_result shoot(const chain& c, std::vector<double> x, double period
       jac(row, L.period_column()) = t(L.first());
       ++row;
     }
+    const double norm = residual.norm();
+    // Close to the tolerance round-off makes the residual wander: judge steps only above it.
+    if (options.line_search && !(norm < accepted_norm) && last_step.size() > 0 &&
+        !(norm <= 1e3 * options.tolerance * energy_scale)) {
+      if (retreat()) continue;
+      break;  // no shorter step helps: this guess does not lead to an orbit
+    }
+    accepted_starts = starts;
+    accepted_period = period;
+    accepted_norm = norm;
+    halvings = 0;
     r.iterations = iteration;
     r.amplitudes = amplitudes;
     if (!std::isfinite(r.closure)) break;
-    const double energy_scale =
-        std::max(1.0, std::fabs(constraints.energy ? *constraints.energy : 0.0));
     if (r.closure <= options.tolerance && energy_error <= options.tolerance * energy_scale) {
       r.converged = true;
       set_multipliers(total, options.stability_tolerance, r);
       break;
     }
     if (iteration == options.max_iterations) break;
-    const Eigen::VectorXd step = jac.completeOrthogonalDecomposition().solve(-residual);
-    for (int j = 0; j < L.first(); ++j) starts[0][static_cast<std::size_t>(j)] += step(j);
-    for (int i = 1; i < m; ++i)
-      for (int k = 0; k < d; ++k)
-        starts[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)] +=
-            step(L.start_column(i) + k);
-    period += step(L.period_column());
+    ++iteration;
+    last_step = jac.completeOrthogonalDecomposition().solve(-residual);
+    apply(last_step);
+    while (options.line_search && (!(period > 0) || !std::isfinite(period)))
+      if (!retreat()) break;
     if (!(period > 0) || !std::isfinite(period)) break;
   }
   r.x0 = starts[0];

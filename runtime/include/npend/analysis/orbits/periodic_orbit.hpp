@@ -54,6 +54,12 @@ struct periodic_orbit_options {
   /// Converged when ‖φ(T) − x0‖∞ ≤ tolerance and |H(x0) − E| ≤ tolerance·max(1, |E|).
   double tolerance = 1e-11;
   int max_iterations = 20;
+  /// Damped Newton: a correction that leaves a larger residual is retried at half its length
+  /// (up to three times), and the shooting gives up when none helps. For guesses far from
+  /// any orbit (close returns of a chaotic trajectory) more converge and hopeless ones end
+  /// sooner; from a continuation's predictions full steps converge in fewer passes, so it is
+  /// off by default.
+  bool line_search = false;
   monodromy_method monodromy = monodromy_method::exact;
   /// Stable when every non-trivial multiplier has |μ| ≤ 1 + stability_tolerance.
   double stability_tolerance = 1e-6;

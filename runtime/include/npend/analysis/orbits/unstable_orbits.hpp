@@ -40,8 +40,14 @@ struct unstable_orbit_search_options {
   /// The shooting of each candidate: phase (poincare), energy (the start's) and winding (the
   /// candidate's turns) are set here; segments is raised to ⌈T / segment_time⌉ and steps to
   /// ⌈T / shooting_dt⌉ (a multiple of the segments) where that is more. The other fields
-  /// (tolerance, max_iterations, stability_tolerance, …) are used as given.
-  periodic_orbit_options shooting{};
+  /// (tolerance, max_iterations, stability_tolerance, …) are used as given. Damped Newton
+  /// (line_search) is on: at 50 J on the triple pendulum it let 22 of 90 close returns
+  /// converge instead of 12.
+  periodic_orbit_options shooting = [] {
+    periodic_orbit_options o;
+    o.line_search = true;
+    return o;
+  }();
   /// The longest Gauss–Legendre step of the shooting (s): its map's orbit must be the flow's
   /// to well below 1e-9 after the amplification e^{λT} of an unstable orbit.
   double shooting_dt = 0.002;
