@@ -135,6 +135,11 @@ TEST_CASE("periodic_orbit: refuses a damped chain and a driven pivot") {
                        std::invalid_argument);
   CHECK_THROWS_WITH_AS(npend::continue_mode(chain(chain_parameters::uniform(2)), 2, opts),
                        doctest::Contains("mode 2 is out of range"), std::invalid_argument);
+  chain_parameters sprung = chain_parameters::uniform(2);
+  sprung.stiffness = {5.0, 5.0};
+  sprung.rest_angles = {0.2, 0.0};
+  CHECK_THROWS_WITH_AS(npend::continue_mode(chain(sprung), 0, opts),
+                       doctest::Contains("rest angles"), std::invalid_argument);
 }
 
 TEST_CASE("locate_departure: the single pendulum's 1 % and 5 % amplitudes from K(k)") {

@@ -577,6 +577,16 @@ nnm_branch continue_mode(const chain& c, int mode, const continuation_options& o
   if (!(options.start_amplitude > 0) || !std::isfinite(options.start_amplitude))
     throw std::invalid_argument(fmt::format(
         "continue_mode: start_amplitude must be positive, got {}", options.start_amplitude));
+  // The linear modes are those of the hanging chain: a spring with a rest angle holds the
+  // chain at rest elsewhere.
+  const chain_parameters& params = c.parameters();
+  for (std::size_t j = 0; j < params.rest_angles.size(); ++j)
+    if (params.rest_angles[j] != 0 && j < params.stiffness.size() && params.stiffness[j] != 0)
+      throw std::invalid_argument(
+          "continue_mode: the springs' rest angles hold the chain at rest away from hanging "
+          "straight down, where the linear modes are taken; shoot an orbit near its resting "
+          "state with periodic_orbit (npend orbit) and follow its family with continue_orbit "
+          "(--continue-to)");
   const linearisation lin = normal_modes(c, std::vector<double>(static_cast<std::size_t>(n)));
   const normal_mode& m = lin.modes[static_cast<std::size_t>(mode)];
   if (!(m.frequency > 0))
