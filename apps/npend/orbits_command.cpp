@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <optional>
+#include <string_view>
 
 #include "chain_options.hpp"
 #include "command.hpp"
@@ -493,6 +494,29 @@ void write_drive_files(series_output& files, const chain& c, const drive_branch&
                     .panels = {panel}});
 }
 
+// One shooting of npend orbit: bad input exits 2, a guess that leads to no orbit exits 1
+// with `advice`, and a signal stops it (nullopt; the exit status is the control's).
+template <class Shoot>
+auto shoot_for_command(cli::terminal_run& control, Shoot shoot, std::string_view advice)
+    -> std::optional<decltype(shoot())> {
+  decltype(shoot()) r;
+  try {
+    r = shoot();
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(e.what());
+  }
+  control.finish();
+  if (r.stopped) {
+    fmt::print(stderr, "npend orbit: interrupted\n");
+    return std::nullopt;
+  }
+  if (!r.converged)
+    throw std::runtime_error(
+        fmt::format("the shooting did not converge (closure {:.3g} at its last iterate): {}",
+                    r.closure, advice));
+  return r;
+}
+
 // npend orbit on a driven pivot: the forced orbit (and with --continue-to its branch).
 int run_forced_orbit(const chain& c, const std::vector<double>& guess,
                      const orbit_command_options& o) {
@@ -588,23 +612,12 @@ int run_forced_orbit(const chain& c, const std::vector<double>& guess,
     files.print();
     return 0;
   }
-  forced_orbit_result r;
-  try {
-    r = forced_orbit(c, guess, opts.orbit);
-  } catch (const std::invalid_argument& e) {
-    throw cli::input_error(e.what());
-  }
-  control.finish();
-  if (r.stopped) {
-    fmt::print(stderr, "npend orbit: interrupted\n");
-    return control.exit_code();
-  }
-  if (!r.converged)
-    throw std::runtime_error(fmt::format(
-        "the shooting did not converge (closure {:.3g} at its last iterate): give a start "
-        "closer to the forced orbit (its state at t = 0), or continue it from a drive frequency "
-        "where it is known with --continue-to",
-        r.closure));
+  const std::optional<forced_orbit_result> shot = shoot_for_command(
+      control, [&] { return forced_orbit(c, guess, opts.orbit); },
+      "give a start closer to the forced orbit (its state at t = 0), or continue it from a "
+      "drive frequency where it is known with --continue-to");
+  if (!shot) return control.exit_code();
+  const forced_orbit_result& r = *shot;
   if (o.json) {
     nlohmann::json j = describe_chain(c);
     j["orbit"] = forced_point_json(to_forced_point(r));
@@ -775,23 +788,12 @@ int run_orbit(const orbit_command_options& o) {
   periodic_orbit_options opts = free_orbit_options(c, o);
   cli::terminal_run control;
   opts.control = &control;
-  periodic_orbit_result r;
-  try {
-    r = periodic_orbit(c, guess, period, opts);
-  } catch (const std::invalid_argument& e) {
-    throw cli::input_error(e.what());
-  }
-  control.finish();
-  if (r.stopped) {
-    fmt::print(stderr, "npend orbit: interrupted\n");
-    return control.exit_code();
-  }
-  if (!r.converged)
-    throw std::runtime_error(fmt::format(
-        "the shooting did not converge (closure {:.3g} at its last iterate): give a start and "
-        "period closer to the orbit (for a normal mode, npend orbits continues it from small "
-        "amplitude)",
-        r.closure));
+  const std::optional<periodic_orbit_result> shot = shoot_for_command(
+      control, [&] { return periodic_orbit(c, guess, period, opts); },
+      "give a start and period closer to the orbit (for a normal mode, npend orbits continues "
+      "it from small amplitude)");
+  if (!shot) return control.exit_code();
+  const periodic_orbit_result& r = *shot;
   if (!o.continue_to.empty()) return run_family(c, r, opts, o, control);
   const nnm_point p = to_nnm_point(r);
   if (o.json) {
