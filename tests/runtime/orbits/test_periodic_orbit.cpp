@@ -485,3 +485,56 @@ TEST_CASE(
     CHECK(half_gap > 1e-3);
   }
 }
+
+TEST_CASE(
+    "continue_mode: pseudo-arclength turns round a fold in energy (double pendulum, m = 3, 1)") {
+  // A heavy upper bob: the in-phase family's energy peaks near 32.7 J and falls again while
+  // the lower arm swings up towards the flip.
+  chain_parameters p = chain_parameters::uniform(2);
+  p.masses = {3.0, 1.0};
+  const chain c(p);
+  npend::continuation_options opts;
+  opts.energy_max = 58;
+  opts.max_points = 19;
+  const npend::nnm_branch branch = npend::continue_mode(c, 0, opts);
+  REQUIRE(branch.folds.size() == 1);
+  const npend::nnm_fold& fold = branch.folds[0];
+  // The energy rises to the fold and falls after it; the fold's energy bounds the branch.
+  double highest = 0;
+  for (std::size_t i = 0; i < branch.points.size(); ++i) {
+    highest = std::max(highest, branch.points[i].energy);
+    CHECK(branch.points[i].closure <= 1e-11);
+    if (i > 0 && i <= fold.after) CHECK(branch.points[i].energy > branch.points[i - 1].energy);
+    if (i > fold.after + 1) CHECK(branch.points[i].energy < branch.points[i - 1].energy);
+  }
+  REQUIRE(fold.after + 2 < branch.points.size());
+  CHECK(fold.energy >= highest);
+  CHECK(fold.energy <= highest * (1 + 1e-2));
+  // Steps in the energy cannot pass it: they stall just below.
+  npend::continuation_options natural = opts;
+  natural.method = npend::continuation_method::natural;
+  natural.max_points = 200;
+  natural.min_step_ratio = 1e-5;
+  const npend::nnm_branch stalled = npend::continue_mode(c, 0, natural);
+  CHECK(stalled.end_reason.find("stopped converging") != std::string::npos);
+  CHECK(stalled.points.back().energy <= fold.energy);
+  CHECK(stalled.points.back().energy >= fold.energy * (1 - 1e-2));
+  // Past the fold, at an energy the branch had before it, is another orbit of the family
+  // (its lower arm swings higher, its period is longer), and it closes under rkf78.
+  const npend::nnm_point& after = branch.points.back();
+  const auto before =
+      std::find_if(branch.points.begin(), branch.points.end(),
+                   [&](const npend::nnm_point& q) { return q.energy > after.energy; });
+  REQUIRE(before != branch.points.end());
+  CHECK(after.period > before->period);
+  CHECK(after.amplitudes[1] > before->amplitudes[1] + 0.1);
+  npend::integration_options run;
+  run.stepper = npend::stepper_kind::rkf78;
+  run.t_end = run.dt = after.period;
+  run.abs_tol = run.rel_tol = 1e-14;
+  const npend::integration_result back = npend::integrate(c, after.x0, run);
+  double gap = 0;
+  for (std::size_t i = 0; i < after.x0.size(); ++i)
+    gap = std::max(gap, std::fabs(back.state[i] - after.x0[i]));
+  CHECK(gap <= 1e-9 * std::max(1.0, after.max_multiplier));
+}
