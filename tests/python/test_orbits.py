@@ -190,3 +190,45 @@ def test_branch_switching_returns_the_family_born_at_each_branch_point():
                      rtol=1e-13, atol=1e-13)
     assert np.max(np.abs(back.y[:, -1] - last.x0)) < 1e-8
     assert npend.continue_mode(chain, 3, 6.0, thresholds=[0.01]).bifurcations[0].family == ()
+
+
+# The equal triple pendulum (m = l = 1) from its Lagrangian, written here: with
+# mu_ij = the mass below the later of joints i and j, M_ij = mu_ij cos(a_i - a_j) and
+# M a'' = -sum_j mu_ij sin(a_i - a_j) a_j'^2 - mu_ii g sin(a_i).
+def triple_lagrangian(t, y):
+    a, w = np.asarray(y[:3]), np.asarray(y[3:])
+    mu = np.array([[3 - max(i, j) for j in range(3)] for i in range(3)], dtype=float)
+    d = a[:, None] - a[None, :]
+    mass = mu * np.cos(d)
+    force = -(mu * np.sin(d)) @ (w**2) - np.diag(mu) * G * np.sin(a)
+    return np.concatenate([w, np.linalg.solve(mass, force)])
+
+
+def triple_potential(a):
+    return G * sum((3 - i) * (1 - math.cos(a[i])) for i in range(3))
+
+
+def triple_shoot(energy, guess):
+    """(a0, T) of the synchronous orbit from rest at a0 with V = energy: at T/2 every angular
+    velocity vanishes again."""
+
+    def residual(u):
+        a, period = u[:3], u[3]
+        half = solve_ivp(triple_lagrangian, (0, period / 2), list(a) + [0, 0, 0],
+                         method="DOP853", rtol=1e-13, atol=1e-13).y[:, -1]
+        return list(half[3:]) + [triple_potential(a) - energy]
+
+    return fsolve(residual, guess, xtol=1e-13)
+
+
+def test_triple_pendulum_periods_against_a_scipy_shooting_on_its_lagrangian():
+    chain = npend.Chain(3)
+    assert chain.hamiltonian([0.4, -0.3, 0.2, 0, 0, 0]) == pytest.approx(
+        triple_potential([0.4, -0.3, 0.2]), rel=1e-14)
+    for mode in (1, 2, 3):
+        branch = npend.continue_mode(chain, mode, 6.0, thresholds=[0.01])
+        for k in np.linspace(2, len(branch.energy) - 1, 3).astype(int):
+            x0 = branch.x0[k]
+            u = triple_shoot(branch.energy[k], list(x0[:3]) + [branch.period[k]])
+            assert u[3] == pytest.approx(branch.period[k], rel=1e-9), (mode, k)
+            assert np.max(np.abs(u[:3] - x0[:3])) <= 1e-8
