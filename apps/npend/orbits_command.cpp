@@ -46,8 +46,7 @@ struct mode_result {
 };
 
 continuation_method parse_continuation(const std::string& name) {
-  if (name == "arclength") return continuation_method::pseudo_arclength;
-  if (name == "natural") return continuation_method::natural;
+  if (const auto method = continuation_method_from_name(name)) return *method;
   throw cli::input_error(
       fmt::format("--continuation: arclength (the default) or natural, got '{}'", name));
 }

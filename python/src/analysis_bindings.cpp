@@ -353,8 +353,7 @@ periodic_orbit_options shooting_options(std::optional<double> energy, const std:
 }
 
 continuation_method parse_continuation(const std::string& name) {
-  if (name == "arclength") return continuation_method::pseudo_arclength;
-  if (name == "natural") return continuation_method::natural;
+  if (const auto method = continuation_method_from_name(name)) return *method;
   throw std::invalid_argument(fmt::format("continuation: arclength or natural, got '{}'", name));
 }
 

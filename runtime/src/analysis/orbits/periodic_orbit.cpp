@@ -355,6 +355,12 @@ periodic_orbit_result periodic_orbit(const chain& c, std::span<const double> x0_
   return shoot(c, x, T_guess, options, k);
 }
 
+std::optional<continuation_method> continuation_method_from_name(std::string_view name) {
+  if (name == "arclength") return continuation_method::pseudo_arclength;
+  if (name == "natural") return continuation_method::natural;
+  return std::nullopt;
+}
+
 nnm_point to_nnm_point(const periodic_orbit_result& r) {
   return {.energy = r.energy,
           .period = r.period,

@@ -110,6 +110,10 @@ enum class continuation_method {
   pseudo_arclength,
 };
 
+/// The method a name gives, as the command line and Python take it: "arclength" or
+/// "natural"; nullopt for any other.
+std::optional<continuation_method> continuation_method_from_name(std::string_view name);
+
 struct continuation_options {
   periodic_orbit_options orbit;  ///< each point's shooting (its energy is set per point)
   continuation_method method = continuation_method::pseudo_arclength;
