@@ -187,8 +187,10 @@ include(CheckCXXCompilerFlag)
 check_cxx_compiler_flag(-mprefer-vector-width=512 NPEND_HAS_PREFER_VECTOR_WIDTH)
 function(npend_use_wide_vectors target)
   if(NPEND_HAS_PREFER_VECTOR_WIDTH)
+    # Their own flag makes the target's precompiled header unusable for them.
     set_source_files_properties(${ARGN} TARGET_DIRECTORY ${target}
-                                PROPERTIES COMPILE_OPTIONS -mprefer-vector-width=512)
+                                PROPERTIES COMPILE_OPTIONS -mprefer-vector-width=512
+                                           SKIP_PRECOMPILE_HEADERS ON)
   endif()
 endfunction()
 

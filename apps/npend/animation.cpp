@@ -10,7 +10,6 @@
 
 #include "child_process.hpp"
 #include "input_parsing.hpp"
-#include "npend/integrators/integrate_system.hpp"
 #include "output_file.hpp"
 #include "plotting.hpp"
 #include "terminal_run.hpp"
@@ -315,9 +314,8 @@ sampled_motion sample_motion(const chain& c, std::span<const double> x0,
     return next > last ? observer_action::stop : observer_action::proceed;
   };
   const integration_result result =
-      design != nullptr
-          ? integrate_system(make_feedback_system(c, *design), x0, options, {}, sample)
-          : integrate(c, x0, options, {}, sample);
+      design != nullptr ? integrate_under_feedback(c, *design, x0, options, {}, sample)
+                        : integrate(c, x0, options, {}, sample);
   m.stopped = next <= last && result.stopped;
   return m;
 }

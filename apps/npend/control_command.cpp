@@ -13,7 +13,6 @@
 #include "control_options.hpp"
 #include "input_parsing.hpp"
 #include "integrator_options.hpp"
-#include "npend/integrators/integrate_system.hpp"
 #include "series_output.hpp"
 #include "terminal_run.hpp"
 
@@ -44,7 +43,7 @@ bool catches(const chain& c, const lqr_design& d, double delta, double t_end,
   o.dt = catch_dt;
   o.control = control;
   try {
-    const auto r = integrate_system(make_feedback_system(c, d), x0, o);
+    const auto r = integrate_under_feedback(c, d, x0, o);
     double dev = 0;
     for (std::size_t i = 0; i < r.state.size(); ++i)
       dev = std::max(dev, std::fabs(r.state[i] - d.equilibrium[i]));

@@ -16,9 +16,7 @@
 #include "npend/analysis/stability/floquet.hpp"
 #include "npend/analysis/stability/lqr.hpp"
 #include "npend/analysis/stability/normal_modes.hpp"
-#include "npend/chain_system.hpp"
 #include "npend/integrators/integrate.hpp"
-#include "npend/integrators/integrate_system.hpp"
 #include "output_file.hpp"
 
 namespace npend::app {
@@ -32,10 +30,10 @@ struct trajectory {
   std::vector<std::vector<double>> x;  ///< x[i][k]: entry i of the state at t[k]
 };
 
-// Integrates with gauss6 at dt = 1e-3 and keeps every `every`-th grid point.
-template <class System>
-trajectory run(const System& system, const std::vector<double>& x0, double t_end,
-               std::size_t every) {
+// Integrates with gauss6 at dt = 1e-3, the chain free or under the feedback of `design`, and
+// keeps every `every`-th grid point.
+trajectory run(const chain& c, const lqr_design* design, const std::vector<double>& x0,
+               double t_end, std::size_t every) {
   integration_options o;
   o.stepper = stepper_kind::gauss6;
   o.dt = 1e-3;
@@ -43,13 +41,17 @@ trajectory run(const System& system, const std::vector<double>& x0, double t_end
   trajectory tr;
   tr.x.resize(x0.size());
   std::size_t k = 0;
-  integrate_system(system, x0, o, [&](double t, std::span<const double> x) {
+  const auto keep = [&](double t, std::span<const double> x) {
     if (k++ % every == 0) {
       tr.t.push_back(t);
       for (std::size_t i = 0; i < x.size(); ++i) tr.x[i].push_back(x[i]);
     }
     return observer_action::proceed;
-  });
+  };
+  if (design != nullptr)
+    integrate_under_feedback(c, *design, x0, o, keep);
+  else
+    integrate(c, x0, o, keep);
   return tr;
 }
 
@@ -75,8 +77,8 @@ std::vector<double> swing_start(const chain& c) {
 // (a) Uniform rods against point masses, the same links, masses and start.
 void add_rods_against_points(figure_folder& folder, const chain& points, const chain& rods) {
   auto& index = folder.index();
-  const auto point_run = run(make_implicit_system(points), swing_start(points), 20, 10);
-  const auto rod_run = run(make_implicit_system(rods), swing_start(rods), 20, 10);
+  const auto point_run = run(points, nullptr, swing_start(points), 20, 10);
+  const auto rod_run = run(rods, nullptr, swing_start(rods), 20, 10);
   index.facts.push_back(
       {"normal-mode frequencies, point masses (rad/s)", frequencies_text(points)});
   index.facts.push_back({"normal-mode frequencies, uniform rods (rad/s)", frequencies_text(rods)});
@@ -111,7 +113,7 @@ void add_damped_rods(figure_folder& folder, const chain_parameters& rod_params) 
   chain_parameters damped_params = rod_params;
   damped_params.damping = {0.05, 0.05, 0.05};
   const chain damped(damped_params);
-  const auto damped_run = run(make_implicit_system(damped), swing_start(damped), 60, 1);
+  const auto damped_run = run(damped, nullptr, swing_start(damped), 60, 1);
   std::vector<double> energy, balance;
   energy_balance books(damped);
   for (std::size_t k = 0; k < damped_run.t.size(); ++k) {
@@ -214,7 +216,7 @@ void add_standing_chain(figure_folder& folder, const chain& points) {
   const std::vector<double> up{pi, pi, pi};
   const lqr_design design = lqr(points, up);
   std::vector<double> x0{pi + 0.1, pi + 0.1, pi + 0.1, 0, 0, 0};
-  const auto held = run(make_feedback_system(points, design), x0, 8, 10);
+  const auto held = run(points, &design, x0, 8, 10);
   std::vector<std::vector<double>> deviation(3), torque(3);
   const feedback_rhs law(points, design);
   for (std::size_t k = 0; k < held.t.size(); ++k) {

@@ -17,7 +17,6 @@
 #include "npend/analysis/motion/energy_drift.hpp"
 #include "npend/analysis/motion/rod_tensions.hpp"
 #include "npend/integrators/integrate.hpp"
-#include "npend/integrators/integrate_system.hpp"
 #include "output_file.hpp"
 #include "series_output.hpp"
 #include "start_options.hpp"
@@ -98,9 +97,9 @@ int run_simulate(const simulate_options& o) {
     ++index;
     return observer_action::proceed;
   };
-  const integration_result result =
-      design ? integrate_system(make_feedback_system(c, *design), x0, options, observe)
-             : integrate(c, x0, options, observe);
+  const integration_result result = design
+                                        ? integrate_under_feedback(c, *design, x0, options, observe)
+                                        : integrate(c, x0, options, observe);
   control.finish();
 
   if (result.stopped) {

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "analysis/detail/argument_checks.hpp"
+#include "analysis/detail/dense_eigen.hpp"
 #include "npend/integrators/integration_error.hpp"
 
 namespace npend {
@@ -80,8 +81,7 @@ class augmented_system {
 
 // The volume spanned by the first j columns: the product of their singular values.
 double gali(const column_matrix& w, Eigen::Index j) {
-  const Eigen::JacobiSVD<column_matrix> svd(w.leftCols(j));
-  return svd.singularValues().prod();
+  return detail::singular_values(w.leftCols(j)).prod();
 }
 
 chaos_indicator_sample sample_at(double t, double fli, const std::vector<double>& s,

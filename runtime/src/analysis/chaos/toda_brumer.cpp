@@ -9,6 +9,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "analysis/detail/dense_eigen.hpp"
+
 namespace npend {
 
 namespace {
@@ -49,8 +51,7 @@ std::vector<double> toda_brumer_eigenvalues(const chain& c, std::span<const doub
   const Eigen::MatrixXd minus_hess =
       -Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
           hess.data(), n, n);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(minus_hess, Eigen::EigenvaluesOnly);
-  const Eigen::VectorXd& lambda = solver.eigenvalues();
+  const Eigen::VectorXd lambda = detail::symmetric_eigen_decomposition(minus_hess, false).values;
   return {lambda.data(), lambda.data() + n};
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "analysis/detail/dense_eigen.hpp"
 #include "analysis/detail/monodromy.hpp"
 #include "npend/integrators/integration_error.hpp"
 
@@ -68,7 +69,7 @@ forced_pass integrate_forced(const chain& c, const std::vector<double>& x0, doub
 
 void set_forced_multipliers(const Eigen::MatrixXd& m, double stability_tolerance,
                             forced_orbit_result& r) {
-  const Eigen::VectorXcd ev = Eigen::EigenSolver<Eigen::MatrixXd>(m, false).eigenvalues();
+  const Eigen::VectorXcd ev = detail::general_eigenvalues(m);
   std::vector<std::complex<double>> mu(ev.data(), ev.data() + ev.size());
   std::sort(mu.begin(), mu.end(), [](auto a, auto b) {
     return std::abs(a) != std::abs(b) ? std::abs(a) > std::abs(b) : a.imag() > b.imag();

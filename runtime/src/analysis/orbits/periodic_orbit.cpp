@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "analysis/detail/conservative_chain.hpp"
+#include "analysis/detail/dense_eigen.hpp"
 #include "analysis/detail/monodromy.hpp"
 #include "npend/analysis/stability/normal_modes.hpp"
 #include "npend/chain_system.hpp"
@@ -120,7 +121,7 @@ Eigen::MatrixXd segment_with_tangent(const chain& c, std::vector<double>& x, dou
 // slightly).
 void set_multipliers(const Eigen::MatrixXd& m, double stability_tolerance,
                      periodic_orbit_result& r) {
-  const Eigen::VectorXcd ev = Eigen::EigenSolver<Eigen::MatrixXd>(m, false).eigenvalues();
+  const Eigen::VectorXcd ev = detail::general_eigenvalues(m);
   std::vector<std::complex<double>> mu(ev.data(), ev.data() + ev.size());
   for (int k = 0; k < 2 && !mu.empty(); ++k)
     mu.erase(std::min_element(mu.begin(), mu.end(), [](auto a, auto b) {
@@ -771,11 +772,11 @@ Eigen::VectorXd new_direction(const chain& c, const nnm_point& p, const periodic
   const Eigen::MatrixXd m = segment_with_tangent(c, end, p.period, o.steps, o.monodromy, {});
   Eigen::VectorXd v(d);
   if (doubling) {
-    const Eigen::EigenSolver<Eigen::MatrixXd> eigen(m);
+    const detail::general_eigensystem eigen = detail::general_eigen_decomposition(m);
     Eigen::Index k = 0;
-    for (Eigen::Index i = 1; i < eigen.eigenvalues().size(); ++i)
-      if (std::abs(eigen.eigenvalues()(i) + 1.0) < std::abs(eigen.eigenvalues()(k) + 1.0)) k = i;
-    v = eigen.eigenvectors().col(k).real();
+    for (Eigen::Index i = 1; i < eigen.values.size(); ++i)
+      if (std::abs(eigen.values(i) + 1.0) < std::abs(eigen.values(k) + 1.0)) k = i;
+    v = eigen.vectors.col(k).real();
   } else {
     const Eigen::VectorXd f0 = orbit_flow(c, p.x0);
     Eigen::MatrixXd jac = Eigen::MatrixXd::Zero(d + 2, d + 1);
@@ -783,8 +784,7 @@ Eigen::VectorXd new_direction(const chain& c, const nnm_point& p, const periodic
     jac.block(0, d, d, 1) = orbit_flow(c, end);
     jac.block(d, 0, 1, d) = energy_gradient(c, p.x0).transpose();
     jac.block(d + 1, 0, 1, d) = f0.transpose();
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jac, Eigen::ComputeFullV);
-    v = svd.matrixV().col(d).head(d);
+    v = detail::right_singular_vectors(jac).col(d).head(d);
   }
   return v / v.cwiseAbs().maxCoeff();
 }

@@ -473,7 +473,7 @@ void add_warnings(series_lyapunov_result& r) {
                   r.rise));
   if (r.linear_region && r.uncertainty > 0.25 * std::fabs(r.maximal_exponent) &&
       r.maximal_exponent > 0)
-    r.warnings.push_back(
+    r.warnings.emplace_back(
         "the uncertainty is more than a quarter of the exponent: the curve has no "
         "clear linear region in the fit range (see --fit)");
 }

@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "analysis/detail/dense_eigen.hpp"
 #include "analysis/detail/monodromy.hpp"
 #include "npend/chain_system.hpp"
 #include "npend/integrators/gauss_legendre.hpp"
@@ -100,8 +101,8 @@ floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
   }
   r.monodromy.resize(static_cast<std::size_t>(d * d));
   Eigen::Map<row_major>(r.monodromy.data(), d, d) = tangent;
-  const Eigen::EigenSolver<Eigen::MatrixXd> eigen(tangent, true);
-  const Eigen::VectorXcd ev = eigen.eigenvalues();
+  const detail::general_eigensystem eigen = detail::general_eigen_decomposition(tangent);
+  const Eigen::VectorXcd& ev = eigen.values;
   r.multipliers.assign(ev.data(), ev.data() + d);
   std::sort(r.multipliers.begin(), r.multipliers.end(), [](auto a, auto b) {
     return std::abs(a) != std::abs(b) ? std::abs(a) > std::abs(b) : a.imag() > b.imag();
@@ -113,7 +114,7 @@ floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
   // eigenvectors: the columns of V and the rows of V⁻¹, whose product is 1). A defective
   // (or nearly) M, as where two multipliers meet on the circle, has a huge κ: its verdict
   // is then marginal rather than a guess.
-  const Eigen::MatrixXcd v = eigen.eigenvectors();
+  const Eigen::MatrixXcd& v = eigen.vectors;
   const Eigen::FullPivLU<Eigen::MatrixXcd> lu(v);
   double kappa = std::numeric_limits<double>::infinity();
   if (lu.isInvertible()) {
@@ -123,7 +124,8 @@ floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
   }
   const double rounding =
       kappa * d * std::numeric_limits<double>::epsilon() * tangent.operatorNorm();
-  const double integration = std::fabs(r.max_modulus - largest_modulus(coarse.eigenvalues()));
+  const double integration =
+      std::fabs(r.max_modulus - largest_modulus(detail::general_eigenvalues(coarse)));
   r.modulus_error = integration + rounding;
   if (!std::isfinite(r.modulus_error)) r.modulus_error = std::numeric_limits<double>::infinity();
 

@@ -7,6 +7,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "analysis/detail/dense_eigen.hpp"
+#include "npend/integrators/integrate_system.hpp"
+
 // SLICOT (Debian's libslicot-dev): SB02MD solves the continuous algebraic Riccati equation
 // AᵀX + XA − XGX + Q = 0 by the Schur vectors of the Hamiltonian matrix (Laub's method).
 // Fortran calling convention of gfortran: everything by reference, LOGICAL as int, and the
@@ -25,7 +28,7 @@ namespace {
 using row_major = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 std::vector<std::complex<double>> eigenvalues_by_real_part(const Eigen::MatrixXd& m) {
-  const Eigen::VectorXcd ev = m.eigenvalues();
+  const Eigen::VectorXcd ev = detail::general_eigenvalues(m);
   std::vector<std::complex<double>> out(ev.data(), ev.data() + ev.size());
   std::sort(out.begin(), out.end(), [](auto a, auto b) {
     return a.real() != b.real() ? a.real() > b.real() : a.imag() > b.imag();
@@ -217,6 +220,14 @@ void feedback_jacobian::operator()(const std::vector<double>& x, row_major& J, d
         J(i, j) -= b * m_design->gain[static_cast<std::size_t>(k * d + j)];
     }
   m_chain->time_derivative(x, dfdt, t);
+}
+
+integration_result integrate_under_feedback(const chain& c, const lqr_design& design,
+                                            std::span<const double> x0,
+                                            const integration_options& options,
+                                            const observer_function& observer,
+                                            const step_observer_function& step_observer) {
+  return integrate_system(make_feedback_system(c, design), x0, options, observer, step_observer);
 }
 
 }  // namespace npend

@@ -7,6 +7,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "analysis/detail/dense_eigen.hpp"
 #include "analysis/detail/sample_statistics.hpp"
 #include "npend/chain_system.hpp"
 #include "npend/integrators/gauss_legendre.hpp"
@@ -42,22 +43,22 @@ class momentum_thermostat {
     m_chain.mass_matrix(std::span<const double>(x.data(), static_cast<std::size_t>(n)), m_mass);
     const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
         a(m_mass.data(), n, n);
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> mass(a);
-    const Eigen::VectorXd root = mass.eigenvalues().cwiseSqrt();
+    const detail::symmetric_eigensystem mass = detail::symmetric_eigen_decomposition(a, true);
+    const Eigen::VectorXd root = mass.values.cwiseSqrt();
     const Eigen::MatrixXd half =
-        mass.eigenvectors() * root.asDiagonal() * mass.eigenvectors().transpose();  // A^{1/2}
+        mass.vectors * root.asDiagonal() * mass.vectors.transpose();  // A^{1/2}
     const Eigen::MatrixXd inverse_half =
-        mass.eigenvectors() * root.cwiseInverse().asDiagonal() * mass.eigenvectors().transpose();
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> g(inverse_half * m_friction *
-                                                           inverse_half);
+        mass.vectors * root.cwiseInverse().asDiagonal() * mass.vectors.transpose();
+    const detail::symmetric_eigensystem g =
+        detail::symmetric_eigen_decomposition(inverse_half * m_friction * inverse_half, true);
     Eigen::Map<Eigen::VectorXd> p(x.data() + n, n);
-    Eigen::VectorXd q = g.eigenvectors().transpose() * (inverse_half * p);
+    Eigen::VectorXd q = g.vectors.transpose() * (inverse_half * p);
     for (int i = 0; i < n; ++i) {
-      const double rate = std::max(0.0, g.eigenvalues()(i));
+      const double rate = std::max(0.0, g.values(i));
       const double decay = std::exp(-rate * h);
       q(i) = decay * q(i) + std::sqrt(m_kt * (1 - decay * decay)) * m_normal(m_rng);
     }
-    p = half * (g.eigenvectors() * q);
+    p = half * (g.vectors * q);
   }
 
  private:

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "npend/chain.hpp"
+#include "npend/integrators/integrate.hpp"
 
 namespace npend {
 
@@ -84,5 +85,15 @@ inline std::pair<feedback_rhs, feedback_jacobian> make_feedback_system(const cha
                                                                        const lqr_design& d) {
   return {feedback_rhs(c, d), feedback_jacobian(c, d)};
 }
+
+/// Integrates the chain under the feedback of `design` (make_feedback_system) from x0, as
+/// npend::integrate integrates a free chain: the same options, observers and errors, with the
+/// steppers of npend::integrate_system (no taylor: the feedback has no Taylor kernels). Compiled
+/// once in the library, so that front ends need not instantiate the integrators themselves.
+integration_result integrate_under_feedback(const chain& c, const lqr_design& design,
+                                            std::span<const double> x0,
+                                            const integration_options& options,
+                                            const observer_function& observer = {},
+                                            const step_observer_function& step_observer = {});
 
 }  // namespace npend
