@@ -102,7 +102,7 @@ int run_single(const chain& c, const floquet_command_options& o, const floquet_o
                                                                  : "unstable";
   fmt::print(
       "{}: max |mu| = {:.10f}, max |mu| - 1 = {:.3g} +- {:.2g} (the change from {} steps "
-      "per period, and the eigenvalues' rounding)\n",
+      "per period, and rounding)\n",
       verdict, r.max_modulus, r.max_modulus - 1, r.modulus_error, o.steps / 2);
   if (r.verdict == floquet_verdict::marginal)
     fmt::print(

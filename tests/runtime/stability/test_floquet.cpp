@@ -61,6 +61,25 @@ TEST_CASE("floquet: Kapitza's inverted pendulum is stable iff (a Omega)^2 > 2 g 
   }
 }
 
+TEST_CASE("floquet: just above the Mathieu threshold every frequency is stable, not by rounding") {
+  // Upright, θ = φ − π obeys y'' + (δ + ε cos τ) y = 0 with τ = Ωt, δ = −g/(lΩ²), ε = a/l;
+  // its transition curve through +1, δ = −ε²/2 + 7ε⁴/32 − 29ε⁶/144, puts the threshold at
+  // 88.637 rad/s for a = 0.05. Above it, up to the −1 curve (δ > 0, never reached), every
+  // multiplier is on the circle: |μ| − 1 is rounding there, which the error must cover.
+  const double a = 0.05, eps = a, g = 9.81;
+  const double delta = -eps * eps / 2 + 7 * std::pow(eps, 4) / 32 - 29 * std::pow(eps, 6) / 144;
+  const double threshold = std::sqrt(-g / delta);
+  CHECK(threshold == doctest::Approx(88.6373).epsilon(1e-5));
+  for (double omega = 89; omega <= 95; omega += 0.5) {
+    CAPTURE(omega);
+    const chain c = inverted_single(a, omega);
+    const std::vector<double> x0{pi, 0.0};
+    const auto r = npend::floquet_analysis(c, x0);
+    CHECK(r.verdict == npend::floquet_verdict::stable);
+    CHECK(std::fabs(r.max_modulus - 1) <= r.modulus_error);
+  }
+}
+
 TEST_CASE("floquet: the multipliers are the linear Mathieu equation's") {
   for (const double omega : {40.0, 75.0, 110.0, 160.0}) {
     CAPTURE(omega);

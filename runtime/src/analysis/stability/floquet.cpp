@@ -122,8 +122,11 @@ floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
     kappa = 1;
     for (int i = 0; i < d; ++i) kappa = std::max(kappa, v.col(i).norm() * w.row(i).norm());
   }
-  const double rounding =
-      kappa * d * std::numeric_limits<double>::epsilon() * tangent.operatorNorm();
+  // And the rounding the K steps of the tangent map accumulate, up to K ε ‖M‖: a symplectic
+  // step keeps an undamped chain's multipliers on the circle to truncation, so this, not the
+  // step count, is what leaves |μ| a few ε off 1 there.
+  const double epsilon = std::numeric_limits<double>::epsilon();
+  const double rounding = (kappa * d + options.steps) * epsilon * tangent.operatorNorm();
   const double integration =
       std::fabs(r.max_modulus - largest_modulus(detail::general_eigenvalues(coarse)));
   r.modulus_error = integration + rounding;

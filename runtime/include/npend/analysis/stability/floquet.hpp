@@ -40,7 +40,8 @@ struct floquet_result {
   double max_modulus = 0;  ///< max |μ|
   /// The error estimate of max |μ|: its change from the run at half the steps (an upper
   /// bound once the rule converges; order 6, so the full run's own error is about 1/63 of
-  /// it) plus the rounding of the eigenvalues (each one's condition number × d ε ‖M‖).
+  /// it) plus rounding: the eigenvalues' (each one's condition number × d ε ‖M‖) and that of
+  /// the K steps of the tangent map (K ε ‖M‖).
   double modulus_error = 0;
   floquet_verdict verdict = floquet_verdict::unstable;
   bool stable = false;  ///< verdict == floquet_verdict::stable
