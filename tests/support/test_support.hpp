@@ -6,6 +6,7 @@
 #include <random>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "npend/chain.hpp"
@@ -27,6 +28,12 @@ double relative_error(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 Eigen::VectorXd to_eigen(std::span<const double> v);
 /// A row-major n × m buffer as an Eigen matrix.
 Eigen::MatrixXd to_eigen(std::span<const double> v, int rows, int cols);
+
+/// The doubles in one SIMD vector of a batch-lane ISA (batch_lane_isas' names): the lanes
+/// run four such vectors side by side.
+inline int doubles_per_vector(std::string_view isa) {
+  return isa == "avx512f" ? 8 : isa == "avx2" || isa == "avx" ? 4 : 2;
+}
 
 struct command_result {
   int exit_code;

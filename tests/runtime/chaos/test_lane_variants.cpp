@@ -12,6 +12,7 @@
 
 #include "npend/analysis/chaos/chaos_map.hpp"
 #include "npend/chain.hpp"
+#include "support/test_support.hpp"
 
 namespace {
 
@@ -114,7 +115,7 @@ TEST_CASE("lane ISAs: four blocks of each ISA's doubles, and a name not run here
   for (const std::string_view isa : npend::batch_lane_isas()) {
     CAPTURE(isa);
     npend::use_batch_lane_isa(isa);
-    const int doubles = isa == "avx512f" ? 8 : isa == "avx2" || isa == "avx" ? 4 : 2;
+    const int doubles = npend::test::doubles_per_vector(isa);
     CHECK(npend::batch_lanes(c) == 4 * doubles);
   }
   try {

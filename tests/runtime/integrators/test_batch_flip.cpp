@@ -18,6 +18,7 @@
 #include "npend/analysis/chaos/chaos_map.hpp"
 #include "npend/batch_math.hpp"
 #include "npend/chain_system.hpp"
+#include "support/test_support.hpp"
 
 namespace {
 
@@ -98,7 +99,7 @@ reference_flip reference_flip_time(const npend::chain& c, std::vector<double> x,
 TEST_CASE("flip_times: runs on the batch lanes for point-mass chains, not for physical ones") {
   // Four blocks of the lane ISA's vector of doubles.
   const std::string_view isa = npend::batch_lane_isa();
-  const int doubles = isa == "avx512f" ? 8 : isa == "avx2" || isa == "avx" ? 4 : 2;
+  const int doubles = npend::test::doubles_per_vector(isa);
   CHECK(npend::batch_lanes(npend::chain(npend::chain_parameters::uniform(2))) == 4 * doubles);
   npend::chain_parameters rods = npend::chain_parameters::uniform(2);
   rods.make_uniform_rods();
