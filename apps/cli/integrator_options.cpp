@@ -21,12 +21,13 @@ void integrator_options::add_stepper_options(CLI::App& command, std::string_view
   command.add_option(
       "--stepper", stepper,
       fmt::format("{}Integrator: one of {} (default: gauss6)", note, stepper_names()));
-  command.add_option(
-      "--abs-tol", abs_tol,
-      fmt::format("{}Absolute error tolerance of the adaptive steppers (default: 1e-10)", note));
-  command.add_option(
-      "--rel-tol", rel_tol,
-      fmt::format("{}Relative error tolerance of the adaptive steppers (default: 1e-10)", note));
+  add_tolerance_options(
+      command, abs_tol, rel_tol, tol,
+      fmt::format("{}Absolute error tolerance of the adaptive steppers (default: 1e-10)", note),
+      fmt::format("{}Relative error tolerance of the adaptive steppers (default: 1e-10)", note),
+      fmt::format("{}Both tolerances of the adaptive steppers at once: --abs-tol and --rel-tol "
+                  "TOL (taylor: its order from TOL too)",
+                  note));
   command.add_option("--order", order,
                      fmt::format("{}Order of the taylor stepper, 2..{} (default: from the "
                                  "tolerances, ceil(1 - ln(tol)/2))",
@@ -51,8 +52,17 @@ void check_step_count(double t_end, double dt, std::string_view options, std::st
                                   t_end / dt, integrator_options::max_steps, advice));
 }
 
+void add_tolerance_options(CLI::App& command, std::string& abs_text, std::string& rel_text,
+                           std::string& tol_text, const std::string& abs_help,
+                           const std::string& rel_help, const std::string& tol_help) {
+  CLI::Option* abs_option = command.add_option("--abs-tol", abs_text, abs_help);
+  CLI::Option* rel_option = command.add_option("--rel-tol", rel_text, rel_help);
+  command.add_option("--tol", tol_text, tol_help)->excludes(abs_option)->excludes(rel_option);
+}
+
 void parse_tolerances(const std::string& abs_text, const std::string& rel_text,
-                      std::string_view refusal, double& abs_tol, double& rel_tol) {
+                      const std::string& tol_text, std::string_view refusal, double& abs_tol,
+                      double& rel_tol) {
   const auto tolerance = [&](const std::string& text, const char* option, double& value) {
     if (text.empty()) return;
     if (!refusal.empty()) throw input_error(fmt::format("{}: {}", option, refusal));
@@ -60,6 +70,12 @@ void parse_tolerances(const std::string& abs_text, const std::string& rel_text,
     if (value < 0)
       throw input_error(fmt::format("{}: must not be negative, got {}", option, value));
   };
+  if (!tol_text.empty()) {
+    tolerance(tol_text, "--tol", abs_tol);
+    if (abs_tol == 0) throw input_error("--tol: must be positive, got 0");
+    rel_tol = abs_tol;
+    return;
+  }
   tolerance(abs_text, "--abs-tol", abs_tol);
   tolerance(rel_text, "--rel-tol", rel_tol);
   if (abs_tol == 0 && rel_tol == 0)
@@ -83,7 +99,7 @@ integration_options integrator_options::make() const {
       throw input_error(fmt::format("--stepper: {}", e.what()));
     }
   }
-  parse_tolerances(abs_tol, rel_tol,
+  parse_tolerances(abs_tol, rel_tol, tol,
                    is_adaptive(o.stepper)
                        ? ""
                        : fmt::format("only the adaptive steppers ({}) take tolerances, not {}",

@@ -13,13 +13,13 @@ namespace npend::cli {
 
 /// Raw text of the integration options, parsed strictly after CLI11 has collected them.
 struct integrator_options {
-  std::string t_end, dt, stepper, abs_tol, rel_tol, order;
+  std::string t_end, dt, stepper, abs_tol, rel_tol, tol, order;
 
-  /// Adds --t-end (required), --dt, --stepper, --abs-tol, --rel-tol and --order to
+  /// Adds --t-end (required), --dt, --stepper, --abs-tol, --rel-tol, --tol and --order to
   /// `command`.
   void add_to(CLI::App& command);
 
-  /// Adds only --stepper, --abs-tol, --rel-tol and --order, their help texts starting with
+  /// Adds only --stepper, --abs-tol, --rel-tol, --tol and --order, their help texts starting with
   /// `note` (for commands whose time grid comes from other options).
   void add_stepper_options(CLI::App& command, std::string_view note = "");
 
@@ -48,11 +48,20 @@ void check_step_count(double t_end, double dt, std::string_view options,
 /// stepper other than taylor.
 void parse_taylor_order(const std::string& text, stepper_kind stepper, int& order);
 
-/// --abs-tol and --rel-tol as typed (`abs_text`, `rel_text`; empty: `abs_tol` and `rel_tol`
-/// keep their defaults). `refusal`: empty where the stepper takes tolerances, else why it
-/// does not, said after "<option>: " for a tolerance given anyway. Throws input_error naming
-/// the option: a tolerance refused, not a number or negative, or both tolerances 0.
+/// Adds --abs-tol, --rel-tol and --tol, which sets both at once and excludes them, to
+/// `command` with the help texts given, collecting the texts into `abs_text`, `rel_text` and
+/// `tol_text`.
+void add_tolerance_options(CLI::App& command, std::string& abs_text, std::string& rel_text,
+                           std::string& tol_text, const std::string& abs_help,
+                           const std::string& rel_help, const std::string& tol_help);
+
+/// --abs-tol, --rel-tol and --tol as typed (`abs_text`, `rel_text`, `tol_text`: both
+/// tolerances; empty: `abs_tol` and `rel_tol` keep their defaults). `refusal`: empty where the
+/// stepper takes tolerances, else why it does not, said after "<option>: " for a tolerance
+/// given anyway. Throws input_error naming the option: a tolerance refused, not a number or
+/// negative, or both tolerances 0.
 void parse_tolerances(const std::string& abs_text, const std::string& rel_text,
-                      std::string_view refusal, double& abs_tol, double& rel_tol);
+                      const std::string& tol_text, std::string_view refusal, double& abs_tol,
+                      double& rel_tol);
 
 }  // namespace npend::cli

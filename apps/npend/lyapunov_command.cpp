@@ -416,6 +416,7 @@ void refuse_equation_options(const lyapunov_command_options& o) {
                            "--stepper",
                            "--abs-tol",
                            "--rel-tol",
+                           "--tol",
                            "--transient",
                            "--renormalise-every",
                            "--convergence-fraction",

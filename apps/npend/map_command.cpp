@@ -127,6 +127,9 @@ nlohmann::json options_record(const map_command_options& o) {
       {"flip_link", o.flip_link}, {"gali_order", o.gali_order}, {"tile", o.tile}};
   for (const auto& [key, member] : chain_texts) j[key] = chain.*member;
   for (const auto& [key, member] : map_texts) j[key] = o.*member;
+  // Written only when given, so that a run without it keeps the record (and the folder it
+  // resumes) of the versions before --tol.
+  if (!o.tol.empty()) j["tol"] = o.tol;
   return j;
 }
 
@@ -143,6 +146,7 @@ map_command_options options_from_record(const nlohmann::json& j) {
   for (const auto& [key, member] : chain_texts) o.chain.*member = j.at(key).get<std::string>();
   // Records written before a key existed lack it: the option was not given.
   for (const auto& [key, member] : map_texts) o.*member = j.value(key, std::string());
+  o.tol = j.value("tol", std::string());
   return o;
 }
 

@@ -55,7 +55,7 @@ map_stepping map_stepping_of(const map_command_options& o, map_quantity quantity
         fmt::format("--stepper: the chaos indicators ({}) integrate with rk4 only; {} takes flip, "
                     "lyapunov and state",
                     map_quantity_name(quantity), o.stepper));
-  cli::parse_tolerances(o.abs_tol, o.rel_tol,
+  cli::parse_tolerances(o.abs_tol, o.rel_tol, o.tol,
                         stepping.stepper == stepper_kind::dopri5
                             ? ""
                             : "only with --stepper dopri5 (the others take a fixed --dt)",
@@ -145,8 +145,10 @@ void add_map_view_options(CLI::App& cmd, map_command_options& o) {
                  "step control; flip times located inside the step by its dense output), or "
                  "the symplectic gauss4 or gauss6 (fixed step --dt); other than rk4 for flip, "
                  "lyapunov and state only");
-  cmd.add_option("--abs-tol", o.abs_tol, "dopri5: absolute error tolerance (default 1e-10)");
-  cmd.add_option("--rel-tol", o.rel_tol, "dopri5: relative error tolerance (default 1e-10)");
+  cli::add_tolerance_options(cmd, o.abs_tol, o.rel_tol, o.tol,
+                             "dopri5: absolute error tolerance (default 1e-10)",
+                             "dopri5: relative error tolerance (default 1e-10)",
+                             "dopri5: both tolerances at once, --abs-tol and --rel-tol TOL");
   cmd.add_option("--flip-link", o.flip_link, "flip: only arm K counts (default 0: any arm)");
 }
 

@@ -18,8 +18,8 @@ namespace npend::app {
 struct map_command_options {
   cli::chain_options chain;
   std::string x, y, quantity = "flip", component, phi, p, dphi, out, part;
-  std::string stepper, abs_tol, rel_tol;  // as typed; empty: rk4, tolerances 1e-10
-  std::string device;                     // as typed; empty: cpu
+  std::string stepper, abs_tol, rel_tol, tol;  // as typed; empty: rk4, tolerances 1e-10
+  std::string device;                          // as typed; empty: cpu
   double t_end = 100, dt = 0.01;
   int flip_link = 0, gali_order = 0, threads = 0, tile = 16;
   bool resume = false, json = false, force = false;

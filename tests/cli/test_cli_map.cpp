@@ -382,6 +382,29 @@ TEST_CASE("npend map: beyond 1024 cells a side map.png draws a subsample, map.np
   CHECK(fs::exists(dir / "m" / "map.png"));
 }
 
+TEST_CASE("npend map --tol: both tolerances, a part of the run's identity that merge keeps") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-tol"));
+  const std::string map =
+      "map --links 2 --x phi1:-3:3:5 --y phi2:-2:3:4 --t-end 10 --p 0,1 --stepper dopri5 "
+      "--tile 2 --json --out ";
+  const auto both = run_npend(map + (dir / "both").string() + " --abs-tol 1e-9 --rel-tol 1e-9");
+  REQUIRE(both.exit_code == 0);
+  const auto tol = run_npend(map + (dir / "tol").string() + " --tol 1e-9");
+  REQUIRE(tol.exit_code == 0);
+  const auto j = nlohmann::json::parse(tol.out);
+  CHECK(j["abs_tol"] == 1e-9);
+  CHECK(j["rel_tol"] == 1e-9);
+  CHECK(npend::test::read_text((dir / "both" / "map.npy").string()) ==
+        npend::test::read_text((dir / "tol" / "map.npy").string()));
+  // Parts of a --tol run merge into its bytes: the folder's record keeps the option.
+  const std::string parted = map + (dir / "parted").string() + " --tol 1e-9 --part ";
+  REQUIRE(run_npend(parted + "1/2").exit_code == 0);
+  REQUIRE(run_npend(parted + "2/2").exit_code == 0);
+  REQUIRE(run_npend("map merge " + (dir / "parted").string()).exit_code == 0);
+  CHECK(npend::test::read_text((dir / "parted" / "map.npy").string()) ==
+        npend::test::read_text((dir / "tol" / "map.npy").string()));
+}
+
 TEST_CASE("npend map: one thread or two, the same bytes") {
   const fs::path dir(npend::test::temporary_directory("cli-map-threads"));
   REQUIRE(run_npend(grid + " --threads 1 --out " + (dir / "one").string()).exit_code == 0);

@@ -108,6 +108,27 @@ TEST_CASE("npend simulate: --out and --json, the summary agrees with the CSV and
   CHECK(j["max_rel_energy_error"].get<double>() == worst);
 }
 
+TEST_CASE("npend simulate: --tol sets both tolerances, as the library's run with them says") {
+  const auto r = run_npend(
+      "simulate --links 3 --phi 1.5,1.5,1.5 --t-end 2 --dt 0.5 --stepper taylor --tol 1e-13 "
+      "--json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  const npend::chain c(npend::chain_parameters::uniform(3));
+  npend::integration_options o;
+  o.stepper = npend::stepper_kind::taylor;
+  o.t_end = 2;
+  o.dt = 0.5;
+  o.abs_tol = 1e-13;
+  o.rel_tol = 1e-13;
+  const auto result = npend::integrate(c, std::vector<double>{1.5, 1.5, 1.5, 0, 0, 0}, o);
+  CHECK(j["steps"] == result.steps);
+  CHECK(j["final_state"].get<std::vector<double>>() == result.state);
+  // A tolerance 1000 times looser takes other steps: --tol reached the stepper.
+  o.abs_tol = o.rel_tol = 1e-10;
+  CHECK(j["steps"] != npend::integrate(c, std::vector<double>{1.5, 1.5, 1.5, 0, 0, 0}, o).steps);
+}
+
 TEST_CASE("npend simulate: --tensions adds tau_i, the weight below each rod at rest") {
   const auto r = run_npend(
       "simulate --links 3 --masses 1,2,0.5 --phi 0,0,0 --t-end 0.01 "
