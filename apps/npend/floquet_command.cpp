@@ -13,6 +13,7 @@
 #include "command.hpp"
 #include "input_parsing.hpp"
 #include "npend/analysis/stability/floquet.hpp"
+#include "npend/integrators/integrate.hpp"
 #include "series_output.hpp"
 #include "terminal_run.hpp"
 
@@ -22,8 +23,9 @@ namespace {
 
 struct floquet_command_options {
   cli::chain_options chain;
-  std::string at = "pi", p, scan, out;
+  std::string at = "pi", p, scan, out, stepper = "gauss6", tol;
   int steps = 400;
+  bool steps_given = false;
   bool json = false;
 };
 
@@ -79,7 +81,9 @@ int run_single(const chain& c, const floquet_command_options& o, const floquet_o
     nlohmann::json j = describe_chain(c);
     j["at"] = x0;
     j["period"] = r.period;
-    j["steps"] = o.steps;
+    j["stepper"] = stepper_name(options.stepper);
+    j["steps"] = r.steps;
+    if (options.stepper == stepper_kind::taylor) j["tolerance"] = options.tolerance;
     j["multipliers"] = json_complex_list(r.multipliers);
     j["max_modulus"] = r.max_modulus;
     j["modulus_error"] = r.modulus_error;
@@ -90,8 +94,11 @@ int run_single(const chain& c, const floquet_command_options& o, const floquet_o
     std::cout << j.dump(2) << "\n";
     return 0;
   }
-  fmt::print("{}-link chain, pivot {}, period T = {:.6g} s, {} Gauss-Legendre steps\n", c.links(),
-             c.parameters().pivot.describe(), r.period, o.steps);
+  const bool taylor = options.stepper == stepper_kind::taylor;
+  fmt::print("{}-link chain, pivot {}, period T = {:.6g} s, {}\n", c.links(),
+             c.parameters().pivot.describe(), r.period,
+             taylor ? fmt::format("{} Taylor steps at tolerance {:g}", r.steps, options.tolerance)
+                    : fmt::format("{} Gauss-Legendre steps", r.steps));
   fmt::print("start x0 = {}\n", x0);
   fmt::print("{:>4} {:>22} {:>22} {:>14}\n", "k", "Re mu", "Im mu", "|mu|");
   for (std::size_t k = 0; k < r.multipliers.size(); ++k)
@@ -101,13 +108,16 @@ int run_single(const chain& c, const floquet_command_options& o, const floquet_o
                         : r.verdict == floquet_verdict::marginal ? "marginal"
                                                                  : "unstable";
   fmt::print(
-      "{}: max |mu| = {:.10f}, max |mu| - 1 = {:.3g} +- {:.2g} (the change from {} steps "
-      "per period, and rounding)\n",
-      verdict, r.max_modulus, r.max_modulus - 1, r.modulus_error, o.steps / 2);
+      "{}: max |mu| = {:.10f}, max |mu| - 1 = {:.3g} +- {:.2g} (the change from {}, and "
+      "rounding)\n",
+      verdict, r.max_modulus, r.max_modulus - 1, r.modulus_error,
+      taylor ? fmt::format("tolerance {:g}", 100 * options.tolerance)
+             : fmt::format("{} steps per period", options.steps / 2));
   if (r.verdict == floquet_verdict::marginal)
     fmt::print(
         "marginal: max |mu| is within its error of 1, so the integration cannot tell a slow "
-        "decay from a slow growth; more --steps shrink the error\n");
+        "decay from a slow growth; {} shrink the error\n",
+        taylor ? "a smaller --tol may" : "more --steps");
   if (!periodic)
     fmt::print(stderr,
                "npend floquet: warning: the start is not on a T-periodic orbit (|x(T) - x(0)| = "
@@ -201,6 +211,41 @@ int run_scan(const chain& base, const floquet_command_options& o, const floquet_
   return 0;
 }
 
+// --stepper, --steps and --tol, checked together.
+floquet_options integrator_of(const chain& c, const floquet_command_options& o) {
+  floquet_options options;
+  options.steps = o.steps;
+  try {
+    options.stepper = parse_stepper_kind(o.stepper);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(fmt::format("--stepper: {}", e.what()));
+  }
+  if (!serves(options.stepper, stepper_use::monodromy))
+    throw cli::input_error(fmt::format("--stepper: Floquet analysis integrates with {}, not {}",
+                                       stepper_names(stepper_use::monodromy), o.stepper));
+  if (options.stepper != stepper_kind::taylor) {
+    if (!o.tol.empty())
+      throw cli::input_error(
+          fmt::format("--tol: only with --stepper taylor ({} takes --steps)", o.stepper));
+    return options;
+  }
+  if (o.steps_given)
+    throw cli::input_error("--steps: taylor chooses its own steps; set its accuracy with --tol");
+  if (!o.tol.empty()) {
+    options.tolerance = cli::parse_number(o.tol, "--tol");
+    if (!(options.tolerance > 0 && options.tolerance <= 1e-6))
+      throw cli::input_error(fmt::format(
+          "--tol: must lie in (0, 1e-6] (a second run at 100 times it gives the error), got {}",
+          o.tol));
+  }
+  try {
+    check_stepper_fits(c, stepper_kind::taylor);
+  } catch (const std::invalid_argument& e) {
+    throw cli::input_error(fmt::format("--stepper: {}", e.what()));
+  }
+  return options;
+}
+
 int run_floquet(const floquet_command_options& o) {
   const chain c = o.chain.make_chain(cli::model_support::any, "npend floquet");
   const pivot_motion& drive = c.parameters().pivot;
@@ -211,8 +256,7 @@ int run_floquet(const floquet_command_options& o) {
     throw cli::input_error(fmt::format("--steps: must be 8..1000000, got {}", o.steps));
   if (!o.out.empty() && o.scan.empty())
     throw cli::input_error("--out: only with --scan (the chart's data and plot)");
-  floquet_options options;
-  options.steps = o.steps;
+  const floquet_options options = integrator_of(c, o);
   try {
     return o.scan.empty() ? run_single(c, o, options) : run_scan(c, o, options);
   } catch (const std::invalid_argument& e) {
@@ -233,16 +277,28 @@ void add_floquet_command(CLI::App& app, command_list& commands) {
                   "Start angles phi_1,..,phi_n (numbers or pi; one value for all links; default "
                   "pi: the inverted chain)");
   cmd->add_option("--p", o->p, "Start momenta p_1,..,p_n (default: 0)");
-  cmd->add_option("--steps", o->steps,
-                  "Gauss-Legendre (order 6) steps per drive period (default: 400); a second "
-                  "run at half of them gives the error estimate the verdict weighs");
+  CLI::Option* steps = cmd->add_option(
+      "--steps", o->steps,
+      "Gauss-Legendre (order 6) steps per drive period (default: 400); a second run at half of "
+      "them gives the error estimate the verdict weighs");
+  cmd->add_option("--stepper", o->stepper,
+                  fmt::format("How the monodromy matrix crosses the period: {} (default: gauss6, "
+                              "--steps fixed steps; taylor: adaptive steps on the Taylor series "
+                              "of the variational equations, at --tol)",
+                              stepper_names(stepper_use::monodromy)));
+  cmd->add_option("--tol", o->tol,
+                  "With --stepper taylor: its absolute and relative tolerance (default: 1e-13; at "
+                  "most 1e-6); a second run at 100 times it gives the error estimate");
   cmd->add_option("--scan", o->scan,
                   "OMEGA_FROM:OMEGA_TO:COUNT: scan the drive frequency (rad/s) at the --pivot "
                   "amplitude and list where the start is stable");
   cmd->add_option("--out", o->out,
                   "With --scan: write the chart as FILE.csv with a plot FILE.gp/FILE.png");
   cmd->add_flag("--json", o->json, "Print JSON");
-  commands.push_back({cmd, [o] { return run_floquet(*o); }});
+  commands.push_back({cmd, [o, steps] {
+                        o->steps_given = steps->count() > 0;
+                        return run_floquet(*o);
+                      }});
 }
 
 }  // namespace npend::app

@@ -417,6 +417,8 @@ struct orbit_command_options {
   cli::chain_options chain;
   cli::start_options start;
   std::string period, phase, steps, winding, segments;
+  // A driven pivot: how the shooting integrates (gauss6 or taylor, and taylor's tolerance).
+  std::string stepper, tol;
   bool json = false;
   // A free orbit: its family continued in energy to `continue_to`. A driven pivot: the forced
   // orbit over `periods` drive periods, and its continuation in the drive frequency up or
@@ -516,6 +518,48 @@ auto shoot_for_command(cli::terminal_run& control, Shoot shoot, std::string_view
   return r;
 }
 
+// --stepper, --steps and --tol of a forced orbit, checked together.
+void set_forced_integrator(const orbit_command_options& o, forced_orbit_options& orbit) {
+  if (!o.stepper.empty()) {
+    try {
+      orbit.stepper = parse_stepper_kind(o.stepper);
+    } catch (const std::invalid_argument& e) {
+      throw cli::input_error(fmt::format("--stepper: {}", e.what()));
+    }
+    if (!serves(orbit.stepper, stepper_use::monodromy))
+      throw cli::input_error(fmt::format("--stepper: the shooting integrates with {}, not {}",
+                                         stepper_names(stepper_use::monodromy), o.stepper));
+  }
+  if (orbit.stepper != stepper_kind::taylor) {
+    if (!o.tol.empty())
+      throw cli::input_error(fmt::format("--tol: only with --stepper taylor ({} takes --steps)",
+                                         stepper_name(orbit.stepper)));
+    if (!o.steps.empty())
+      orbit.steps = static_cast<int>(cli::parse_whole_number(o.steps, "--steps", 20, 1e6));
+    return;
+  }
+  if (!o.steps.empty())
+    throw cli::input_error("--steps: taylor chooses its own steps; set its accuracy with --tol");
+  if (o.tol.empty()) return;
+  orbit.integration_tolerance = cli::parse_number(o.tol, "--tol");
+  if (!(orbit.integration_tolerance > 0 && orbit.integration_tolerance <= 1e-6))
+    throw cli::input_error(fmt::format("--tol: must lie in (0, 1e-6], got {}", o.tol));
+}
+
+// How the text output names the shooting's integration.
+std::string forced_integrator_text(const forced_orbit_options& orbit) {
+  if (orbit.stepper == stepper_kind::taylor)
+    return fmt::format("taylor at tolerance {:g}", orbit.integration_tolerance);
+  return fmt::format("{} Gauss-Legendre steps per drive period", orbit.steps);
+}
+
+// The JSON keys of the shooting's integration.
+nlohmann::json forced_integrator_json(const forced_orbit_options& orbit) {
+  if (orbit.stepper == stepper_kind::taylor)
+    return {{"stepper", "taylor"}, {"integration_tolerance", orbit.integration_tolerance}};
+  return {{"stepper", "gauss6"}, {"steps", orbit.steps}};
+}
+
 // npend orbit on a driven pivot: the forced orbit (and with --continue-to its branch).
 int run_forced_orbit(const chain& c, const std::vector<double>& guess,
                      const orbit_command_options& o) {
@@ -534,8 +578,7 @@ int run_forced_orbit(const chain& c, const std::vector<double>& guess,
   drive_continuation_options opts;
   if (!o.periods.empty())
     opts.orbit.periods = static_cast<int>(cli::parse_whole_number(o.periods, "--periods", 1, 1000));
-  if (!o.steps.empty())
-    opts.orbit.steps = static_cast<int>(cli::parse_whole_number(o.steps, "--steps", 20, 1e6));
+  set_forced_integrator(o, opts.orbit);
   const double a = c.parameters().pivot.amplitude;
   cli::terminal_run control;
   opts.orbit.control = &control;
@@ -574,8 +617,8 @@ int run_forced_orbit(const chain& c, const std::vector<double>& guess,
                            {"stable_above", s.stable_above},
                            {"stable_side", forced_point_json(s.stable_side)},
                            {"unstable_side", forced_point_json(s.unstable_side)}});
-      j.update(nlohmann::json{{"steps", opts.orbit.steps},
-                              {"periods", opts.orbit.periods},
+      j.update(forced_integrator_json(opts.orbit));
+      j.update(nlohmann::json{{"periods", opts.orbit.periods},
                               {"frequency_end", opts.frequency_end},
                               {"tolerance", opts.orbit.tolerance},
                               {"end_reason", branch.end_reason},
@@ -587,11 +630,10 @@ int run_forced_orbit(const chain& c, const std::vector<double>& guess,
     }
     fmt::print(
         "Forced orbit of the {}-link chain (pivot {}) over {} drive period(s), continued in the "
-        "drive frequency\nfrom {:g} to {:g} rad/s ({} Gauss-Legendre steps per drive period, "
-        "closure <= {:g}): {} orbits, {}\n",
+        "drive frequency\nfrom {:g} to {:g} rad/s ({}, closure <= {:g}): {} orbits, {}\n",
         c.links(), c.parameters().pivot.describe(), opts.orbit.periods,
-        branch.points.front().frequency, opts.frequency_end, opts.orbit.steps, opts.orbit.tolerance,
-        branch.points.size(), branch.end_reason);
+        branch.points.front().frequency, opts.frequency_end, forced_integrator_text(opts.orbit),
+        opts.orbit.tolerance, branch.points.size(), branch.end_reason);
     fmt::print("{:>14}  {:>12}  {:>12}  {:>10}  {:>14}  {}\n", "Omega (rad/s)", "a*Omega",
                "max|phi|", "closure", "max|mu|", "stable");
     for (const forced_point& p : branch.points) {
@@ -620,16 +662,16 @@ int run_forced_orbit(const chain& c, const std::vector<double>& guess,
   if (o.json) {
     nlohmann::json j = describe_chain(c);
     j["orbit"] = forced_point_json(to_forced_point(r));
-    j["steps"] = opts.orbit.steps;
+    j.update(forced_integrator_json(opts.orbit));
     j["periods"] = opts.orbit.periods;
     std::cout << j.dump(2) << "\n";
     return 0;
   }
   fmt::print(
-      "Forced orbit of the {}-link chain, pivot {} ({} drive period(s); {} Newton steps, {} "
-      "Gauss-Legendre steps per drive period)\n",
+      "Forced orbit of the {}-link chain, pivot {} ({} drive period(s); {} Newton steps, {}{})\n",
       c.links(), c.parameters().pivot.describe(), opts.orbit.periods, r.iterations,
-      opts.orbit.steps);
+      forced_integrator_text(opts.orbit),
+      opts.orbit.stepper == stepper_kind::taylor ? fmt::format(", {} steps over T", r.steps) : "");
   fmt::print("start x0     ({}) at t = 0\n", fmt::join(r.x0, ", "));
   fmt::print("period       {:.15g} s (drive frequency {:.12g} rad/s)\n", r.period, r.frequency);
   fmt::print("closure      {:.3g} (max |phi(T) - x0|)\n", r.closure);
@@ -772,9 +814,12 @@ int run_orbit(const orbit_command_options& o) {
     const chain driven = o.chain.make_chain(cli::model_support::any, "npend orbit");
     if (driven.parameters().pivot.moves())
       return run_forced_orbit(driven, o.start.make_state(driven), o);
-    if (!o.periods.empty())
-      throw cli::input_error(
-          "--periods: only with a driven pivot (--pivot vertical:A:OMEGA or horizontal:A:OMEGA)");
+    for (const auto& [given, name] :
+         {std::pair{&o.periods, "--periods"}, std::pair{&o.stepper, "--stepper"},
+          std::pair{&o.tol, "--tol"}})
+      if (!given->empty())
+        throw cli::input_error(fmt::format(
+            "{}: only with a driven pivot (--pivot vertical:A:OMEGA or horizontal:A:OMEGA)", name));
   }
   const chain c = o.chain.make_chain(cli::model_support::conservative, "npend orbit");
   const std::vector<double> guess = o.start.make_state(c);
@@ -887,6 +932,14 @@ void add_orbit_command(CLI::App& app, command_list& commands) {
                   "(default 400)");
   cmd->add_option("--periods", o->periods,
                   "Driven pivot: the forced orbit's period in drive periods (default 1)");
+  cmd->add_option("--stepper", o->stepper,
+                  fmt::format("Driven pivot: how the shooting crosses the period, {} (default "
+                              "gauss6, --steps per drive period; taylor: adaptive steps on the "
+                              "Taylor series of the variational equations, at --tol)",
+                              stepper_names(stepper_use::monodromy)));
+  cmd->add_option("--tol", o->tol,
+                  "Driven pivot, --stepper taylor: its absolute and relative tolerance (default "
+                  "1e-14; at most 1e-6)");
   cmd->add_option("--continue-to", o->continue_to,
                   "Continue the orbit's family by pseudo-arclength up or down to this energy "
                   "(J); on a driven pivot, the forced orbit in the drive frequency from the "

@@ -121,4 +121,37 @@ TEST_CASE("npend orbit: bad input on a driven pivot exits 2 naming the problem")
                        "--periods: only with a driven pivot"));
   CHECK(is_input_error(run_npend(base + " --winding 1"), "--winding: not with a driven pivot"));
   CHECK(is_input_error(run_npend(base + " --segments 4"), "--segments: not with a driven pivot"));
+  CHECK(is_input_error(run_npend(base + " --stepper rk4"),
+                       "--stepper: the shooting integrates with gauss6, taylor, not rk4"));
+  CHECK(is_input_error(run_npend(base + " --tol 1e-12"),
+                       "--tol: only with --stepper taylor (gauss6 takes --steps)"));
+  CHECK(is_input_error(run_npend(base + " --stepper taylor --steps 800"),
+                       "--steps: taylor chooses its own steps"));
+  CHECK(is_input_error(run_npend(base + " --stepper taylor --tol 1e-4"),
+                       "--tol: must lie in (0, 1e-6], got 1e-4"));
+  CHECK(is_input_error(run_npend("orbit --links 1 --phi 0.3 --period 2 --stepper taylor"),
+                       "--stepper: only with a driven pivot"));
+}
+
+TEST_CASE("npend orbit --stepper taylor: the forced swing is gauss6's, and the run says how") {
+  const std::string swing = "orbit --links 2 --pivot horizontal:0.15:2 --phi 0 --json";
+  const auto t = run_npend(swing + " --stepper taylor --tol 1e-13");
+  const auto g = run_npend(swing + " --steps 1600");
+  REQUIRE(t.exit_code == 0);
+  REQUIRE(g.exit_code == 0);
+  const auto jt = nlohmann::json::parse(t.out), jg = nlohmann::json::parse(g.out);
+  CHECK(jt["stepper"] == "taylor");
+  CHECK(jt["integration_tolerance"].get<double>() == 1e-13);
+  CHECK_FALSE(jt.contains("steps"));
+  CHECK(jg["stepper"] == "gauss6");
+  CHECK(jg["steps"].get<int>() == 1600);
+  const auto& xt = jt["orbit"]["x0"];
+  const auto& xg = jg["orbit"]["x0"];
+  REQUIRE(xt.size() == 4);
+  for (std::size_t i = 0; i < 4; ++i)
+    CHECK(std::fabs(xt[i].get<double>() - xg[i].get<double>()) <= 1e-9);
+  const auto text = run_npend("orbit --links 2 --pivot horizontal:0.15:2 --phi 0 --stepper taylor");
+  REQUIRE(text.exit_code == 0);
+  CHECK(text.out.find("taylor at tolerance 1e-14, ") != std::string::npos);
+  CHECK(text.out.find(" steps over T)") != std::string::npos);
 }

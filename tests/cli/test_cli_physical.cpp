@@ -91,6 +91,47 @@ TEST_CASE("npend floquet: --json keys, Kapitza's verdict and the scan's stable w
       run_npend("floquet --links 2 --pivot vertical:0.1:50 --at 1,2,3"), "--at: expected 2"));
 }
 
+TEST_CASE("npend floquet --stepper taylor: Kapitza's verdicts, the run's record, and refusals") {
+  const auto below = run_npend(
+      "floquet --links 1 --pivot vertical:0.05:60 --at pi --stepper taylor --tol 1e-12 --json");
+  const auto above =
+      run_npend("floquet --links 1 --pivot vertical:0.05:130 --stepper taylor --json");
+  REQUIRE(below.exit_code == 0);
+  REQUIRE(above.exit_code == 0);
+  const auto jb = nlohmann::json::parse(below.out), ja = nlohmann::json::parse(above.out);
+  CHECK(jb["stable"] == false);
+  CHECK(ja["stable"] == true);
+  CHECK(jb["stepper"] == "taylor");
+  CHECK(jb["tolerance"].get<double>() == 1e-12);
+  CHECK(ja["tolerance"].get<double>() == 1e-13);  // the default
+  CHECK(ja["steps"].get<int>() > 0);
+  // The same multiplier as gauss6's, within both error estimates.
+  const auto gauss = nlohmann::json::parse(
+      run_npend("floquet --links 1 --pivot vertical:0.05:60 --at pi --json").out);
+  CHECK(gauss["stepper"] == "gauss6");
+  CHECK(gauss["steps"].get<int>() == 400);
+  CHECK(std::fabs(jb["max_modulus"].get<double>() - gauss["max_modulus"].get<double>()) <=
+        jb["modulus_error"].get<double>() + gauss["modulus_error"].get<double>());
+  const auto text = run_npend("floquet --links 1 --pivot vertical:0.05:130 --stepper taylor");
+  REQUIRE(text.exit_code == 0);
+  CHECK(text.out.find("Taylor steps at tolerance 1e-13") != std::string::npos);
+  CHECK(text.out.find("(the change from tolerance 1e-11, and rounding)") != std::string::npos);
+
+  const std::string driven = "floquet --links 1 --pivot vertical:0.05:60 ";
+  CHECK(npend::test::is_input_error(run_npend(driven + "--stepper rk4"),
+                                    "--stepper: Floquet analysis integrates with gauss6, taylor, "
+                                    "not rk4"));
+  CHECK(npend::test::is_input_error(run_npend(driven + "--stepper euler"),
+                                    "--stepper: unknown stepper 'euler'"));
+  CHECK(npend::test::is_input_error(run_npend(driven + "--tol 1e-12"),
+                                    "--tol: only with --stepper taylor (gauss6 takes --steps)"));
+  CHECK(npend::test::is_input_error(run_npend(driven + "--stepper taylor --steps 800"),
+                                    "--steps: taylor chooses its own steps"));
+  CHECK(npend::test::is_input_error(run_npend(driven + "--stepper taylor --tol 1e-3"),
+                                    "--tol: must lie in (0, 1e-6]"));
+  CHECK(npend::test::is_input_error(run_npend(driven + "--stepper taylor --tol zero"), "--tol"));
+}
+
 TEST_CASE("npend control: the standing triple pendulum's LQR design, and simulate under it") {
   const auto r = run_npend("control --links 3 --at pi --json");
   REQUIRE(r.exit_code == 0);

@@ -78,6 +78,7 @@ TEST_CASE("parse_stepper_kind: every name round-trips, an unknown one lists the 
         "rk4, dopri5, rkf78, bs, rosenbrock4, gauss4, gauss6");
   CHECK(npend::stepper_names(npend::stepper_use::adaptive) ==
         "dopri5, rkf78, bs, rosenbrock4, taylor");
+  CHECK(npend::stepper_names(npend::stepper_use::monodromy) == "gauss6, taylor");
   CHECK_THROWS_WITH_AS(
       npend::parse_stepper_kind("euler"),
       "unknown stepper 'euler': choose one of rk4, dopri5, rkf78, bs, rosenbrock4, "

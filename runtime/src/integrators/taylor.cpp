@@ -267,6 +267,16 @@ void taylor_tangents::state_at(double tau, double* x, double* W) const {
     }
 }
 
+void taylor_tangents::state_values_at(double tau, double* x) const {
+  const auto stride = static_cast<std::size_t>(m_order + 1);
+  for (std::size_t i = 0; i < m_x.size(); ++i) {
+    const taylor::dual* c = m_series.data() + i * stride;
+    double value = c[m_order].v;
+    for (int k = m_order - 1; k >= 0; --k) value = value * tau + c[k].v;
+    x[i] = value;
+  }
+}
+
 void taylor_stepper::initialize(const state_type& x0, double t0, double dt0) {
   if (x0.size() != m_integrator.dimension())
     throw std::invalid_argument(fmt::format("taylor stepper: the state has {} entries, not {}",

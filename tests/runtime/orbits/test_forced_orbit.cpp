@@ -227,3 +227,74 @@ TEST_CASE("forced_orbit: refuses damping, a fixed pivot, a custom path, a cart a
                        doctest::Contains("continue_drive: the chain is damped"),
                        std::invalid_argument);
 }
+
+// The shooting on Taylor's method (forced_orbit_options::stepper = taylor).
+namespace {
+
+npend::forced_orbit_options forced_taylor(double tolerance = 1e-14) {
+  npend::forced_orbit_options o;
+  o.stepper = npend::stepper_kind::taylor;
+  o.integration_tolerance = tolerance;
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("forced_orbit (taylor): the double pendulum's forced swing, against gauss6 and rkf78") {
+  const chain c = forced_chain(2, 1.0, pivot_motion::horizontal(0.15, 2.0));
+  const std::vector<double> rest(4, 0.0);
+  const npend::forced_orbit_result t = npend::forced_orbit(c, rest, forced_taylor());
+  npend::forced_orbit_options fine;
+  fine.steps = 1600;
+  const npend::forced_orbit_result g = npend::forced_orbit(c, rest, fine);
+  REQUIRE(t.converged);
+  REQUIRE(g.converged);
+  CHECK(t.steps > 0);
+  CHECK(t.steps < g.steps);
+  for (std::size_t i = 0; i < t.x0.size(); ++i) CHECK(std::fabs(t.x0[i] - g.x0[i]) <= 1e-9);
+  CHECK(forced_set_distance(t.multipliers, g.multipliers) <= 1e-8);
+  // The amplitudes sample 16 points a step, gauss6's its 1600 step points: the peak differs by
+  // the sampling, (ω Δt)²/8 of it at most.
+  for (std::size_t i = 0; i < t.amplitudes.size(); ++i)
+    CHECK(t.amplitudes[i] == doctest::Approx(g.amplitudes[i]).epsilon(1e-3));
+  CHECK(t.amplitudes[0] > 0.1);
+  // The start re-integrated by rkf78 over the period returns to itself.
+  npend::integration_options run;
+  run.stepper = npend::stepper_kind::rkf78;
+  run.t_end = run.dt = t.period;
+  run.abs_tol = run.rel_tol = 1e-14;
+  const npend::integration_result back = npend::integrate(c, t.x0, run);
+  double gap = 0;
+  for (std::size_t i = 0; i < t.x0.size(); ++i)
+    gap = std::max(gap, std::fabs(back.state[i] - t.x0[i]));
+  CHECK(gap <= 1e-10);
+}
+
+TEST_CASE("continue_drive (taylor): Kapitza's threshold against the Mathieu equation") {
+  const double g = 9.81, l = 1.0, a = 0.05;
+  const chain c = forced_chain(1, l, pivot_motion::vertical(a, 140.0));
+  npend::drive_continuation_options opts;
+  opts.orbit = forced_taylor();
+  opts.frequency_end = 50;
+  const npend::drive_branch branch =
+      npend::continue_drive(c, std::vector<double>{forced_pi, 0.0}, opts);
+  REQUIRE(branch.end_reason == "reached frequency_end");
+  REQUIRE(branch.changes.size() == 1);
+  const npend::drive_stability_change& k = branch.changes[0];
+  CHECK(k.stable_above);
+  CHECK(std::fabs(k.frequency / forced_mathieu_threshold(g, l, a) - 1) <= 5e-8);
+}
+
+TEST_CASE("forced_orbit (taylor): refuses other steppers and bad tolerances") {
+  const chain c = forced_chain(1, 1.0, pivot_motion::horizontal(0.1, 5.0));
+  const std::vector<double> rest{0.0, 0.0};
+  npend::forced_orbit_options rk4;
+  rk4.stepper = npend::stepper_kind::rk4;
+  CHECK_THROWS_WITH_AS(npend::forced_orbit(c, rest, rk4),
+                       "forced_orbit: the shooting integrates with gauss6, taylor, not rk4",
+                       std::invalid_argument);
+  for (const double tol : {0.0, 1e-5, std::nan("")}) {
+    CAPTURE(tol);
+    CHECK_THROWS_AS(npend::forced_orbit(c, rest, forced_taylor(tol)), std::invalid_argument);
+  }
+}

@@ -313,3 +313,113 @@ TEST_CASE("floquet_frequency_scan: a stop request ends it at the first frequency
   CHECK_THROWS_AS(npend::floquet_frequency_scan(c, x0, std::vector<double>{100.0, -1.0}),
                   std::invalid_argument);
 }
+
+// The monodromy on Taylor's method (floquet_options::stepper = taylor): the variational
+// equations' own Taylor series, against the same closed forms and against gauss6.
+namespace {
+
+npend::floquet_options taylor_at(double tolerance) {
+  npend::floquet_options o;
+  o.stepper = npend::stepper_kind::taylor;
+  o.tolerance = tolerance;
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("floquet (taylor): the multipliers are the linear Mathieu equation's") {
+  for (const double omega : {40.0, 75.0, 110.0, 160.0}) {
+    CAPTURE(omega);
+    const auto r = npend::floquet_analysis(inverted_single(0.05, omega),
+                                           std::vector<double>{pi, 0.0}, taylor_at(1e-13));
+    const Eigen::Vector2cd ev = mathieu_monodromy(9.81, 1.0, 0.05, omega).eigenvalues();
+    const double direct = std::abs(r.multipliers[0] - ev(0)) + std::abs(r.multipliers[1] - ev(1));
+    const double swapped = std::abs(r.multipliers[0] - ev(1)) + std::abs(r.multipliers[1] - ev(0));
+    CHECK(std::min(direct, swapped) < 1e-8 * (1 + std::abs(ev(0))));
+    CHECK(r.closure < 1e-12);
+    CHECK(r.steps > 0);
+  }
+}
+
+TEST_CASE("floquet (taylor): just above the Mathieu threshold every frequency is stable") {
+  // As the gauss6 case above: the error (the change from 100 times the tolerance, and
+  // rounding) must cover |μ| − 1 where every multiplier is on the circle; Taylor's steps are
+  // not symplectic, so truncation, not only rounding, leaves them off it.
+  for (double omega = 89; omega <= 95; omega += 1) {
+    CAPTURE(omega);
+    const auto r = npend::floquet_analysis(inverted_single(0.05, omega),
+                                           std::vector<double>{pi, 0.0}, taylor_at(1e-13));
+    CHECK(r.verdict == npend::floquet_verdict::stable);
+    CHECK(std::fabs(r.max_modulus - 1) <= r.modulus_error);
+  }
+}
+
+TEST_CASE("floquet (taylor): the driven triple pendulum's monodromy is gauss6's") {
+  // Uniform rods (the physical chain's Taylor kernels, the drive a series in time), det M = 1.
+  chain_parameters p = chain_parameters::uniform(3, 1.0, 0.5);
+  p.make_uniform_rods();
+  p.pivot = pivot_motion::vertical(0.02, 150.0);
+  const chain c(p);
+  const std::vector<double> x0{pi, pi, pi, 0, 0, 0};
+  npend::floquet_options fine_gauss;
+  fine_gauss.steps = 1600;
+  const auto g = npend::floquet_analysis(c, x0, fine_gauss);
+  const auto t = npend::floquet_analysis(c, x0, taylor_at(1e-14));
+  REQUIRE(t.monodromy.size() == g.monodromy.size());
+  double largest = 0, difference = 0;
+  for (std::size_t i = 0; i < t.monodromy.size(); ++i) {
+    largest = std::max(largest, std::fabs(g.monodromy[i]));
+    difference = std::max(difference, std::fabs(t.monodromy[i] - g.monodromy[i]));
+  }
+  CHECK(difference < 1e-9 * largest);
+  CHECK(std::fabs(t.max_modulus - g.max_modulus) <= t.modulus_error + g.modulus_error);
+  CHECK(t.verdict == g.verdict);
+  std::complex<double> product = 1;
+  for (const auto& m : t.multipliers) product *= m;
+  CHECK(std::abs(product - 1.0) < 1e-10);
+}
+
+TEST_CASE("floquet (taylor): a damped chain's det M is exp(integral of tr J) (Liouville)") {
+  chain_parameters p = chain_parameters::uniform(1, 1.0, 1.0);
+  p.make_uniform_rods();
+  p.damping = {0.05};
+  p.pivot = pivot_motion::vertical(0.1, 40.0);
+  const auto r = npend::floquet_analysis(chain(p), std::vector<double>{pi, 0.0}, taylor_at(1e-13));
+  std::complex<double> det = 1;
+  for (const auto& m : r.multipliers) det *= m;
+  CHECK(det.real() == doctest::Approx(std::exp(-0.05 * 3 * r.period)).epsilon(1e-10));
+  CHECK(std::abs(det.imag()) < 1e-12);
+}
+
+TEST_CASE("floquet (taylor): the error estimate bounds the change to a far tighter run") {
+  const chain c = inverted_single(0.05, 75.0);
+  const auto loose = npend::floquet_analysis(c, std::vector<double>{pi, 0.0}, taylor_at(1e-7));
+  const auto tight = npend::floquet_analysis(c, std::vector<double>{pi, 0.0}, taylor_at(1e-14));
+  CHECK(loose.modulus_error > 0);
+  CHECK(std::fabs(loose.max_modulus - tight.max_modulus) <= loose.modulus_error);
+  CHECK(tight.modulus_error < loose.modulus_error);
+}
+
+TEST_CASE("floquet: refuses steppers without a monodromy, bad taylor tolerances and chains") {
+  const chain c = inverted_single(0.05, 75.0);
+  const std::vector<double> x0{pi, 0.0};
+  npend::floquet_options rk4;
+  rk4.stepper = npend::stepper_kind::rk4;
+  CHECK_THROWS_WITH_AS(npend::floquet_analysis(c, x0, rk4),
+                       "Floquet analysis integrates with gauss6, taylor, not rk4",
+                       std::invalid_argument);
+  for (const double tol : {0.0, -1e-10, 1e-5, std::nan("")}) {
+    CAPTURE(tol);
+    CHECK_THROWS_AS(npend::floquet_analysis(c, x0, taylor_at(tol)), std::invalid_argument);
+  }
+  // Seven point masses run on the loop kernels, which have no Taylor recurrences (the period
+  // map over an explicit period: an undriven chain).
+  const chain loops(chain_parameters::uniform(7));
+  std::string message;
+  try {
+    npend::floquet_analysis(loops, std::vector<double>(14, 0.0), taylor_at(1e-12), 1.0);
+  } catch (const std::invalid_argument& e) {
+    message = e.what();
+  }
+  CHECK(message.find("needs the generated Taylor kernels") != std::string::npos);
+}

@@ -47,6 +47,7 @@ enum class stepper_use {
   variational,  ///< steppers that integrate the tangent (variational) equations too
   system,       ///< steppers that integrate any system given as functions (all but taylor, which
                 ///< runs a chain's generated Taylor kernels)
+  monodromy,    ///< steppers floquet_analysis carries the monodromy matrix on (gauss6, taylor)
 };
 
 /// Whether `kind` serves `use`.

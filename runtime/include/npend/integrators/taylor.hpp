@@ -86,6 +86,9 @@ class taylor_tangents {
   double step(double direction, double limit, double fallback);
   /// The Taylor polynomials of the last step at step_begin() + τ, into x and W.
   void state_at(double tau, double* x, double* W) const;
+  /// The state's polynomials alone at step_begin() + τ, into x (dim dimension()): for
+  /// sampling the orbit within a step without evaluating the vectors.
+  void state_values_at(double tau, double* x) const;
 
   const std::vector<double>& state() const { return m_x; }
   /// The vectors, column-major (vector j at j·dimension()).

@@ -10,6 +10,7 @@
 #include "analysis/detail/dense_eigen.hpp"
 #include "analysis/detail/monodromy.hpp"
 #include "npend/integrators/integration_error.hpp"
+#include "npend/integrators/taylor.hpp"
 
 namespace npend {
 
@@ -43,16 +44,25 @@ void check_forced(const chain& c, const char* who) {
                     who));
 }
 
-// One Gauss–Legendre pass over T from t = 0 (the drive's phase at the orbit's start): the
-// end state, the monodromy and each angle's largest |φ_i| over the start and the step points.
+// One pass over T from t = 0 (the drive's phase at the orbit's start): the end state, the
+// monodromy, each angle's largest |φ_i| over the start and the step points (taylor: 16
+// points of each step's polynomial, its end included), and the steps taken.
 struct forced_pass {
   std::vector<double> end;
   Eigen::MatrixXd monodromy;
   std::vector<double> amplitudes;
+  int steps = 0;
 };
 
+// Taylor's steps are long (a dozen per period), so the amplitudes sample their polynomials.
+constexpr int taylor_samples_per_step = 16;
+// A Newton iterate far from the orbit can spin the chain fast, where Taylor's adaptive steps
+// would shrink without end (gauss6's fixed steps fail at once there): a pass that needs more
+// than this many steps per drive period (gauss6 takes 400) is a failed iterate.
+constexpr int taylor_max_steps_per_period = 10'000;
+
 forced_pass integrate_forced(const chain& c, const std::vector<double>& x0, double period,
-                             int steps) {
+                             const forced_orbit_options& options) {
   forced_pass r;
   r.end = x0;
   r.amplitudes.resize(static_cast<std::size_t>(c.links()));
@@ -63,7 +73,22 @@ forced_pass integrate_forced(const chain& c, const std::vector<double>& x0, doub
     }
   };
   track(x0);
-  detail::monodromy(c, r.end, period, steps, 0, steps, nullptr, r.monodromy, track);
+  if (options.stepper == stepper_kind::taylor) {
+    std::vector<double> sample(x0.size());
+    const auto sample_step = [&](const taylor_tangents& integrator) {
+      const double h = integrator.time() - integrator.step_begin();
+      for (int j = 1; j <= taylor_samples_per_step; ++j) {
+        integrator.state_values_at(h * j / taylor_samples_per_step, sample.data());
+        track(sample);
+      }
+    };
+    detail::taylor_monodromy(c, r.end, period, options.integration_tolerance, 0, 1, nullptr,
+                             r.monodromy, r.steps, taylor_max_steps_per_period * options.periods,
+                             sample_step);
+    return r;
+  }
+  r.steps = options.steps * options.periods;
+  detail::monodromy(c, r.end, period, r.steps, 0, r.steps, nullptr, r.monodromy, track);
   return r;
 }
 
@@ -117,6 +142,15 @@ forced_orbit_result forced_orbit(const chain& c, std::span<const double> x0_gues
   if (options.steps < 2)
     throw std::invalid_argument(
         fmt::format("forced_orbit: steps must be >= 2, got {}", options.steps));
+  if (!serves(options.stepper, stepper_use::monodromy))
+    throw std::invalid_argument(fmt::format("forced_orbit: the shooting integrates with {}, not {}",
+                                            stepper_names(stepper_use::monodromy),
+                                            stepper_name(options.stepper)));
+  if (options.stepper == stepper_kind::taylor &&
+      !(options.integration_tolerance > 0 && options.integration_tolerance <= 1e-6))
+    throw std::invalid_argument(
+        fmt::format("forced_orbit: the taylor tolerance must lie in (0, 1e-6], got {}",
+                    options.integration_tolerance));
   if (!(options.tolerance > 0))
     throw std::invalid_argument(
         fmt::format("forced_orbit: tolerance must be positive, got {}", options.tolerance));
@@ -129,7 +163,6 @@ forced_orbit_result forced_orbit(const chain& c, std::span<const double> x0_gues
   forced_orbit_result r;
   r.frequency = drive.frequency;
   r.period = options.periods * drive.period();
-  const int steps = options.steps * options.periods;
   std::vector<double> x(x0_guess.begin(), x0_guess.end());
   for (int iteration = 0;; ++iteration) {
     if (stop_requested(options.control)) {
@@ -138,7 +171,7 @@ forced_orbit_result forced_orbit(const chain& c, std::span<const double> x0_gues
     }
     forced_pass pass;
     try {
-      pass = integrate_forced(c, x, r.period, steps);
+      pass = integrate_forced(c, x, r.period, options);
     } catch (const integration_error&) {
       break;  // the step cannot follow this guess: not converged
     }
@@ -150,6 +183,7 @@ forced_orbit_result forced_orbit(const chain& c, std::span<const double> x0_gues
       r.closure = std::max(r.closure, std::fabs(residual(i)));
     }
     r.iterations = iteration;
+    r.steps = pass.steps;
     if (!std::isfinite(r.closure)) break;
     if (r.closure <= options.tolerance) {
       r.converged = true;

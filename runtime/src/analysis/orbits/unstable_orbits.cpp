@@ -18,52 +18,55 @@ namespace npend {
 
 namespace {
 
-constexpr const char* who = "find_unstable_orbits";
+constexpr const char* search_name = "find_unstable_orbits";
 
 void check_positive(double value, const char* name) {
   if (!(value > 0) || !std::isfinite(value))
     throw std::invalid_argument(
-        fmt::format("{}: {} must be positive and finite, got {}", who, name, value));
+        fmt::format("{}: {} must be positive and finite, got {}", search_name, name, value));
 }
 
 void validate(const chain& c, std::span<const double> start,
               const unstable_orbit_search_options& o) {
-  detail::check_conservative(c, who);
+  detail::check_conservative(c, search_name);
   if (start.size() != static_cast<std::size_t>(c.state_size()))
     throw std::invalid_argument(fmt::format("{}: start has {} entries; the {}-link chain needs {}",
-                                            who, start.size(), c.links(), c.state_size()));
+                                            search_name, start.size(), c.links(), c.state_size()));
   for (const double v : start)
     if (!std::isfinite(v))
-      throw std::invalid_argument(fmt::format("{}: start has a non-finite entry ({})", who, v));
+      throw std::invalid_argument(
+          fmt::format("{}: start has a non-finite entry ({})", search_name, v));
   check_positive(o.period_max, "period_max");
   if (!(o.period_min >= 0 && o.period_min < o.period_max))
-    throw std::invalid_argument(fmt::format(
-        "{}: period_min must be in [0, period_max = {}), got {}", who, o.period_max, o.period_min));
+    throw std::invalid_argument(
+        fmt::format("{}: period_min must be in [0, period_max = {}), got {}", search_name,
+                    o.period_max, o.period_min));
   check_positive(o.search_time, "search_time");
   check_positive(o.dt, "dt");
   if (o.dt >= o.search_time)
     throw std::invalid_argument(fmt::format("{}: dt ({} s) must be shorter than search_time ({} s)",
-                                            who, o.dt, o.search_time));
+                                            search_name, o.dt, o.search_time));
   check_positive(o.shooting_dt, "shooting_dt");
   if (!(o.segment_time > 0))
     throw std::invalid_argument(
-        fmt::format("{}: segment_time must be positive (infinity: single shooting), got {}", who,
-                    o.segment_time));
+        fmt::format("{}: segment_time must be positive (infinity: single shooting), got {}",
+                    search_name, o.segment_time));
   check_positive(o.return_tolerance, "return_tolerance");
   check_positive(o.period_tolerance, "period_tolerance");
   check_positive(o.same_orbit_tolerance, "same_orbit_tolerance");
   if (o.lyapunov && !std::isnan(o.lyapunov_time)) {
     check_positive(o.lyapunov_time, "lyapunov_time");
     if (o.dt >= o.lyapunov_time)
-      throw std::invalid_argument(fmt::format(
-          "{}: dt ({} s) must be shorter than lyapunov_time ({} s)", who, o.dt, o.lyapunov_time));
+      throw std::invalid_argument(
+          fmt::format("{}: dt ({} s) must be shorter than lyapunov_time ({} s)", search_name, o.dt,
+                      o.lyapunov_time));
   }
   if (o.max_candidates < 1)
     throw std::invalid_argument(
-        fmt::format("{}: max_candidates must be >= 1, got {}", who, o.max_candidates));
+        fmt::format("{}: max_candidates must be >= 1, got {}", search_name, o.max_candidates));
   if (o.max_orbits < 0)
-    throw std::invalid_argument(
-        fmt::format("{}: max_orbits must be >= 0 (0: no limit), got {}", who, o.max_orbits));
+    throw std::invalid_argument(fmt::format("{}: max_orbits must be >= 0 (0: no limit), got {}",
+                                            search_name, o.max_orbits));
 }
 
 // One phase of the search as the share [from, to] of the whole run's progress.

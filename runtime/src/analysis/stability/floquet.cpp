@@ -12,7 +12,9 @@
 #include "analysis/detail/monodromy.hpp"
 #include "npend/chain_system.hpp"
 #include "npend/integrators/gauss_legendre.hpp"
+#include "npend/integrators/integrate.hpp"
 #include "npend/integrators/integration_error.hpp"
+#include "npend/integrators/taylor.hpp"
 
 namespace npend {
 
@@ -38,7 +40,90 @@ bool detail::monodromy(const chain& c, std::vector<double>& x, double period, in
   return true;
 }
 
+bool detail::taylor_monodromy(const chain& c, std::vector<double>& x, double period,
+                              double tolerance, double done, double total, run_control* control,
+                              Eigen::MatrixXd& tangent, int& steps, int max_steps,
+                              const std::function<void(const taylor_tangents&)>& each_step) {
+  const int d = c.state_size();
+  tangent = Eigen::MatrixXd::Identity(d, d);
+  taylor_tangents integrator(c.kernels_in_use(), tolerance, tolerance, d);
+  integrator.reset(0.0, x.data(), tangent.data());
+  // A step that lands on the period may stop an ulp short of it in floating point.
+  const double slack = 4 * std::numeric_limits<double>::epsilon() * period;
+  const auto finite = [](const std::vector<double>& v) {
+    return std::all_of(v.begin(), v.end(), [](double e) { return std::isfinite(e); });
+  };
+  steps = 0;
+  while (period - integrator.time() > slack) {
+    if (steps == max_steps)
+      throw integration_error(
+          fmt::format("taylor: {} steps did not cross the period {} s (the steps collapsed at "
+                      "t = {:.6g} s)",
+                      max_steps, period, integrator.time()),
+          integrator.time());
+    integrator.step(1.0, period - integrator.time(), period);
+    ++steps;
+    if (!finite(integrator.state()) || !finite(integrator.tangents()))
+      throw integration_error(
+          fmt::format("taylor: the state or its tangent map became non-finite at t = {:.6g} s",
+                      integrator.time()),
+          integrator.time());
+    if (each_step) each_step(integrator);
+    if (report_progress(control, done + integrator.time() / period, total)) return false;
+  }
+  std::copy(integrator.state().begin(), integrator.state().end(), x.begin());
+  std::copy(integrator.tangents().begin(), integrator.tangents().end(), tangent.data());
+  return true;
+}
+
 namespace {
+
+// The monodromy of the run at the options and of the second run, for the error estimate
+// (gauss6: half the steps; taylor: 100 times the tolerance). False if the control stopped it.
+bool monodromy_pair(const chain& c, std::vector<double>& x, std::vector<double>& x_second,
+                    double period, const floquet_options& options, Eigen::MatrixXd& tangent,
+                    Eigen::MatrixXd& second, int& steps) {
+  if (options.stepper == stepper_kind::taylor) {
+    int second_steps = 0;
+    return detail::taylor_monodromy(c, x, period, options.tolerance, 0, 2, options.control, tangent,
+                                    steps, detail::taylor_monodromy_max_steps) &&
+           detail::taylor_monodromy(c, x_second, period, 100 * options.tolerance, 1, 2,
+                                    options.control, second, second_steps,
+                                    detail::taylor_monodromy_max_steps);
+  }
+  const int coarse_steps = options.steps / 2, total = options.steps + coarse_steps;
+  steps = options.steps;
+  try {
+    return detail::monodromy(c, x, period, options.steps, 0, total, options.control, tangent) &&
+           detail::monodromy(c, x_second, period, coarse_steps, options.steps, total,
+                             options.control, second);
+  } catch (const integration_error& e) {
+    // The step is the period over the steps: the stepper's "try a smaller dt" means more
+    // steps here.
+    std::string what = e.what();
+    const std::string hint = "; try a smaller dt";
+    if (what.ends_with(hint)) what.resize(what.size() - hint.size());
+    throw integration_error(
+        fmt::format("{}; try more steps per period (--steps, now {})", what, options.steps),
+        e.time());
+  }
+}
+
+void check_integrator(const chain& c, const floquet_options& options) {
+  if (!serves(options.stepper, stepper_use::monodromy))
+    throw std::invalid_argument(fmt::format("Floquet analysis integrates with {}, not {}",
+                                            stepper_names(stepper_use::monodromy),
+                                            stepper_name(options.stepper)));
+  if (options.steps < 2)
+    throw std::invalid_argument(
+        fmt::format("steps per period must be >= 2, got {}", options.steps));
+  if (options.stepper != stepper_kind::taylor) return;
+  if (!(options.tolerance > 0 && options.tolerance <= 1e-6))
+    throw std::invalid_argument(
+        fmt::format("the taylor tolerance of a Floquet analysis must lie in (0, 1e-6], got {}",
+                    options.tolerance));
+  check_stepper_fits(c, stepper_kind::taylor);
+}
 
 double largest_modulus(const Eigen::VectorXcd& ev) {
   double m = 0;
@@ -65,37 +150,18 @@ floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
   if (x0.size() != static_cast<std::size_t>(c.state_size()))
     throw std::invalid_argument(fmt::format("the start has {} entries; the {}-link chain needs {}",
                                             x0.size(), c.links(), c.state_size()));
-  if (options.steps < 2)
-    throw std::invalid_argument(
-        fmt::format("steps per period must be >= 2, got {}", options.steps));
+  check_integrator(c, options);
   if (period == 0) period = c.parameters().pivot.period();
   if (!(period > 0) || !std::isfinite(period))
     throw std::invalid_argument(
         "Floquet analysis needs a period: a periodic pivot drive (vertical:A:OMEGA or "
         "horizontal:A:OMEGA) or an explicit period");
   const int d = c.state_size();
-  const int coarse_steps = options.steps / 2, total = options.steps + coarse_steps;
   floquet_result r;
   r.period = period;
-  r.steps = options.steps;
   std::vector<double> x(x0.begin(), x0.end()), x_coarse = x;
   Eigen::MatrixXd tangent, coarse;
-  bool finished = false;
-  try {
-    finished = detail::monodromy(c, x, period, options.steps, 0, total, options.control, tangent) &&
-               detail::monodromy(c, x_coarse, period, coarse_steps, options.steps, total,
-                                 options.control, coarse);
-  } catch (const integration_error& e) {
-    // The step is the period over the steps: the stepper's "try a smaller dt" means more
-    // steps here.
-    std::string what = e.what();
-    const std::string hint = "; try a smaller dt";
-    if (what.ends_with(hint)) what.resize(what.size() - hint.size());
-    throw integration_error(
-        fmt::format("{}; try more steps per period (--steps, now {})", what, options.steps),
-        e.time());
-  }
-  if (!finished) {
+  if (!monodromy_pair(c, x, x_coarse, period, options, tangent, coarse, r.steps)) {
     r.stopped = true;
     return r;
   }
@@ -109,7 +175,7 @@ floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
   });
   r.max_modulus = std::abs(r.multipliers.front());
 
-  // The error of max |μ|: the integration's, from the run at half the steps, and the
+  // The error of max |μ|: the integration's, from the second run, and the
   // eigenvalues' rounding, κ_i d ε ‖M‖ with κ_i = ‖x_i‖ ‖y_i‖ / |y_iᴴ x_i| (right and left
   // eigenvectors: the columns of V and the rows of V⁻¹, whose product is 1). A defective
   // (or nearly) M, as where two multipliers meet on the circle, has a huge κ: its verdict
@@ -126,7 +192,7 @@ floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
   // step keeps an undamped chain's multipliers on the circle to truncation, so this, not the
   // step count, is what leaves |μ| a few ε off 1 there.
   const double epsilon = std::numeric_limits<double>::epsilon();
-  const double rounding = (kappa * d + options.steps) * epsilon * tangent.operatorNorm();
+  const double rounding = (kappa * d + r.steps) * epsilon * tangent.operatorNorm();
   const double integration =
       std::fabs(r.max_modulus - largest_modulus(detail::general_eigenvalues(coarse)));
   r.modulus_error = integration + rounding;

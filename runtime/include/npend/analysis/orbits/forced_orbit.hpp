@@ -10,6 +10,7 @@
 
 #include "npend/analysis/orbits/periodic_orbit.hpp"
 #include "npend/chain.hpp"
+#include "npend/integrators/stepper_kind.hpp"
 #include "npend/run_control.hpp"
 
 namespace npend {
@@ -18,9 +19,16 @@ struct forced_orbit_options {
   /// The orbit's period in drive periods: T = periods · 2π/Ω (k ≥ 1; 2 for a subharmonic
   /// response).
   int periods = 1;
-  /// Gauss–Legendre (order 6) steps per drive period (at least 2): the orbit is exact for
-  /// that map, which differs from the flow's by about steps⁻⁶.
+  /// How each pass crosses the period: gauss6 (the default: `steps` per drive period) or
+  /// taylor (adaptive steps on the Taylor series of the variational equations at
+  /// `integration_tolerance`); no other stepper (stepper_use::monodromy).
+  stepper_kind stepper = stepper_kind::gauss6;
+  /// gauss6: steps per drive period (at least 2): the orbit is exact for that map, which
+  /// differs from the flow's by about steps⁻⁶.
   int steps = 400;
+  /// taylor: the absolute and relative tolerance of its steps, in (0, 1e-6]: the orbit is
+  /// the flow's to about this (keep it well below `tolerance`).
+  double integration_tolerance = 1e-14;
   /// Converged when ‖φ(T) − x0‖∞ ≤ tolerance.
   double tolerance = 1e-11;
   int max_iterations = 20;
@@ -36,7 +44,9 @@ struct forced_orbit_result {
   double period = 0;       ///< T = periods · 2π/Ω (s)
   double closure = 0;      ///< ‖φ(T) − x0‖∞ of the last integration
   int iterations = 0;      ///< Newton corrections taken
-  /// max |φ_i| (rad) over the start and the states after each step, per angle (dim n).
+  int steps = 0;           ///< the steps of the last pass over T
+  /// max |φ_i| (rad) over the start and the states after each step, per angle (dim n); with
+  /// taylor, over 16 points of each step's polynomial, its end included.
   std::vector<double> amplitudes;
   /// All 2n eigenvalues of the monodromy over T, by descending |μ|: a forced orbit has no
   /// trivial pair (the drive fixes the phase, and H is not conserved).
@@ -51,13 +61,14 @@ struct forced_orbit_result {
 /// Ω): the T-periodic solution, T = options.periods · 2π/Ω, found by Newton's method on
 /// F(x0) = φ(T; x0) − x0 = 0 (2n equations, 2n unknowns; no phase condition, since the drive
 /// fixes the time origin). φ is the Gauss–Legendre flow from t = 0 with its exact tangent map
-/// M = ∂φ/∂x0, so the Newton matrix is M − I, regular unless a multiplier is +1 (where the
-/// orbit bifurcates); the correction is a complete orthogonal (least-squares) solve, which
-/// stays bounded there. Throws std::invalid_argument for a damped chain (damping is excluded:
-/// its orbits are attracting, not a Hamiltonian family, and its multipliers are not
-/// reciprocal), a fixed pivot (see periodic_orbit for free orbits), a custom pivot path (no
-/// period), a cart, a wrong size of x0_guess, periods < 1, steps < 2, or a tolerance that is
-/// not positive.
+/// M = ∂φ/∂x0 (or Taylor's, options.stepper), so the Newton matrix is M − I, regular unless a
+/// multiplier is +1 (where the orbit bifurcates); the correction is a complete orthogonal
+/// (least-squares) solve, which stays bounded there. Throws std::invalid_argument for a damped
+/// chain (damping is excluded: its orbits are attracting, not a Hamiltonian family, and its
+/// multipliers are not reciprocal), a fixed pivot (see periodic_orbit for free orbits), a custom
+/// pivot path (no period), a cart, a wrong size of x0_guess, periods < 1, steps < 2, a tolerance
+/// that is not positive, a stepper other than gauss6 and taylor, or an integration tolerance
+/// outside (0, 1e-6].
 forced_orbit_result forced_orbit(const chain& c, std::span<const double> x0_guess,
                                  const forced_orbit_options& options = {});
 

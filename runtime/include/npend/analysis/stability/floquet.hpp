@@ -9,14 +9,22 @@
 #include <vector>
 
 #include "npend/chain.hpp"
+#include "npend/integrators/stepper_kind.hpp"
 #include "npend/run_control.hpp"
 
 namespace npend {
 
 struct floquet_options {
-  /// Gauss–Legendre steps per period (order 6: the monodromy's error falls like steps⁻⁶);
-  /// a second run at half of them (⌊steps/2⌋) gives the error estimate. At least 2.
+  /// How the state and its tangent map cross the period: gauss6 (the default: `steps`
+  /// Gauss–Legendre steps, the exact derivative of each step) or taylor (adaptive steps on the
+  /// Taylor series of the variational equations at `tolerance`); no other stepper.
+  stepper_kind stepper = stepper_kind::gauss6;
+  /// gauss6: steps per period (order 6: the monodromy's error falls like steps⁻⁶); a second
+  /// run at half of them (⌊steps/2⌋) gives the error estimate. At least 2.
   int steps = 400;
+  /// taylor: the absolute and the relative tolerance of its steps; a second run at 100 times
+  /// it gives the error estimate. In (0, 1e-6].
+  double tolerance = 1e-13;
   run_control* control = nullptr;  ///< not owned; may be null
 };
 
@@ -32,16 +40,17 @@ const char* verdict_name(floquet_verdict v);
 
 struct floquet_result {
   double period = 0;  ///< T (s)
-  int steps = 0;      ///< Gauss–Legendre steps over the period
+  int steps = 0;      ///< the steps over the period (taylor: of the run at `tolerance`)
   /// M = ∂x(T)/∂x(0), row-major (2n × 2n).
   std::vector<double> monodromy;
   /// The eigenvalues μ of M, by descending |μ|.
   std::vector<std::complex<double>> multipliers;
   double max_modulus = 0;  ///< max |μ|
-  /// The error estimate of max |μ|: its change from the run at half the steps (an upper
-  /// bound once the rule converges; order 6, so the full run's own error is about 1/63 of
-  /// it) plus rounding: the eigenvalues' (each one's condition number × d ε ‖M‖) and that of
-  /// the K steps of the tangent map (K ε ‖M‖).
+  /// The error estimate of max |μ|: its change from the second run (gauss6: at half the
+  /// steps, order 6, so the full run's own error is about 1/63 of it; taylor: at 100 times
+  /// the tolerance) — an upper bound once the rule converges — plus rounding: the
+  /// eigenvalues' (each one's condition number × d ε ‖M‖) and that of the K steps of the
+  /// tangent map (K ε ‖M‖).
   double modulus_error = 0;
   floquet_verdict verdict = floquet_verdict::unstable;
   bool stable = false;  ///< verdict == floquet_verdict::stable
@@ -54,13 +63,17 @@ struct floquet_result {
 /// The Floquet multipliers of the orbit through x0 (dim 2n) over one period of the pivot's
 /// drive (`period`: the drive's, if 0). The monodromy matrix is the derivative of the
 /// Gauss–Legendre (order 6) flow over the period, built from the exact Jacobian step by step
-/// (gauss_legendre::do_step_with_tangent). An undamped chain has multipliers in reciprocal
-/// pairs (det M = 1), so that its best is max |μ| = 1 (linearly stable: every multiplier on
-/// the unit circle); a damped one has det M = exp(∫₀ᵀ tr J dt) and is stable only when
-/// every multiplier is inside the circle by more than the error estimate — when max |μ| is
-/// within it of 1 (a slow instability or a slow decay) the verdict is marginal. Throws
-/// std::invalid_argument for a chain without a periodic drive and no period given, a wrong
-/// size of x0, or steps < 2.
+/// (gauss_legendre::do_step_with_tangent), or with options.stepper = taylor the solution of
+/// the variational equations w' = J w from w(0) = e_1..e_2n, their Taylor series from the
+/// generated recurrences on dual numbers (taylor_tangents). An undamped chain has multipliers in
+/// reciprocal pairs (det M = 1), so that its best is max |μ| = 1 (linearly stable: every multiplier
+/// on the unit circle); a damped one has det M = exp(∫₀ᵀ tr J dt) and is stable only when every
+/// multiplier is inside the circle by more than the error estimate — when max |μ| is within it of 1
+/// (a slow instability or a slow decay) the verdict is marginal. Throws std::invalid_argument for a
+/// chain without a periodic drive and no period given, a wrong size of x0, steps < 2, a stepper
+/// other than gauss6 and taylor, a tolerance outside (0, 1e-6], and taylor on a chain without
+/// Taylor kernels; npend::integration_error where the state becomes non-finite or taylor's steps
+/// collapse (more than floquet_taylor_max_steps in one period).
 floquet_result floquet_analysis(const chain& c, std::span<const double> x0,
                                 const floquet_options& options = {}, double period = 0);
 
