@@ -34,6 +34,35 @@ void integrator_options::add_stepper_options(CLI::App& command, std::string_view
                                  note, taylor_max_order));
 }
 
+stepper_kind parse_monodromy_integrator(const std::string& stepper_text, bool steps_given,
+                                        const std::string& tol_text, std::string_view what,
+                                        double& tolerance) {
+  stepper_kind stepper = stepper_kind::gauss6;
+  if (!stepper_text.empty()) {
+    try {
+      stepper = parse_stepper_kind(stepper_text);
+    } catch (const std::invalid_argument& e) {
+      throw input_error(fmt::format("--stepper: {}", e.what()));
+    }
+    if (!serves(stepper, stepper_use::monodromy))
+      throw input_error(fmt::format("--stepper: {} integrates with {}, not {}", what,
+                                    stepper_names(stepper_use::monodromy), stepper_text));
+  }
+  if (stepper != stepper_kind::taylor) {
+    if (!tol_text.empty())
+      throw input_error(fmt::format("--tol: only with --stepper taylor ({} takes --steps)",
+                                    stepper_name(stepper)));
+    return stepper;
+  }
+  if (steps_given)
+    throw input_error("--steps: taylor chooses its own steps; set its accuracy with --tol");
+  if (tol_text.empty()) return stepper;
+  tolerance = parse_number(tol_text, "--tol");
+  if (!(tolerance > 0 && tolerance <= 1e-6))
+    throw input_error(fmt::format("--tol: must lie in (0, 1e-6], got {}", tol_text));
+  return stepper;
+}
+
 void parse_taylor_order(const std::string& text, stepper_kind stepper, int& order) {
   if (text.empty()) return;
   if (stepper != stepper_kind::taylor)

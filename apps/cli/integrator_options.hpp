@@ -48,6 +48,16 @@ void check_step_count(double t_end, double dt, std::string_view options,
 /// stepper other than taylor.
 void parse_taylor_order(const std::string& text, stepper_kind stepper, int& order);
 
+/// The integrator of a command that carries a monodromy matrix over a period (npend floquet,
+/// npend orbit on a driven pivot): --stepper as typed (empty: gauss6), one of
+/// stepper_use::monodromy, for `what` ("Floquet analysis"); whether --steps was given (it sets
+/// gauss6's steps); --tol as typed (taylor's tolerance; empty: `tolerance` keeps its default).
+/// Throws input_error naming the option: an unknown stepper or one without a monodromy, --tol
+/// without taylor, --steps with taylor, and a --tol that is not a number in (0, 1e-6].
+stepper_kind parse_monodromy_integrator(const std::string& stepper_text, bool steps_given,
+                                        const std::string& tol_text, std::string_view what,
+                                        double& tolerance);
+
 /// Adds --abs-tol, --rel-tol and --tol, which sets both at once and excludes them, to
 /// `command` with the help texts given, collecting the texts into `abs_text`, `rel_text` and
 /// `tol_text`.

@@ -12,6 +12,7 @@
 #include "chain_options.hpp"
 #include "command.hpp"
 #include "input_parsing.hpp"
+#include "integrator_options.hpp"
 #include "npend/analysis/stability/floquet.hpp"
 #include "npend/integrators/integrate.hpp"
 #include "series_output.hpp"
@@ -211,33 +212,13 @@ int run_scan(const chain& base, const floquet_command_options& o, const floquet_
   return 0;
 }
 
-// --stepper, --steps and --tol, checked together.
+// --stepper, --steps and --tol, checked together, and taylor against the chain.
 floquet_options integrator_of(const chain& c, const floquet_command_options& o) {
   floquet_options options;
   options.steps = o.steps;
-  try {
-    options.stepper = parse_stepper_kind(o.stepper);
-  } catch (const std::invalid_argument& e) {
-    throw cli::input_error(fmt::format("--stepper: {}", e.what()));
-  }
-  if (!serves(options.stepper, stepper_use::monodromy))
-    throw cli::input_error(fmt::format("--stepper: Floquet analysis integrates with {}, not {}",
-                                       stepper_names(stepper_use::monodromy), o.stepper));
-  if (options.stepper != stepper_kind::taylor) {
-    if (!o.tol.empty())
-      throw cli::input_error(
-          fmt::format("--tol: only with --stepper taylor ({} takes --steps)", o.stepper));
-    return options;
-  }
-  if (o.steps_given)
-    throw cli::input_error("--steps: taylor chooses its own steps; set its accuracy with --tol");
-  if (!o.tol.empty()) {
-    options.tolerance = cli::parse_number(o.tol, "--tol");
-    if (!(options.tolerance > 0 && options.tolerance <= 1e-6))
-      throw cli::input_error(fmt::format(
-          "--tol: must lie in (0, 1e-6] (a second run at 100 times it gives the error), got {}",
-          o.tol));
-  }
+  options.stepper = cli::parse_monodromy_integrator(o.stepper, o.steps_given, o.tol,
+                                                    "Floquet analysis", options.tolerance);
+  if (options.stepper != stepper_kind::taylor) return options;
   try {
     check_stepper_fits(c, stepper_kind::taylor);
   } catch (const std::invalid_argument& e) {

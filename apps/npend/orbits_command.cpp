@@ -17,6 +17,7 @@
 #include "chain_options.hpp"
 #include "command.hpp"
 #include "input_parsing.hpp"
+#include "integrator_options.hpp"
 #include "npend/analysis/orbits/forced_orbit.hpp"
 #include "npend/analysis/orbits/periodic_orbit.hpp"
 #include "npend/analysis/stability/backbone.hpp"
@@ -520,30 +521,10 @@ auto shoot_for_command(cli::terminal_run& control, Shoot shoot, std::string_view
 
 // --stepper, --steps and --tol of a forced orbit, checked together.
 void set_forced_integrator(const orbit_command_options& o, forced_orbit_options& orbit) {
-  if (!o.stepper.empty()) {
-    try {
-      orbit.stepper = parse_stepper_kind(o.stepper);
-    } catch (const std::invalid_argument& e) {
-      throw cli::input_error(fmt::format("--stepper: {}", e.what()));
-    }
-    if (!serves(orbit.stepper, stepper_use::monodromy))
-      throw cli::input_error(fmt::format("--stepper: the shooting integrates with {}, not {}",
-                                         stepper_names(stepper_use::monodromy), o.stepper));
-  }
-  if (orbit.stepper != stepper_kind::taylor) {
-    if (!o.tol.empty())
-      throw cli::input_error(fmt::format("--tol: only with --stepper taylor ({} takes --steps)",
-                                         stepper_name(orbit.stepper)));
-    if (!o.steps.empty())
-      orbit.steps = static_cast<int>(cli::parse_whole_number(o.steps, "--steps", 20, 1e6));
-    return;
-  }
-  if (!o.steps.empty())
-    throw cli::input_error("--steps: taylor chooses its own steps; set its accuracy with --tol");
-  if (o.tol.empty()) return;
-  orbit.integration_tolerance = cli::parse_number(o.tol, "--tol");
-  if (!(orbit.integration_tolerance > 0 && orbit.integration_tolerance <= 1e-6))
-    throw cli::input_error(fmt::format("--tol: must lie in (0, 1e-6], got {}", o.tol));
+  orbit.stepper = cli::parse_monodromy_integrator(o.stepper, !o.steps.empty(), o.tol,
+                                                  "the shooting", orbit.integration_tolerance);
+  if (orbit.stepper != stepper_kind::taylor && !o.steps.empty())
+    orbit.steps = static_cast<int>(cli::parse_whole_number(o.steps, "--steps", 20, 1e6));
 }
 
 // How the text output names the shooting's integration.
