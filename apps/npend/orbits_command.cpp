@@ -32,6 +32,7 @@ namespace {
 struct orbits_command_options {
   cli::chain_options chain;
   std::string mode, energy_max, start_amplitude, steps, max_points, thresholds, segments;
+  std::string stepper, tol;  // how the shootings integrate (gauss6 or taylor at tol)
   std::string continuation = "arclength";
   bool json = false, branches = false;
   std::string out;
@@ -45,6 +46,36 @@ struct mode_result {
   // --energy-max.
   std::vector<nnm_branch> families;
 };
+
+// --stepper, --steps and --tol of a shooting (forced_orbit_options or
+// periodic_orbit_options), checked together.
+template <class Shooting>
+void set_shooting_integrator(const std::string& stepper, const std::string& steps,
+                             const std::string& tol, Shooting& orbit) {
+  orbit.stepper = cli::parse_monodromy_integrator(stepper, !steps.empty(), tol, "the shooting",
+                                                  orbit.integration_tolerance);
+  if (orbit.stepper != stepper_kind::taylor && !steps.empty())
+    orbit.steps = static_cast<int>(cli::parse_whole_number(steps, "--steps", 20, 1e6));
+}
+
+// How the text output names the shooting's integration, per `period` ("period" or "drive
+// period").
+template <class Shooting>
+std::string shooting_integrator_text(const Shooting& orbit, std::string_view period) {
+  if (orbit.stepper == stepper_kind::taylor)
+    return fmt::format("taylor at tolerance {:g}", orbit.integration_tolerance);
+  return fmt::format("{} Gauss-Legendre steps per {}", orbit.steps, period);
+}
+
+// The JSON keys of the shooting's integration; `taken`: the Taylor steps of one orbit's
+// last pass (none for a family).
+template <class Shooting>
+nlohmann::json shooting_integrator_json(const Shooting& orbit, std::optional<int> taken = {}) {
+  if (orbit.stepper != stepper_kind::taylor) return {{"stepper", "gauss6"}, {"steps", orbit.steps}};
+  nlohmann::json j{{"stepper", "taylor"}, {"integration_tolerance", orbit.integration_tolerance}};
+  if (taken) j["steps"] = *taken;
+  return j;
+}
 
 continuation_method parse_continuation(const std::string& name) {
   if (const auto method = continuation_method_from_name(name)) return *method;
@@ -64,8 +95,7 @@ continuation_options make_continuation(const orbits_command_options& o) {
       throw cli::input_error(fmt::format("--start-amplitude: a small angle in (0, 0.5) rad, got {}",
                                          o.start_amplitude));
   }
-  if (!o.steps.empty())
-    opts.orbit.steps = static_cast<int>(cli::parse_whole_number(o.steps, "--steps", 20, 1e6));
+  set_shooting_integrator(o.stepper, o.steps, o.tol, opts.orbit);
   if (!o.max_points.empty())
     opts.max_points =
         static_cast<int>(cli::parse_whole_number(o.max_points, "--max-points", 2, 100000));
@@ -265,10 +295,10 @@ void print_results(const chain& c, const std::vector<mode_result>& results,
   fmt::print(
       "Nonlinear normal modes of the {}-link chain: periodic orbits through a turning point\n"
       "(p = 0), continued {} from each linear mode at {:g} rad; shooting with the exact\n"
-      "monodromy matrix (Gauss-Legendre, {} steps per period{}), closure ||phi(T) - x0|| <= {:g}.\n"
+      "monodromy matrix ({}{}), closure ||phi(T) - x0|| <= {:g}.\n"
       "stable: every Floquet multiplier but the trivial pair has |mu| <= 1 + {:g}.\n",
       n, opts.method == continuation_method::pseudo_arclength ? "by pseudo-arclength" : "in energy",
-      opts.start_amplitude, opts.orbit.steps,
+      opts.start_amplitude, shooting_integrator_text(opts.orbit, "period"),
       opts.orbit.segments > 1 ? fmt::format(", {} segments", opts.orbit.segments) : "",
       opts.orbit.tolerance, opts.orbit.stability_tolerance);
   for (const mode_result& r : results) {
@@ -402,8 +432,8 @@ int run_orbits(const orbits_command_options& o) {
                     {"departures", departures}});
   }
   nlohmann::json j = describe_chain(c);
-  j.update(nlohmann::json{{"steps", opts.orbit.steps},
-                          {"segments", opts.orbit.segments},
+  j.update(shooting_integrator_json(opts.orbit));
+  j.update(nlohmann::json{{"segments", opts.orbit.segments},
                           {"continuation", o.continuation},
                           {"start_amplitude", opts.start_amplitude},
                           {"energy_max", opts.energy_max},
@@ -519,28 +549,6 @@ auto shoot_for_command(cli::terminal_run& control, Shoot shoot, std::string_view
   return r;
 }
 
-// --stepper, --steps and --tol of a forced orbit, checked together.
-void set_forced_integrator(const orbit_command_options& o, forced_orbit_options& orbit) {
-  orbit.stepper = cli::parse_monodromy_integrator(o.stepper, !o.steps.empty(), o.tol,
-                                                  "the shooting", orbit.integration_tolerance);
-  if (orbit.stepper != stepper_kind::taylor && !o.steps.empty())
-    orbit.steps = static_cast<int>(cli::parse_whole_number(o.steps, "--steps", 20, 1e6));
-}
-
-// How the text output names the shooting's integration.
-std::string forced_integrator_text(const forced_orbit_options& orbit) {
-  if (orbit.stepper == stepper_kind::taylor)
-    return fmt::format("taylor at tolerance {:g}", orbit.integration_tolerance);
-  return fmt::format("{} Gauss-Legendre steps per drive period", orbit.steps);
-}
-
-// The JSON keys of the shooting's integration.
-nlohmann::json forced_integrator_json(const forced_orbit_options& orbit) {
-  if (orbit.stepper == stepper_kind::taylor)
-    return {{"stepper", "taylor"}, {"integration_tolerance", orbit.integration_tolerance}};
-  return {{"stepper", "gauss6"}, {"steps", orbit.steps}};
-}
-
 // npend orbit on a driven pivot: the forced orbit (and with --continue-to its branch).
 int run_forced_orbit(const chain& c, const std::vector<double>& guess,
                      const orbit_command_options& o) {
@@ -559,7 +567,7 @@ int run_forced_orbit(const chain& c, const std::vector<double>& guess,
   drive_continuation_options opts;
   if (!o.periods.empty())
     opts.orbit.periods = static_cast<int>(cli::parse_whole_number(o.periods, "--periods", 1, 1000));
-  set_forced_integrator(o, opts.orbit);
+  set_shooting_integrator(o.stepper, o.steps, o.tol, opts.orbit);
   const double a = c.parameters().pivot.amplitude;
   cli::terminal_run control;
   opts.orbit.control = &control;
@@ -598,7 +606,7 @@ int run_forced_orbit(const chain& c, const std::vector<double>& guess,
                            {"stable_above", s.stable_above},
                            {"stable_side", forced_point_json(s.stable_side)},
                            {"unstable_side", forced_point_json(s.unstable_side)}});
-      j.update(forced_integrator_json(opts.orbit));
+      j.update(shooting_integrator_json(opts.orbit));
       j.update(nlohmann::json{{"periods", opts.orbit.periods},
                               {"frequency_end", opts.frequency_end},
                               {"tolerance", opts.orbit.tolerance},
@@ -613,8 +621,9 @@ int run_forced_orbit(const chain& c, const std::vector<double>& guess,
         "Forced orbit of the {}-link chain (pivot {}) over {} drive period(s), continued in the "
         "drive frequency\nfrom {:g} to {:g} rad/s ({}, closure <= {:g}): {} orbits, {}\n",
         c.links(), c.parameters().pivot.describe(), opts.orbit.periods,
-        branch.points.front().frequency, opts.frequency_end, forced_integrator_text(opts.orbit),
-        opts.orbit.tolerance, branch.points.size(), branch.end_reason);
+        branch.points.front().frequency, opts.frequency_end,
+        shooting_integrator_text(opts.orbit, "drive period"), opts.orbit.tolerance,
+        branch.points.size(), branch.end_reason);
     fmt::print("{:>14}  {:>12}  {:>12}  {:>10}  {:>14}  {}\n", "Omega (rad/s)", "a*Omega",
                "max|phi|", "closure", "max|mu|", "stable");
     for (const forced_point& p : branch.points) {
@@ -643,7 +652,7 @@ int run_forced_orbit(const chain& c, const std::vector<double>& guess,
   if (o.json) {
     nlohmann::json j = describe_chain(c);
     j["orbit"] = forced_point_json(to_forced_point(r));
-    j.update(forced_integrator_json(opts.orbit));
+    j.update(shooting_integrator_json(opts.orbit, r.steps));
     j["periods"] = opts.orbit.periods;
     std::cout << j.dump(2) << "\n";
     return 0;
@@ -651,7 +660,7 @@ int run_forced_orbit(const chain& c, const std::vector<double>& guess,
   fmt::print(
       "Forced orbit of the {}-link chain, pivot {} ({} drive period(s); {} Newton steps, {}{})\n",
       c.links(), c.parameters().pivot.describe(), opts.orbit.periods, r.iterations,
-      forced_integrator_text(opts.orbit),
+      shooting_integrator_text(opts.orbit, "drive period"),
       opts.orbit.stepper == stepper_kind::taylor ? fmt::format(", {} steps over T", r.steps) : "");
   fmt::print("start x0     ({}) at t = 0\n", fmt::join(r.x0, ", "));
   fmt::print("period       {:.15g} s (drive frequency {:.12g} rad/s)\n", r.period, r.frequency);
@@ -686,8 +695,7 @@ periodic_orbit_options free_orbit_options(const chain& c, const orbit_command_op
     opts.phase = orbit_phase::poincare;
   else if (!o.phase.empty() && o.phase != "turning_point")
     throw cli::input_error(fmt::format("--phase: turning_point or poincare, got '{}'", o.phase));
-  if (!o.steps.empty())
-    opts.steps = static_cast<int>(cli::parse_whole_number(o.steps, "--steps", 20, 1e6));
+  set_shooting_integrator(o.stepper, o.steps, o.tol, opts);
   if (!o.segments.empty())
     opts.segments =
         static_cast<int>(cli::parse_whole_number(o.segments, "--segments", 1, opts.steps));
@@ -758,8 +766,8 @@ int run_family(const chain& c, const periodic_orbit_result& start,
       points.push_back(j);
     }
     nlohmann::json j = describe_chain(c);
+    j.update(shooting_integrator_json(opts.orbit));
     j.update(nlohmann::json{{"winding", start.winding},
-                            {"steps", opts.orbit.steps},
                             {"segments", opts.orbit.segments},
                             {"energy_end", end},
                             {"end_reason", b.end_reason},
@@ -795,12 +803,9 @@ int run_orbit(const orbit_command_options& o) {
     const chain driven = o.chain.make_chain(cli::model_support::any, "npend orbit");
     if (driven.parameters().pivot.moves())
       return run_forced_orbit(driven, o.start.make_state(driven), o);
-    for (const auto& [given, name] :
-         {std::pair{&o.periods, "--periods"}, std::pair{&o.stepper, "--stepper"},
-          std::pair{&o.tol, "--tol"}})
-      if (!given->empty())
-        throw cli::input_error(fmt::format(
-            "{}: only with a driven pivot (--pivot vertical:A:OMEGA or horizontal:A:OMEGA)", name));
+    if (!o.periods.empty())
+      throw cli::input_error(
+          "--periods: only with a driven pivot (--pivot vertical:A:OMEGA or horizontal:A:OMEGA)");
   }
   const chain c = o.chain.make_chain(cli::model_support::conservative, "npend orbit");
   const std::vector<double> guess = o.start.make_state(c);
@@ -827,16 +832,15 @@ int run_orbit(const orbit_command_options& o) {
     orbit.erase("ratio");
     orbit["winding"] = r.winding;
     j["orbit"] = orbit;
-    j["steps"] = opts.steps;
+    j.update(shooting_integrator_json(opts, r.steps));
     j["segments"] = opts.segments;
     j["phase"] = opts.phase == orbit_phase::poincare ? "poincare" : "turning_point";
     std::cout << j.dump(2) << "\n";
     return 0;
   }
-  fmt::print(
-      "Periodic orbit of the {}-link chain ({} Newton steps, {} Gauss-Legendre steps per "
-      "period)\n",
-      c.links(), r.iterations, opts.steps);
+  fmt::print("Periodic orbit of the {}-link chain ({} Newton steps, {}{})\n", c.links(),
+             r.iterations, shooting_integrator_text(opts, "period"),
+             opts.stepper == stepper_kind::taylor ? fmt::format(", {} steps over T", r.steps) : "");
   fmt::print("start x0     ({})\n", fmt::join(r.x0, ", "));
   fmt::print("period       {:.15g} s (frequency {:.12g} rad/s)\n", r.period, p.frequency);
   fmt::print("energy       {:.15g} J\n", r.energy);
@@ -866,6 +870,14 @@ void add_orbits_command(CLI::App& app, command_list& commands) {
                   "The largest angle of the first orbit of each branch in rad (default 0.01)");
   cmd->add_option("--steps", o->steps,
                   "Gauss-Legendre steps per period of each orbit (default 400)");
+  cmd->add_option("--stepper", o->stepper,
+                  fmt::format("How each shooting crosses the period, {} (default gauss6, --steps "
+                              "per period; taylor: adaptive steps on the Taylor series of the "
+                              "variational equations, at --tol)",
+                              stepper_names(stepper_use::monodromy)));
+  cmd->add_option("--tol", o->tol,
+                  "--stepper taylor: its absolute and relative tolerance (default 1e-14; at most "
+                  "1e-6)");
   cmd->add_option("--max-points", o->max_points,
                   "At most this many orbits per branch (default 200)");
   cmd->add_option("--segments", o->segments,
@@ -914,13 +926,13 @@ void add_orbit_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--periods", o->periods,
                   "Driven pivot: the forced orbit's period in drive periods (default 1)");
   cmd->add_option("--stepper", o->stepper,
-                  fmt::format("Driven pivot: how the shooting crosses the period, {} (default "
-                              "gauss6, --steps per drive period; taylor: adaptive steps on the "
-                              "Taylor series of the variational equations, at --tol)",
+                  fmt::format("How the shooting crosses the period, {} (default gauss6, --steps "
+                              "per period; taylor: adaptive steps on the Taylor series of the "
+                              "variational equations, at --tol)",
                               stepper_names(stepper_use::monodromy)));
   cmd->add_option("--tol", o->tol,
-                  "Driven pivot, --stepper taylor: its absolute and relative tolerance (default "
-                  "1e-14; at most 1e-6)");
+                  "--stepper taylor: its absolute and relative tolerance (default 1e-14; at most "
+                  "1e-6)");
   cmd->add_option("--continue-to", o->continue_to,
                   "Continue the orbit's family by pseudo-arclength up or down to this energy "
                   "(J); on a driven pivot, the forced orbit in the drive frequency from the "

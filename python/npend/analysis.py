@@ -1123,13 +1123,16 @@ def periodic_orbit(
     max_iterations: int = 20,
     segments: int = 1,
     winding: Optional[Sequence[int]] = None,
+    stepper: str = "gauss6",
+    integration_tol: float = 1e-14,
 ) -> PeriodicOrbit:
     """The periodic orbit near a guess, by shooting with the exact monodromy matrix.
 
     Newton's method on phi(T; x0) = x0 with a phase condition and the energy fixed, the flow
     being the Gauss-Legendre (order 6) map of `steps` steps over the period with its exact
-    tangent map. The conserved energy makes the square system singular; each correction is
-    the least-squares solution of all its rows.
+    tangent map, or Taylor's method with the Taylor series of the variational equations. The
+    conserved energy makes the square system singular; each correction is the least-squares
+    solution of all its rows.
 
     Parameters
     ----------
@@ -1146,7 +1149,8 @@ def periodic_orbit(
         nonlinear normal modes); poincare: the start lies on the plane through the guess
         normal to the flow (any orbit).
     steps : int, optional
-        Gauss-Legendre steps over the period (at least 2).
+        gauss6: Gauss-Legendre steps over the period (at least 2); the orbit is that map's,
+        whose period differs from the flow's by about steps**-6.
     tol : float, optional
         Converged when max |phi(T) - x0| <= tol and |H(x0) - E| <= tol max(1, |E|).
     max_iterations : int, optional
@@ -1157,6 +1161,12 @@ def periodic_orbit(
     winding : sequence of int, optional
         A rotating orbit: whole turns of each angle per period (phi(T) = phi(0) + 2 pi
         winding); needs ``phase="poincare"``. None: an oscillation.
+    stepper : {"gauss6", "taylor"}, optional
+        How the shooting crosses the period (as ``npend orbit --stepper``): gauss6's `steps`
+        fixed steps, or taylor's adaptive steps, whose orbit is the flow's to about
+        `integration_tol`.
+    integration_tol : float, optional
+        taylor: the absolute and relative tolerance of its steps, in (0, 1e-6].
 
     Returns
     -------
@@ -1182,7 +1192,8 @@ def periodic_orbit(
     return _orbit(_npend.periodic_orbit(
         chain, x0, period, energy=energy, phase=phase, steps=steps, tol=tol,
         max_iterations=max_iterations, segments=segments,
-        winding=None if winding is None else [int(w) for w in winding]))
+        winding=None if winding is None else [int(w) for w in winding], stepper=stepper,
+        integration_tol=integration_tol))
 
 
 def _orbit(d: dict) -> PeriodicOrbit:
@@ -1202,6 +1213,8 @@ def continue_mode(
     segments: int = 1,
     continuation: str = "arclength",
     branches: bool = False,
+    stepper: str = "gauss6",
+    integration_tol: float = 1e-14,
 ) -> NNMBranch:
     """A nonlinear normal mode: linear mode `mode` continued in energy as periodic orbits.
 
@@ -1236,6 +1249,10 @@ def continue_mode(
     branches : bool, optional
         Branch switching (as ``--branches``): each bifurcation's `family` holds the orbits of
         the family born there, continued up to `energy_max`.
+    stepper : {"gauss6", "taylor"}, optional
+        How each shooting crosses the period, as for npend.periodic_orbit.
+    integration_tol : float, optional
+        taylor: the absolute and relative tolerance of its steps, in (0, 1e-6].
 
     Returns
     -------
@@ -1262,7 +1279,8 @@ def continue_mode(
     d = _npend.continue_mode(chain, mode, energy_max, start_amplitude=start_amplitude,
                              steps=steps, max_points=max_points, thresholds=list(thresholds),
                              segments=segments, continuation=continuation,
-                             branches=branches)
+                             branches=branches, stepper=stepper,
+                             integration_tol=integration_tol)
     n = len(d["shape"])
     d["multipliers"] = np.asarray(d["multipliers"], dtype=np.complex128).reshape(
         len(d["energy"]), 2 * n - 2)

@@ -342,13 +342,16 @@ orbit_phase parse_phase(const std::string& phase) {
 }
 
 periodic_orbit_options shooting_options(std::optional<double> energy, const std::string& phase,
-                                        int steps, double tol, int max_iterations) {
+                                        int steps, double tol, int max_iterations,
+                                        const std::string& stepper, double integration_tol) {
   periodic_orbit_options o;
   if (energy) o.energy = *energy;
   o.phase = parse_phase(phase);
   o.steps = steps;
   o.tolerance = tol;
   o.max_iterations = max_iterations;
+  o.stepper = parse_stepper_kind(stepper);
+  o.integration_tolerance = integration_tol;
   return o;
 }
 
@@ -360,9 +363,11 @@ continuation_method parse_continuation(const std::string& name) {
 py::dict periodic_orbit_of(const chain& c, const py::handle& x0_in, double period,
                            std::optional<double> energy, const std::string& phase, int steps,
                            double tol, int max_iterations, int segments,
-                           std::optional<std::vector<int>> winding) {
+                           std::optional<std::vector<int>> winding, const std::string& stepper,
+                           double integration_tol) {
   const std::vector<double> x0 = to_vector(x0_in, static_cast<std::size_t>(c.state_size()), "x0");
-  periodic_orbit_options o = shooting_options(energy, phase, steps, tol, max_iterations);
+  periodic_orbit_options o =
+      shooting_options(energy, phase, steps, tol, max_iterations, stepper, integration_tol);
   o.segments = segments;
   if (winding) o.winding = *winding;
   python_interrupt interrupt;
@@ -380,13 +385,16 @@ py::dict periodic_orbit_of(const chain& c, const py::handle& x0_in, double perio
 
 py::dict continue_mode_of(const chain& c, int mode, double energy_max, double start_amplitude,
                           int steps, int max_points, const std::vector<double>& thresholds,
-                          int segments, const std::string& continuation, bool branches) {
+                          int segments, const std::string& continuation, bool branches,
+                          const std::string& stepper, double integration_tol) {
   if (mode < 1 || mode > c.links())
     throw std::invalid_argument(
         fmt::format("mode: 1..{} (1 = the slowest), got {}", c.links(), mode));
   continuation_options o;
   o.orbit.steps = steps;
   o.orbit.segments = segments;
+  o.orbit.stepper = parse_stepper_kind(stepper);
+  o.orbit.integration_tolerance = integration_tol;
   o.method = parse_continuation(continuation);
   o.energy_max = energy_max;
   o.start_amplitude = start_amplitude;
@@ -475,12 +483,14 @@ void bind_orbits(py::module_& m) {
   m.def("periodic_orbit", &periodic_orbit_of, py::arg("chain"), py::arg("x0"), py::arg("period"),
         py::kw_only(), py::arg("energy") = py::none(), py::arg("phase") = "turning_point",
         py::arg("steps") = 400, py::arg("tol") = 1e-11, py::arg("max_iterations") = 20,
-        py::arg("segments") = 1, py::arg("winding") = py::none());
+        py::arg("segments") = 1, py::arg("winding") = py::none(), py::arg("stepper") = "gauss6",
+        py::arg("integration_tol") = 1e-14);
   m.def("continue_mode", &continue_mode_of, py::arg("chain"), py::arg("mode"),
         py::arg("energy_max"), py::kw_only(), py::arg("start_amplitude") = 0.01,
         py::arg("steps") = 400, py::arg("max_points") = 200,
         py::arg("thresholds") = std::vector<double>{0.01, 0.05}, py::arg("segments") = 1,
-        py::arg("continuation") = "arclength", py::arg("branches") = false);
+        py::arg("continuation") = "arclength", py::arg("branches") = false,
+        py::arg("stepper") = "gauss6", py::arg("integration_tol") = 1e-14);
 }
 
 void bind_series(py::module_& m) {

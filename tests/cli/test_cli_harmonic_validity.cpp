@@ -196,3 +196,45 @@ TEST_CASE("npend orbit: one orbit of the single pendulum at 4K(k)/ω0, no orbit 
   CHECK(run_npend("orbit --links 2 --phi 0.3,0.4").exit_code == 2);
   CHECK(run_npend("orbit --links 2 --phi 0.3,0.4 --period 3 --phase diagonal").exit_code == 2);
 }
+
+TEST_CASE("npend orbit and orbits --stepper taylor: the flow's period, and the run says how") {
+  // gauss6 at 2000 steps above: 1e-10 of 4K(k)/ω0; Taylor's orbit is the flow's.
+  const auto r = run_npend(
+      "orbit --links 1 --lengths 0.5 --phi 2.5 --period 1.8 --stepper taylor --tol 1e-15 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  const double exact = 4 * std::comp_ellint_1(std::sin(1.25)) / std::sqrt(9.81 / 0.5);
+  CHECK(std::fabs(j["orbit"]["period"].get<double>() / exact - 1) <= 1e-12);
+  CHECK(j["stepper"] == "taylor");
+  CHECK(j["integration_tolerance"].get<double>() == 1e-15);
+  CHECK(j["steps"].get<int>() > 0);
+  CHECK(j["steps"].get<int>() < 200);
+  const auto text =
+      run_npend("orbit --links 1 --lengths 0.5 --phi 2.5 --period 1.8 --stepper taylor");
+  REQUIRE(text.exit_code == 0);
+  CHECK(text.out.find("taylor at tolerance 1e-14, ") != std::string::npos);
+  const auto family = run_npend(
+      "orbits --links 1 --lengths 0.5 --energy-max 2 --stepper taylor --tol 1e-13 --json");
+  REQUIRE(family.exit_code == 0);
+  const auto f = nlohmann::json::parse(family.out);
+  CHECK(f["stepper"] == "taylor");
+  CHECK(f["integration_tolerance"].get<double>() == 1e-13);
+  CHECK_FALSE(f.contains("steps"));
+  const auto& points = f["modes"][0]["points"];
+  REQUIRE(points.size() > 3);
+  for (const auto& p : points) {
+    const double phi0 = std::fabs(p["x0"][0].get<double>());
+    const double period = 4 * std::comp_ellint_1(std::sin(phi0 / 2)) / std::sqrt(9.81 / 0.5);
+    CHECK(std::fabs(p["period"].get<double>() / period - 1) <= 1e-9);
+  }
+  using npend::test::is_input_error;
+  CHECK(is_input_error(run_npend("orbits --links 1 --energy-max 1 --stepper taylor --tol 1e-3"),
+                       "--tol: must lie in (0, 1e-6], got 1e-3"));
+  CHECK(is_input_error(run_npend("orbits --links 1 --energy-max 1 --stepper rk4"),
+                       "--stepper: the shooting integrates with gauss6, taylor, not rk4"));
+  CHECK(is_input_error(run_npend("orbit --links 1 --phi 0.3 --period 2 --tol 1e-12"),
+                       "--tol: only with --stepper taylor (gauss6 takes --steps)"));
+  CHECK(
+      is_input_error(run_npend("orbit --links 1 --phi 0.3 --period 2 --stepper taylor --steps 90"),
+                     "--steps: taylor chooses its own steps"));
+}

@@ -28,6 +28,28 @@ def test_the_single_pendulums_period_is_4K_over_omega0(amplitude):
     assert orbit.multipliers.shape == (0,) and orbit.multipliers.dtype == np.complex128
 
 
+@pytest.mark.parametrize("amplitude", [0.3, 2.5])
+def test_on_taylor_the_single_pendulums_period_is_4K_over_omega0_to_1e_13(amplitude):
+    # Taylor's orbit is the flow's to its tolerance, where gauss6's is its map's (1e-10 above
+    # at 2000 steps); the shooting's closure is tightened so as not to limit the period.
+    g, l = 9.81, 0.7
+    chain = npend.Chain(1, lengths=l, g=g)
+    guess = 2 * math.pi * math.sqrt(l / g) * (1 + amplitude**2 / 16)
+    orbit = npend.periodic_orbit(chain, [amplitude, 0.0], guess, stepper="taylor", tol=1e-13)
+    exact = 4 * ellipk(math.sin(amplitude / 2) ** 2) / math.sqrt(g / l)
+    assert orbit.converged and orbit.closure <= 1e-13
+    assert orbit.period == pytest.approx(exact, rel=1e-13)
+    branch = npend.continue_mode(chain, 1, chain.hamiltonian([amplitude, 0.0]), stepper="taylor",
+                                 integration_tol=1e-12)
+    assert branch.end_reason == "reached energy_max"
+    assert branch.period[-1] == pytest.approx(exact, rel=1e-10)
+    with pytest.raises(ValueError, match="the taylor tolerance must lie in"):
+        npend.periodic_orbit(chain, [amplitude, 0.0], guess, stepper="taylor",
+                             integration_tol=1e-3)
+    with pytest.raises(ValueError, match="integrates with gauss6, taylor, not rk4"):
+        npend.periodic_orbit(chain, [amplitude, 0.0], guess, stepper="rk4")
+
+
 def test_a_branch_starts_at_its_linear_mode_and_its_orbits_close_under_another_stepper():
     chain = npend.Chain(3, masses=[1, 2, 1.5], lengths=[1, 0.5, 2])
     omegas = npend.modes(chain).frequencies

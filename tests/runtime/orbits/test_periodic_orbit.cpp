@@ -522,3 +522,114 @@ TEST_CASE(
   CHECK(after.amplitudes[1] > before->amplitudes[1] + 0.1);
   CHECK(orbit_rkf78_gap(c, after.x0, after.period) <= 1e-9 * std::max(1.0, after.max_multiplier));
 }
+
+TEST_CASE("continue_mode on taylor: the single pendulum's period is 4K(k)/ω0 to 1e-13") {
+  // Taylor's orbit is the flow's to its tolerance (1e-14), where gauss6's is its map's. A
+  // closure of c leaves the period uncertain by about c / |ṗ| = c / (m g l sin φ0), 2e-11 of T
+  // at φ0 = 0.014 for c = 1e-11: the shooting's tolerance is tightened to 1e-13 here.
+  const double g = 9.81, l = 1.3;
+  const chain c(chain_parameters::uniform(1, 0.7, l, g));
+  npend::continuation_options opts;
+  opts.orbit.stepper = npend::stepper_kind::taylor;
+  opts.orbit.tolerance = 1e-13;
+  opts.energy_max = 0.7 * g * l * (1 - std::cos(3.0));
+  const npend::nnm_branch branch = npend::continue_mode(c, 0, opts);
+  CHECK(branch.end_reason == "reached energy_max");
+  REQUIRE(branch.points.size() > 5);
+  for (const npend::nnm_point& p : branch.points) {
+    CHECK(p.closure <= 1e-13);
+    const double phi0 = std::fabs(p.x0[0]);
+    CHECK(std::fabs(p.period / pendulum_period(phi0, g, l) - 1) <= 1e-13);
+  }
+}
+
+TEST_CASE(
+    "periodic_orbit on taylor: the double pendulum's orbit is gauss6's and closes under rkf78") {
+  const chain c(chain_parameters::uniform(2, 1.0, 1.0, 9.81));
+  const std::vector<double> guess{0.5, 0.5 * std::sqrt(2.0), 0, 0};
+  const double period = 2 * std::numbers::pi / std::sqrt(9.81 * (2 - std::sqrt(2.0)));
+  npend::periodic_orbit_options fine;
+  fine.steps = 2000;
+  npend::periodic_orbit_options taylor;
+  taylor.stepper = npend::stepper_kind::taylor;
+  const auto a = npend::periodic_orbit(c, guess, period, fine);
+  const auto b = npend::periodic_orbit(c, guess, period, taylor);
+  REQUIRE(a.converged);
+  REQUIRE(b.converged);
+  CHECK(a.steps == 2000);
+  // A few dozen Taylor steps cross the period where gauss6 takes thousands.
+  CHECK(b.steps > 0);
+  CHECK(b.steps < 200);
+  CHECK(b.period == doctest::Approx(a.period).epsilon(1e-12));
+  for (std::size_t i = 0; i < b.x0.size(); ++i) CHECK(std::fabs(b.x0[i] - a.x0[i]) <= 1e-11);
+  CHECK(orbit_rkf78_gap(c, b.x0, b.period) <= 1e-11);
+  REQUIRE(b.multipliers.size() == a.multipliers.size());
+  for (std::size_t k = 0; k < b.multipliers.size(); ++k)
+    CHECK(std::abs(b.multipliers[k] - a.multipliers[k]) <= 1e-8);
+  for (std::size_t i = 0; i < b.amplitudes.size(); ++i)
+    CHECK(b.amplitudes[i] == doctest::Approx(a.amplitudes[i]).epsilon(1e-9));
+  // Three segments find the same orbit.
+  npend::periodic_orbit_options segmented = taylor;
+  segmented.segments = 3;
+  const auto s = npend::periodic_orbit(c, guess, period, segmented);
+  REQUIRE(s.converged);
+  CHECK(s.period == doctest::Approx(b.period).epsilon(1e-12));
+  CHECK(s.closure <= 1e-11);
+}
+
+TEST_CASE("periodic_orbit on taylor: amplitudes sampled within the long steps") {
+  // The double pendulum's lower NNM, shot once from its turning point (where every angle is
+  // at its extreme: the amplitudes are |x0|) and once on a Poincaré plane a quarter period
+  // on, where the extremes fall inside Taylor's steps. From the step ends alone (about 30 a
+  // period) the largest |φ| would fall short by about (2π/30)²/8 = 5e-3 of it.
+  const chain c(chain_parameters::uniform(2, 1.0, 1.0, 9.81));
+  const double period = 2 * std::numbers::pi / std::sqrt(9.81 * (2 - std::sqrt(2.0)));
+  npend::periodic_orbit_options o;
+  o.stepper = npend::stepper_kind::taylor;
+  const auto turning =
+      npend::periodic_orbit(c, std::vector<double>{0.6, 0.6 * std::sqrt(2.0), 0, 0}, period, o);
+  REQUIRE(turning.converged);
+  npend::integration_options run;
+  run.stepper = npend::stepper_kind::rkf78;
+  run.t_end = run.dt = turning.period / 4;
+  run.abs_tol = run.rel_tol = 1e-14;
+  const std::vector<double> quarter = npend::integrate(c, turning.x0, run).state;
+  o.phase = npend::orbit_phase::poincare;
+  const auto moving = npend::periodic_orbit(c, quarter, turning.period, o);
+  REQUIRE(moving.converged);
+  CHECK(moving.period == doctest::Approx(turning.period).epsilon(1e-12));
+  for (int i = 0; i < 2; ++i) {
+    const double extreme = std::fabs(turning.x0[static_cast<std::size_t>(i)]);
+    CHECK(turning.amplitudes[static_cast<std::size_t>(i)] == extreme);
+    CHECK(moving.amplitudes[static_cast<std::size_t>(i)] <= extreme * (1 + 1e-12));
+    CHECK(moving.amplitudes[static_cast<std::size_t>(i)] >= extreme * (1 - 1e-4));
+  }
+}
+
+TEST_CASE("periodic_orbit on taylor: refuses other steppers, bad tolerances, finite differences") {
+  const chain c(chain_parameters::uniform(2));
+  const std::vector<double> x{0.1, 0.1, 0, 0};
+  npend::periodic_orbit_options o;
+  o.stepper = npend::stepper_kind::rk4;
+  CHECK_THROWS_WITH_AS(npend::periodic_orbit(c, x, 1.0, o),
+                       doctest::Contains("periodic_orbit: the shooting integrates with gauss6, "
+                                         "taylor, not rk4"),
+                       std::invalid_argument);
+  o.stepper = npend::stepper_kind::taylor;
+  for (const double tol : {0.0, 1e-5, std::nan("")}) {
+    o.integration_tolerance = tol;
+    CHECK_THROWS_WITH_AS(npend::periodic_orbit(c, x, 1.0, o),
+                         doctest::Contains("the taylor tolerance must lie in (0, 1e-6]"),
+                         std::invalid_argument);
+  }
+  o.integration_tolerance = 1e-12;
+  o.monodromy = npend::monodromy_method::finite_difference;
+  CHECK_THROWS_WITH_AS(npend::periodic_orbit(c, x, 1.0, o),
+                       doctest::Contains("finite-difference monodromies are gauss6's"),
+                       std::invalid_argument);
+  // Seven links run on the loop kernels, which have no Taylor kernels.
+  o.monodromy = npend::monodromy_method::exact;
+  const chain seven(chain_parameters::uniform(7));
+  CHECK_THROWS_WITH_AS(npend::periodic_orbit(seven, std::vector<double>(14, 0.1), 1.0, o),
+                       doctest::Contains("taylor"), std::invalid_argument);
+}

@@ -54,13 +54,6 @@ struct forced_pass {
   int steps = 0;
 };
 
-// Taylor's steps are long (a dozen per period), so the amplitudes sample their polynomials.
-constexpr int taylor_samples_per_step = 16;
-// A Newton iterate far from the orbit can spin the chain fast, where Taylor's adaptive steps
-// would shrink without end (gauss6's fixed steps fail at once there): a pass that needs more
-// than this many steps per drive period (gauss6 takes 400) is a failed iterate.
-constexpr int taylor_max_steps_per_period = 10'000;
-
 forced_pass integrate_forced(const chain& c, const std::vector<double>& x0, double period,
                              const forced_orbit_options& options) {
   forced_pass r;
@@ -74,17 +67,9 @@ forced_pass integrate_forced(const chain& c, const std::vector<double>& x0, doub
   };
   track(x0);
   if (options.stepper == stepper_kind::taylor) {
-    std::vector<double> sample(x0.size());
-    const auto sample_step = [&](const taylor_tangents& integrator) {
-      const double h = integrator.time() - integrator.step_begin();
-      for (int j = 1; j <= taylor_samples_per_step; ++j) {
-        integrator.state_values_at(h * j / taylor_samples_per_step, sample.data());
-        track(sample);
-      }
-    };
-    detail::taylor_monodromy(c, r.end, period, options.integration_tolerance, 0, 1, nullptr,
-                             r.monodromy, r.steps, taylor_max_steps_per_period * options.periods,
-                             sample_step);
+    detail::taylor_monodromy(
+        c, r.end, period, options.integration_tolerance, 0, 1, nullptr, r.monodromy, r.steps,
+        detail::taylor_shooting_max_steps * options.periods, detail::sampled_steps(track));
     return r;
   }
   r.steps = options.steps * options.periods;

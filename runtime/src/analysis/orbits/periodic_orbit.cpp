@@ -18,7 +18,9 @@
 #include "npend/analysis/stability/normal_modes.hpp"
 #include "npend/chain_system.hpp"
 #include "npend/integrators/gauss_legendre.hpp"
+#include "npend/integrators/integrate.hpp"
 #include "npend/integrators/integration_error.hpp"
+#include "npend/integrators/taylor.hpp"
 
 namespace npend {
 
@@ -78,6 +80,33 @@ Eigen::VectorXd energy_gradient(const chain& c, std::span<const double> x) {
   return g;
 }
 
+// How one segment is crossed: the stepper with its steps or tolerance, and the monodromy's
+// method.
+struct segment_integration {
+  stepper_kind stepper = stepper_kind::gauss6;
+  int steps = 0;         // gauss6
+  double tolerance = 0;  // taylor
+  monodromy_method method = monodromy_method::exact;
+};
+
+segment_integration segment_integration_of(const periodic_orbit_options& o) {
+  return {o.stepper, (o.steps + o.segments - 1) / o.segments, o.integration_tolerance, o.monodromy};
+}
+
+// The segment's end and ∂end/∂start by Taylor's method, points within each step seen by
+// `track` (detail::sampled_steps); `steps` grows by the steps taken.
+Eigen::MatrixXd taylor_segment(const chain& c, std::vector<double>& x, double duration,
+                               double tolerance, int& steps,
+                               const std::function<void(std::span<const double>)>& track) {
+  Eigen::MatrixXd tangent;
+  int taken = 0;
+  detail::taylor_monodromy(
+      c, x, duration, tolerance, 0, 1, nullptr, tangent, taken, detail::taylor_shooting_max_steps,
+      track ? detail::sampled_steps(track) : std::function<void(const taylor_tangents&)>());
+  steps += taken;
+  return tangent;
+}
+
 // One segment: x runs to its end over `duration` in `steps` Gauss–Legendre steps, every
 // state after a step seen by `track`.
 void flow_segment(const chain& c, std::vector<double>& x, double duration, int steps,
@@ -91,17 +120,32 @@ void flow_segment(const chain& c, std::vector<double>& x, double duration, int s
   }
 }
 
-// The segment's end and ∂end/∂start, exact or by forward differences.
+// One segment without its tangent: where the guess's flow takes a segment's start.
+void advance_segment(const chain& c, std::vector<double>& x, double duration,
+                     const segment_integration& how) {
+  if (how.stepper == stepper_kind::taylor) {
+    int steps = 0;
+    taylor_segment(c, x, duration, how.tolerance, steps, {});
+    return;
+  }
+  flow_segment(c, x, duration, how.steps, {});
+}
+
+// The segment's end and ∂end/∂start, exact (gauss6 or taylor) or by forward differences;
+// `steps` grows by the steps of the pass.
 Eigen::MatrixXd segment_with_tangent(const chain& c, std::vector<double>& x, double duration,
-                                     int steps, monodromy_method method,
+                                     const segment_integration& how, int& steps,
                                      const std::function<void(std::span<const double>)>& track) {
+  if (how.stepper == stepper_kind::taylor)
+    return taylor_segment(c, x, duration, how.tolerance, steps, track);
   Eigen::MatrixXd tangent;
-  if (method == monodromy_method::exact) {
-    detail::monodromy(c, x, duration, steps, 0, steps, nullptr, tangent, track);
+  steps += how.steps;
+  if (how.method == monodromy_method::exact) {
+    detail::monodromy(c, x, duration, how.steps, 0, how.steps, nullptr, tangent, track);
     return tangent;
   }
   const std::vector<double> start = x;
-  flow_segment(c, x, duration, steps, track);
+  flow_segment(c, x, duration, how.steps, track);
   const int d = c.state_size();
   tangent.resize(d, d);
   for (int j = 0; j < d; ++j) {
@@ -109,7 +153,7 @@ Eigen::MatrixXd segment_with_tangent(const chain& c, std::vector<double>& x, dou
     const double h = std::sqrt(std::numeric_limits<double>::epsilon()) *
                      std::max(1.0, std::fabs(start[static_cast<std::size_t>(j)]));
     nudged[static_cast<std::size_t>(j)] += h;
-    flow_segment(c, nudged, duration, steps, {});
+    flow_segment(c, nudged, duration, how.steps, {});
     for (int i = 0; i < d; ++i)
       tangent(i, j) = (nudged[static_cast<std::size_t>(i)] - x[static_cast<std::size_t>(i)]) / h;
   }
@@ -144,6 +188,21 @@ void check_shooting_options(const chain& c, const periodic_orbit_options& o, con
   if (!(o.tolerance > 0))
     throw std::invalid_argument(
         fmt::format("{}: tolerance must be positive, got {}", who, o.tolerance));
+  if (!serves(o.stepper, stepper_use::monodromy))
+    throw std::invalid_argument(fmt::format("{}: the shooting integrates with {}, not {}", who,
+                                            stepper_names(stepper_use::monodromy),
+                                            stepper_name(o.stepper)));
+  if (o.stepper == stepper_kind::taylor) {
+    if (!(o.integration_tolerance > 0 && o.integration_tolerance <= 1e-6))
+      throw std::invalid_argument(fmt::format(
+          "{}: the taylor tolerance must lie in (0, 1e-6], got {}", who, o.integration_tolerance));
+    if (o.monodromy == monodromy_method::finite_difference)
+      throw std::invalid_argument(fmt::format(
+          "{}: finite-difference monodromies are gauss6's (taylor carries the exact tangent "
+          "map)",
+          who));
+    check_stepper_fits(c, stepper_kind::taylor);
+  }
   if (!o.winding.empty() && o.winding.size() != static_cast<std::size_t>(c.links()))
     throw std::invalid_argument(
         fmt::format("{}: winding has {} entries; the {}-link chain needs {}", who, o.winding.size(),
@@ -167,7 +226,7 @@ periodic_orbit_result shoot(const chain& c, std::vector<double> x, double period
   shooting_layout L{c.state_size(), c.coordinates(), options.segments,
                     options.phase == orbit_phase::turning_point};
   const int d = L.d, m = L.segments;
-  const int seg_steps = (options.steps + m - 1) / m;
+  const segment_integration how = segment_integration_of(options);
   std::vector<double> shift(static_cast<std::size_t>(d));
   for (std::size_t i = 0; i < options.winding.size(); ++i)
     shift[static_cast<std::size_t>(c.angle_index(static_cast<int>(i)))] =
@@ -182,7 +241,7 @@ periodic_orbit_result shoot(const chain& c, std::vector<double> x, double period
   try {
     for (int i = 1; i < m; ++i) {
       starts[static_cast<std::size_t>(i)] = starts[static_cast<std::size_t>(i - 1)];
-      flow_segment(c, starts[static_cast<std::size_t>(i)], period / m, seg_steps, {});
+      advance_segment(c, starts[static_cast<std::size_t>(i)], period / m, how);
     }
   } catch (const integration_error&) {
     r.x0 = x;
@@ -239,12 +298,13 @@ periodic_orbit_result shoot(const chain& c, std::vector<double> x, double period
     Eigen::MatrixXd jac = Eigen::MatrixXd::Zero(rows, L.size());
     total = Eigen::MatrixXd::Identity(d, d);
     r.closure = 0;
+    int steps = 0;
     bool failed = false;
     for (int i = 0; i < m && !failed; ++i) {
       std::vector<double> end = starts[static_cast<std::size_t>(i)];
       Eigen::MatrixXd tangent;
       try {
-        tangent = segment_with_tangent(c, end, period / m, seg_steps, options.monodromy, track);
+        tangent = segment_with_tangent(c, end, period / m, how, steps, track);
       } catch (const integration_error&) {
         failed = true;  // the step cannot follow this guess: not converged
         break;
@@ -305,6 +365,7 @@ periodic_orbit_result shoot(const chain& c, std::vector<double> x, double period
     halvings = 0;
     r.iterations = iteration;
     r.amplitudes = amplitudes;
+    r.steps = steps;
     if (!std::isfinite(r.closure)) break;
     if (r.closure <= options.tolerance && energy_error <= options.tolerance * energy_scale) {
       r.converged = true;
@@ -769,7 +830,9 @@ Eigen::VectorXd new_direction(const chain& c, const nnm_point& p, const periodic
                               bool doubling) {
   const int d = c.state_size();
   std::vector<double> end = p.x0;
-  const Eigen::MatrixXd m = segment_with_tangent(c, end, p.period, o.steps, o.monodromy, {});
+  const segment_integration whole_period{o.stepper, o.steps, o.integration_tolerance, o.monodromy};
+  int steps = 0;
+  const Eigen::MatrixXd m = segment_with_tangent(c, end, p.period, whole_period, steps, {});
   Eigen::VectorXd v(d);
   if (doubling) {
     const detail::general_eigensystem eigen = detail::general_eigen_decomposition(m);

@@ -76,6 +76,19 @@ bool detail::taylor_monodromy(const chain& c, std::vector<double>& x, double per
   return true;
 }
 
+std::function<void(const taylor_tangents&)> detail::sampled_steps(
+    std::function<void(std::span<const double>)> track) {
+  return [track = std::move(track),
+          sample = std::vector<double>()](const taylor_tangents& integrator) mutable {
+    sample.resize(integrator.state().size());
+    const double h = integrator.time() - integrator.step_begin();
+    for (int j = 1; j <= taylor_samples_per_step; ++j) {
+      integrator.state_values_at(h * j / taylor_samples_per_step, sample.data());
+      track(sample);
+    }
+  };
+}
+
 namespace {
 
 // The monodromy of the run at the options and of the second run, for the error estimate

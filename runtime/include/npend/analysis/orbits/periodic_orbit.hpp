@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "npend/chain.hpp"
+#include "npend/integrators/stepper_kind.hpp"
 #include "npend/run_control.hpp"
 
 namespace npend {
@@ -27,7 +28,8 @@ enum class orbit_phase {
 
 /// How the shooting gets the monodromy matrix ∂φ(T)/∂x0.
 enum class monodromy_method {
-  /// The exact tangent map of the Gauss–Legendre step, carried along the one pass.
+  /// The exact tangent map of the steps (Gauss–Legendre or Taylor), carried along the one
+  /// pass.
   exact,
   /// Forward differences of 2n + 1 passes (the start and each coordinate nudged by
   /// √ε·max(1, |x_j|)), as continuation codes without a variational system do it. Kept for
@@ -36,10 +38,18 @@ enum class monodromy_method {
 };
 
 struct periodic_orbit_options {
-  /// Gauss–Legendre (order 6) steps over the period: the orbit is exact for that map, whose
-  /// period differs from the flow's by about steps⁻⁶. At least 2 and at least `segments`;
-  /// each segment takes ⌈steps / segments⌉.
+  /// How the shooting crosses the period (stepper_use::monodromy): gauss6, `steps` fixed
+  /// steps, or taylor, adaptive steps on the Taylor series of the variational equations at
+  /// `integration_tolerance`.
+  stepper_kind stepper = stepper_kind::gauss6;
+  /// gauss6: Gauss–Legendre (order 6) steps over the period: the orbit is exact for that
+  /// map, whose period differs from the flow's by about steps⁻⁶. At least 2 and at least
+  /// `segments`; each segment takes ⌈steps / segments⌉. Not used by taylor.
   int steps = 400;
+  /// taylor: the absolute and relative tolerance of its steps, in (0, 1e-6]: the orbit is
+  /// the flow's to about this tolerance. A pass that needs more than 10,000 steps per segment
+  /// (a Newton iterate that spins the chain) counts as failed.
+  double integration_tolerance = 1e-14;
   /// Multiple shooting: the period is cut into this many segments, each integrated from its
   /// own start, and Newton matches each segment's end to the next start. An unstable orbit's
   /// errors then grow over T/segments instead of T. 1: single shooting.
@@ -75,9 +85,12 @@ struct periodic_orbit_result {
   /// mismatch between a segment's end and the next start.
   double closure = 0;
   int iterations = 0;  ///< Newton corrections taken
-  /// max |φ_i| (rad) over the start and the states after each step, per angle (dim n); a
-  /// rotating angle's exceeds π.
+  /// max |φ_i| (rad) over the start and the states after each step (taylor: 16 points of
+  /// each step's polynomial), per angle (dim n); a rotating angle's exceeds π.
   std::vector<double> amplitudes;
+  /// The integration steps of the last pass over the period, all segments together (gauss6:
+  /// segments × ⌈steps / segments⌉).
+  int steps = 0;
   std::vector<int> winding;  ///< the turns per period it was shot with (dim n)
   /// The monodromy's eigenvalues by descending |μ|, without the trivial pair at +1 that the
   /// flow direction and the energy give (dim 2n − 2).
@@ -89,13 +102,15 @@ struct periodic_orbit_result {
 
 /// The periodic orbit near (x0_guess, T_guess) at the energy of `options`: Newton on
 /// F(x0, T) = φ(T; x0) − x0 with the phase condition and H(x0) = E. φ is the Gauss–Legendre
-/// flow with its exact tangent map (the monodromy M = ∂φ/∂x0; ∂φ/∂T = f(φ(T))). Energy
+/// flow with its exact tangent map, or Taylor's (options.stepper), which gives the monodromy
+/// M = ∂φ/∂x0; ∂φ/∂T = f(φ(T)). Energy
 /// conservation makes one row of [M − I, f] dependent on the others, so the square system is
 /// singular; the correction is the least-squares (minimum-norm) solution of all the rows,
 /// which converges quadratically since the residual vanishes at the orbit. Throws
 /// std::invalid_argument for a damped chain, a moving pivot, a cart, a wrong size of
 /// x0_guess, T_guess not positive and finite, steps < 2 (odd for turning_point is fine),
-/// or a tolerance that is not positive.
+/// a tolerance that is not positive, a stepper other than gauss6 and taylor, an integration
+/// tolerance outside (0, 1e-6], or taylor with finite-difference monodromies.
 periodic_orbit_result periodic_orbit(const chain& c, std::span<const double> x0_guess,
                                      double T_guess, const periodic_orbit_options& options = {});
 
