@@ -6,7 +6,8 @@
 // accuracy: each setting's error in the state at t = 10 s against a long double Taylor
 // reference, beside its time for the spectrum and for the maximal exponent. Then the wall time of
 // the Floquet multipliers of the uniform-rod triple pendulum on a vertically shaken pivot
-// (Acheson's setting) over one drive period, gauss6 against taylor. Prints a Markdown section
+// (Acheson's setting) over one drive period, gauss6 against taylor; and the chaos indicators of
+// a torus of the double pendulum, rk4 against taylor. Prints a Markdown section
 // (docs/benchmarks.md, through bench/run).
 //
 //   npend_bench_lyapunov [--quick]     (--quick: T = 100 s and one run, a smoke run)
@@ -22,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "npend/analysis/chaos/chaos_indicators.hpp"
 #include "npend/analysis/stability/floquet.hpp"
 #include "npend/excitation.hpp"
 #include "npend/integrators/taylor.hpp"
@@ -182,6 +184,60 @@ void floquet_section(bool quick) {
   }
 }
 
+// FLI, MEGNO, SALI and GALI of a torus of the double pendulum (φ = 0.3, 0.3 from rest, 4
+// vectors, t = 100 s): rk4 at several steps against taylor at several tolerances. The error
+// of a setting is the larger of FLI's and ⟨Y⟩'s relative distance from rk4 at dt = 1e-4 (on
+// a torus neither run amplifies its errors). Medians over the runs.
+void indicators_section(bool quick) {
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  const std::vector<double> x0{0.3, 0.3, 0, 0};
+  npend::chaos_indicator_options base;
+  base.t_end = 100;
+  base.vectors = 4;
+  npend::chaos_indicator_options fine = base;
+  fine.dt = 1e-4;
+  const npend::chaos_indicator_result reference = npend::chaos_indicators(c, x0, fine);
+  struct indicator_setting {
+    npend::stepper_kind stepper;
+    double value;  // rk4: dt; taylor: tolerance
+  };
+  const std::vector<indicator_setting> settings{
+      {npend::stepper_kind::rk4, 1e-2},     {npend::stepper_kind::rk4, 3e-3},
+      {npend::stepper_kind::rk4, 1e-3},     {npend::stepper_kind::taylor, 1e-8},
+      {npend::stepper_kind::taylor, 1e-10}, {npend::stepper_kind::taylor, 1e-12}};
+  const int runs = quick ? 3 : 11;
+  fmt::print(
+      "\n**Chaos indicators** (FLI, MEGNO, SALI, GALI) of a torus of the double pendulum "
+      "(m = 1 kg, l = 1 m, φ = 0.3, 0.3 from rest), 4 deviation vectors, t = 100 s: rk4 "
+      "against taylor (MEGNO's integrals by quadrature over its steps). Error: the larger of "
+      "FLI's and ⟨Y⟩'s relative distance from rk4 at dt = 1e-4. Median of {} runs.\n\n"
+      "| stepper | setting | time (ms) | error | FLI | ⟨Y⟩ |\n|---|---|---:|---:|---:|---:|\n",
+      runs);
+  for (const indicator_setting& s : settings) {
+    npend::chaos_indicator_options o = base;
+    o.stepper = s.stepper;
+    if (s.stepper == npend::stepper_kind::taylor)
+      o.tolerance = s.value;
+    else
+      o.dt = s.value;
+    std::vector<double> times;
+    npend::chaos_indicator_result r;
+    for (int k = 0; k < runs; ++k) {
+      const auto started = std::chrono::steady_clock::now();
+      r = npend::chaos_indicators(c, x0, o);
+      times.push_back(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+    }
+    std::sort(times.begin(), times.end());
+    const double error = std::max(std::fabs(r.last.fli / reference.last.fli - 1),
+                                  std::fabs(r.last.mean_megno / reference.last.mean_megno - 1));
+    fmt::print("| {} | {} {:g} | {:.1f} | {:.1e} | {:.10f} | {:.10f} |\n",
+               npend::stepper_name(s.stepper),
+               s.stepper == npend::stepper_kind::taylor ? "tol" : "dt", s.value,
+               1e3 * times[times.size() / 2], error, r.last.fli, r.last.mean_megno);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -223,5 +279,6 @@ int main(int argc, char** argv) {
   equal_accuracy_section(c, x0, t_end, runs);
 
   floquet_section(quick);
+  indicators_section(quick);
   return 0;
 }

@@ -610,11 +610,14 @@ def chaos_indicators(
     dt: float = 0.01,
     vectors: int = 2,
     sample_interval: float = 0.0,
+    stepper: str = "rk4",
+    tol: float = 1e-12,
 ) -> IndicatorsResult:
     """The fast chaos indicators of the trajectory from x0: FLI, MEGNO, SALI and GALI.
 
-    The trajectory and `vectors` deviation vectors run with rk4 at dt; the vectors are
-    renormalised after every step. On a torus <Y> -> 2 and SALI stays away from 0; on a
+    The trajectory and `vectors` deviation vectors run with rk4 at dt, or with Taylor's
+    method at the tolerance `tol` (``stepper="taylor"``); the vectors are renormalised after
+    every step. On a torus <Y> -> 2 and SALI stays away from 0; on a
     chaotic orbit <Y> ~ lambda_1 t / 2 and SALI ~ exp(-(lambda_1 - lambda_2) t).
 
     Parameters
@@ -626,11 +629,17 @@ def chaos_indicators(
     t_end : float
         The end of the integration (s).
     dt : float, optional
-        The rk4 step (s).
+        The rk4 step (s); taylor's first trial step.
     vectors : int, optional
         The deviation vectors, 2..2n.
     sample_interval : float, optional
         The time between samples (s); 0: one sample at t_end.
+    stepper : {"rk4", "taylor"}, optional
+        rk4's fixed steps, or Taylor's adaptive steps (its steps land on the samples; MEGNO's
+        integrals by quadrature over each step's polynomials, FLI's maximum located within
+        the steps).
+    tol : float, optional
+        taylor: the absolute and relative tolerance of its steps, in (0, 1e-6].
 
     Returns
     -------
@@ -654,7 +663,8 @@ def chaos_indicators(
     (20,) (20, 1) 2.0
     """
     d = _npend.chaos_indicators(
-        chain, x0, t_end, dt=dt, vectors=vectors, sample_interval=sample_interval)
+        chain, x0, t_end, dt=dt, vectors=vectors, sample_interval=sample_interval,
+        stepper=stepper, tol=tol)
     return IndicatorsResult(**d)
 
 

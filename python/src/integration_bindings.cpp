@@ -423,10 +423,13 @@ py::dict poincare(const chain& c, const py::handle& x0_in, const std::string& se
 }
 
 py::dict indicators(const chain& c, const py::handle& x0_in, double t_end, double dt,
-                    std::size_t vectors, double sample_interval) {
+                    std::size_t vectors, double sample_interval, const std::string& stepper,
+                    double tol) {
   const auto x0 = start_state(c, x0_in);
   chaos_indicator_options o;
   o.t_end = t_end;
+  o.stepper = parse_stepper_kind(stepper);
+  o.tolerance = tol;
   o.dt = dt;
   o.vectors = vectors;
   o.sample_interval = sample_interval;
@@ -497,7 +500,7 @@ output over each step, kept exactly. t outside [t_min, t_max] raises ValueError.
         py::arg("blocks") = 10, py::arg("atol") = 1e-10, py::arg("rtol") = 1e-10);
   m.def("chaos_indicators", &indicators, py::arg("chain"), py::arg("x0"), py::arg("t_end"),
         py::kw_only(), py::arg("dt") = 0.01, py::arg("vectors") = 2,
-        py::arg("sample_interval") = 0.0);
+        py::arg("sample_interval") = 0.0, py::arg("stepper") = "rk4", py::arg("tol") = 1e-12);
   m.def("poincare", &poincare, py::arg("chain"), py::arg("x0"), py::arg("section"),
         py::arg("t_end"), py::kw_only(), py::arg("dt") = 1e-3, py::arg("stepper") = "gauss6",
         py::arg("direction") = "up", py::arg("max_crossings") = 0, py::arg("unwrapped") = false,

@@ -79,6 +79,7 @@ TEST_CASE("parse_stepper_kind: every name round-trips, an unknown one lists the 
   CHECK(npend::stepper_names(npend::stepper_use::adaptive) ==
         "dopri5, rkf78, bs, rosenbrock4, taylor");
   CHECK(npend::stepper_names(npend::stepper_use::monodromy) == "gauss6, taylor");
+  CHECK(npend::stepper_names(npend::stepper_use::indicators) == "rk4, taylor");
   CHECK_THROWS_WITH_AS(
       npend::parse_stepper_kind("euler"),
       "unknown stepper 'euler': choose one of rk4, dopri5, rkf78, bs, rosenbrock4, "

@@ -16,29 +16,30 @@ struct stepper_info {
   bool variational;   // its tangent map needs no second derivatives of f
   bool any_system;    // it integrates a system given as functions, not only a chain's kernels
   bool monodromy;     // floquet_analysis carries the monodromy matrix over a period on it
+  bool indicators;    // chaos_indicators runs it
 };
 
 constexpr std::array<stepper_info, 8> infos{{
     {stepper_kind::rk4, "rk4", "classic Runge-Kutta 4, fixed step (the paper's method)", false,
-     true, true, true, false},
+     true, true, true, false, true},
     {stepper_kind::dopri5, "dopri5", "Dormand-Prince 5(4), adaptive, dense output", true, true,
-     true, true, false},
+     true, true, false, false},
     {stepper_kind::rkf78, "rkf78", "Runge-Kutta-Fehlberg 7(8), adaptive", true, false, true, true,
-     false},
+     false, false},
     {stepper_kind::bulirsch_stoer, "bs", "Bulirsch-Stoer extrapolation, adaptive, dense output",
-     true, false, true, true, false},
+     true, false, true, true, false, false},
     {stepper_kind::rosenbrock4, "rosenbrock4",
      "Rosenbrock 4 with the exact Jacobian, adaptive, dense output", true, false, false, true,
-     false},
+     false, false},
     {stepper_kind::gauss4, "gauss4",
      "implicit Gauss-Legendre, 2 stages, order 4, fixed step, symplectic", false, true, true, true,
-     false},
+     false, false},
     {stepper_kind::gauss6, "gauss6",
      "implicit Gauss-Legendre, 3 stages, order 6, fixed step, symplectic", false, true, true, true,
-     true},
+     true, false},
     {stepper_kind::taylor, "taylor",
      "Taylor's method, adaptive order and step, on the generated recurrences, dense output", true,
-     false, true, false, true},
+     false, true, false, true, true},
 }};
 
 constexpr auto kinds = [] {
@@ -82,6 +83,8 @@ bool serves(stepper_kind kind, stepper_use use) {
       return i.any_system;
     case stepper_use::monodromy:
       return i.monodromy;
+    case stepper_use::indicators:
+      return i.indicators;
   }
   return false;
 }

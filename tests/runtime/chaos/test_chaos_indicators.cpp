@@ -112,6 +112,43 @@ TEST_CASE("chaos indicators: a chaotic orbit of the strong triple pendulum") {
   CHECK(r.last.sali < 1e-12);
 }
 
+TEST_CASE("chaos indicators on taylor: rk4's at a fine step on a torus of the double pendulum") {
+  // Two integrators and two ways to MEGNO's integrals (rk4 carries them as ODEs; Taylor
+  // integrates ln‖w‖ by parts over its steps): on a regular orbit, where neither amplifies
+  // its errors, all the indicators agree to well below rk4's error at dt (~1e-11 here).
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  const std::vector<double> x0{0.3, 0.3, 0, 0};
+  npend::chaos_indicator_options o;
+  o.t_end = 50;
+  o.dt = 5e-4;
+  o.vectors = 4;
+  o.sample_interval = 12.5;
+  const auto reference = npend::chaos_indicators(c, x0, o);
+  o.stepper = npend::stepper_kind::taylor;
+  o.tolerance = 1e-12;
+  const auto r = npend::chaos_indicators(c, x0, o);
+  // The steps land on the sample times.
+  REQUIRE(r.history.size() == 4);
+  for (std::size_t i = 0; i < 4; ++i) CHECK(r.history[i].t == 12.5 * static_cast<double>(i + 1));
+  CHECK(r.last.t == 50);
+  for (std::size_t i = 0; i < r.state.size(); ++i)
+    CHECK(std::fabs(r.state[i] - reference.state[i]) <= 1e-10);
+  const auto agree = [](double a, double b, double tolerance) {
+    return std::fabs(a - b) <= tolerance * std::fabs(b);
+  };
+  for (std::size_t k = 0; k < 4; ++k) {
+    const auto& a = r.history[k];
+    const auto& b = reference.history[k];
+    // rk4's FLI is the largest ln‖w‖ at its step ends, off the true maximum by about
+    // (dt/2)² L''; Taylor's locates the maximum within its steps.
+    CHECK(agree(a.fli, b.fli, 1e-7));
+    CHECK(agree(a.megno, b.megno, 1e-9));
+    CHECK(agree(a.mean_megno, b.mean_megno, 1e-9));
+    CHECK(agree(a.sali, b.sali, 1e-8));
+    for (std::size_t j = 0; j < 3; ++j) CHECK(agree(a.gali[j], b.gali[j], 1e-8));
+  }
+}
+
 TEST_CASE("chaos indicators: SALI falls like exp(-(lambda_1 - lambda_2) t)") {
   // SALI reaches round-off within a minute here, too short for one run's rate to settle:
   // over ten 40 s stretches of one chaotic orbit, Σ ln SALI(40 s) against
@@ -141,6 +178,54 @@ TEST_CASE("chaos indicators: SALI falls like exp(-(lambda_1 - lambda_2) t)") {
   }
   MESSAGE("sum of ln SALI " << log_sali << ", of -(lambda_1 - lambda_2) t " << expected);
   CHECK(within(log_sali, expected, 0.1));
+}
+
+TEST_CASE("chaos indicators on taylor: rk4's on the chaotic triple pendulum while they agree") {
+  // Over 15 s both runs stay on the same chaotic trajectory (errors grow by e^(λ₁ t) ≈ 600);
+  // over 1000 s they part, and their finite-time rates scatter by some 20 %.
+  const auto c = triple();
+  const auto x0 = zigzag(c, 1.5);
+  npend::chaos_indicator_options o;
+  o.t_end = 15;
+  o.dt = 1e-4;
+  o.vectors = 3;
+  const auto reference = npend::chaos_indicators(c, x0, o);
+  o.stepper = npend::stepper_kind::taylor;
+  o.tolerance = 1e-13;
+  const auto r = npend::chaos_indicators(c, x0, o);
+  MESSAGE("chaotic, t = 15: FLI " << r.last.fli << " (rk4 " << reference.last.fli << "), <Y> "
+                                  << r.last.mean_megno << " (rk4 " << reference.last.mean_megno
+                                  << ")");
+  REQUIRE(r.last.fli > 3);
+  CHECK(std::fabs(r.last.fli - reference.last.fli) <= 1e-6 * reference.last.fli);
+  CHECK(std::fabs(r.last.megno - reference.last.megno) <= 1e-6 * reference.last.megno);
+  CHECK(std::fabs(r.last.mean_megno - reference.last.mean_megno) <=
+        1e-6 * reference.last.mean_megno);
+  CHECK(std::fabs(std::log(r.last.sali / reference.last.sali)) <= 1e-5);
+  CHECK(std::fabs(std::log(r.last.gali[1] / reference.last.gali[1])) <= 1e-5);
+}
+
+TEST_CASE("chaos indicators: refuses other steppers and bad taylor tolerances") {
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  const std::vector<double> x0{0.3, 0.3, 0, 0};
+  npend::chaos_indicator_options o;
+  o.t_end = 1;
+  o.stepper = npend::stepper_kind::gauss6;
+  CHECK_THROWS_WITH_AS(npend::chaos_indicators(c, x0, o),
+                       "chaos indicators: they integrate with rk4, taylor, not gauss6",
+                       std::invalid_argument);
+  o.stepper = npend::stepper_kind::taylor;
+  for (const double tolerance : {0.0, 1e-5, std::nan("")}) {
+    o.tolerance = tolerance;
+    CHECK_THROWS_WITH_AS(npend::chaos_indicators(c, x0, o),
+                         doctest::Contains("the taylor tolerance must lie in (0, 1e-6]"),
+                         std::invalid_argument);
+  }
+  // Seven links run on the loop kernels, which have no Taylor kernels.
+  o.tolerance = 1e-10;
+  const npend::chain seven(npend::chain_parameters::uniform(7));
+  CHECK_THROWS_WITH_AS(npend::chaos_indicators(seven, std::vector<double>(14, 0.1), o),
+                       doctest::Contains("taylor"), std::invalid_argument);
 }
 
 TEST_CASE("chaos indicators: bad input") {

@@ -48,6 +48,7 @@ enum class stepper_use {
   system,       ///< steppers that integrate any system given as functions (all but taylor, which
                 ///< runs a chain's generated Taylor kernels)
   monodromy,    ///< steppers floquet_analysis carries the monodromy matrix on (gauss6, taylor)
+  indicators,   ///< steppers chaos_indicators runs (rk4, taylor)
 };
 
 /// Whether `kind` serves `use`.

@@ -10,23 +10,31 @@
 #include <vector>
 
 #include "npend/chain.hpp"
+#include "npend/integrators/stepper_kind.hpp"
 #include "npend/run_control.hpp"
 
 namespace npend {
 
 struct chaos_indicator_options {
   double t_end = 100;  ///< s, from t = 0
-  double dt = 0.01;    ///< rk4's step (s) for the state and the deviation vectors
+  /// rk4 (fixed steps of dt) or taylor (adaptive steps on the Taylor series of the
+  /// variational equations at `tolerance`); stepper_use::indicators.
+  stepper_kind stepper = stepper_kind::rk4;
+  double dt = 0.01;  ///< rk4's step (s); taylor's first trial step
+  /// taylor: the absolute and relative tolerance of its steps (over the state and the
+  /// vectors), in (0, 1e-6].
+  double tolerance = 1e-12;
   /// k deviation vectors (2 ≤ k ≤ 2n): GALI_2..GALI_k are computed; SALI needs 2.
   std::size_t vectors = 2;
-  /// Every this many seconds (a whole number of steps) a sample of the indicators is kept
-  /// in the result's history; 0 keeps none.
+  /// Every this many seconds (rk4: a whole number of steps; taylor's steps land on the
+  /// sample times) a sample of the indicators is kept in the result's history; 0 keeps none.
   double sample_interval = 0;
   run_control* control = nullptr;  ///< progress in s of t_end; may be null
 
   /// Throws std::invalid_argument naming the field: dt or t_end not finite and positive,
-  /// t_end < dt, a sample interval < 0 or not finite. (The vector count is checked against
-  /// the chain by chaos_indicators.)
+  /// t_end < dt, a sample interval < 0 or not finite, a stepper other than rk4 and taylor,
+  /// a taylor tolerance outside (0, 1e-6]. (The vector count is checked against the chain by
+  /// chaos_indicators.)
   void validate() const;
 };
 
@@ -59,13 +67,16 @@ struct chaos_indicator_result {
 };
 
 /// The indicators of the trajectory from x0 (dim 2n) of chain `c`, integrated by rk4 at dt
-/// together with k deviation vectors ẇ = J(x, t) w (the exact Jacobian). The vectors start
-/// orthonormal — w_1 = (1, …, 1)/√(2n), as maximal_lyapunov_exponent's, and the others the
-/// unit vectors e_1, e_2, … made orthogonal to it — and are normalised after every step (the
-/// directions are not re-orthogonalised: SALI and GALI measure how they align). MEGNO's two
-/// integrals ride along with the state. Throws std::invalid_argument for bad options, a
-/// start of the wrong size or non-finite, or k outside 2..2n; npend::integration_error when
-/// the state or a vector becomes non-finite.
+/// (or by Taylor's method, options.stepper) together with k deviation vectors ẇ = J(x, t) w
+/// (the exact Jacobian). The vectors start orthonormal — w_1 = (1, …, 1)/√(2n), as
+/// maximal_lyapunov_exponent's, and the others the unit vectors e_1, e_2, … made orthogonal
+/// to it — and are normalised after every step (the directions are not re-orthogonalised:
+/// SALI and GALI measure how they align). rk4: MEGNO's two integrals ride along with the
+/// state. taylor: they are integrated by parts into integrals of ln‖w_1‖ over each step,
+/// taken by 8-point Gauss–Legendre quadrature on the step's polynomials, at whose nodes FLI's
+/// maximum is also taken. Throws std::invalid_argument for bad options, a start of the wrong
+/// size or non-finite, k outside 2..2n, or taylor on a chain without Taylor kernels;
+/// npend::integration_error when the state or a vector becomes non-finite.
 chaos_indicator_result chaos_indicators(const chain& c, std::span<const double> x0,
                                         const chaos_indicator_options& options);
 
