@@ -202,7 +202,7 @@ void indicators_section(bool quick) {
     double value;  // rk4: dt; taylor: tolerance
   };
   const std::vector<indicator_setting> settings{
-      {npend::stepper_kind::rk4, 1e-2},     {npend::stepper_kind::rk4, 3e-3},
+      {npend::stepper_kind::rk4, 1e-2},     {npend::stepper_kind::rk4, 2e-3},
       {npend::stepper_kind::rk4, 1e-3},     {npend::stepper_kind::taylor, 1e-8},
       {npend::stepper_kind::taylor, 1e-10}, {npend::stepper_kind::taylor, 1e-12}};
   const int runs = quick ? 3 : 11;
