@@ -48,17 +48,24 @@ map_stepping map_stepping_of(const map_command_options& o, map_quantity quantity
     }
     if (!is_map_stepper(stepping.stepper))
       throw cli::input_error(fmt::format("--stepper: a map integrates with one of {}, not {}",
-                                         stepper_names(stepper_use::map), o.stepper));
+                                         map_stepper_names(), o.stepper));
   }
-  if (!map_takes_stepper(quantity, stepping.stepper))
-    throw cli::input_error(
-        fmt::format("--stepper: the chaos indicators ({}) integrate with rk4 only; {} takes flip, "
-                    "lyapunov and state",
-                    map_quantity_name(quantity), o.stepper));
+  if (!map_takes_stepper(quantity, stepping.stepper)) {
+    if (stepping.stepper == stepper_kind::taylor)
+      throw cli::input_error(fmt::format(
+          "--stepper: taylor maps only the chaos indicators (fli, megno, sali, gali), not {}",
+          map_quantity_name(quantity)));
+    throw cli::input_error(fmt::format(
+        "--stepper: the chaos indicators ({}) integrate with one of {}; {} takes "
+        "flip, lyapunov and state",
+        map_quantity_name(quantity), stepper_names(stepper_use::indicators), o.stepper));
+  }
+  const bool adaptive =
+      stepping.stepper == stepper_kind::dopri5 || stepping.stepper == stepper_kind::taylor;
   cli::parse_tolerances(o.abs_tol, o.rel_tol, o.tol,
-                        stepping.stepper == stepper_kind::dopri5
-                            ? ""
-                            : "only with --stepper dopri5 (the others take a fixed --dt)",
+                        adaptive ? ""
+                                 : "only with --stepper dopri5 or taylor (the others take a "
+                                   "fixed --dt)",
                         stepping.abs_tol, stepping.rel_tol);
   return stepping;
 }

@@ -967,11 +967,13 @@ def map(
         The rest of each start (default 0).
     velocities : array_like, shape (n,), optional
         The start's angular velocities instead of x0's momenta.
-    stepper : {"rk4", "dopri5", "gauss4", "gauss6"}, optional
+    stepper : {"rk4", "dopri5", "gauss4", "gauss6", "taylor"}, optional
         rk4 steps dt; dopri5 (flip, lyapunov, state) steps adaptively under atol and rtol;
-        gauss4 and gauss6 (flip, lyapunov, state) are symplectic with steps dt.
+        gauss4 and gauss6 (flip, lyapunov, state) are symplectic with steps dt; taylor (the
+        chaos indicators only) runs chaos_indicators on Taylor's method, cell by cell, at
+        atol = rtol.
     atol, rtol : float, optional
-        dopri5's absolute and relative tolerances.
+        dopri5's absolute and relative tolerances; taylor's one tolerance (equal).
     threads : int, optional
         The OpenMP threads (0: every core); the values do not depend on it.
     device : {"cpu", "cuda"}, optional

@@ -221,6 +221,36 @@ TEST_CASE("npend map --stepper gauss6: every cell the library's Gauss-Legendre v
       "--rel-tol: only with --stepper dopri5"));
 }
 
+TEST_CASE("npend map --stepper taylor: the indicators' cells are the library's, the run named") {
+  const fs::path dir(npend::test::temporary_directory("cli-map-taylor"));
+  const auto r = run_npend(
+      "map --links 2 --x phi1:-2:2:4 --y phi2:-1:1:3 --quantity megno --t-end 10 --stepper taylor "
+      "--tol 1e-11 --json --out " +
+      (dir / "megno").string());
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["stepper"] == "taylor");
+  const npy m = read_npy(dir / "megno" / "map.npy");
+  REQUIRE(m.values.size() == 12);
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  npend::map_cell_options o;
+  o.quantity = npend::map_quantity::megno;
+  o.t_end = 10;
+  o.stepping.stepper = npend::stepper_kind::taylor;
+  o.stepping.abs_tol = o.stepping.rel_tol = 1e-11;
+  for (int row = 0; row < 3; ++row)
+    for (int col = 0; col < 4; ++col) {
+      const std::vector<double> x{npend::grid_value(-2, 2, 4, col),
+                                  npend::grid_value(-1, 1, 3, row), 0, 0};
+      INFO("row " << row << ", column " << col);
+      CHECK(m.values[static_cast<std::size_t>(row * 4 + col)] == npend::map_cell(c, x, o));
+    }
+  CHECK(npend::test::is_input_error(
+      run_npend("map --links 2 --x phi1:0:1:4 --y phi2:0:1:4 --stepper taylor --out " +
+                (dir / "flip").string()),
+      "--stepper: taylor maps only the chaos indicators (fli, megno, sali, gali), not flip"));
+}
+
 TEST_CASE("npend map: energy, mass and length axes start each cell as the closed form says") {
   // The hanging double pendulum pushed with p = s (l1, l2) has the kinetic energy ½ pᵀA⁻¹p,
   // which for l1 = l2 = 1 and m1 = 1 is s² / (2 m2); so the energy axis must start each cell at

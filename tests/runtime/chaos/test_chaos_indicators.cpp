@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "npend/analysis/chaos/chaos_indicators.hpp"
+#include "npend/analysis/chaos/chaos_map.hpp"
 #include "npend/analysis/chaos/lyapunov.hpp"
 #include "npend/excitation.hpp"
 #include "npend/integrators/integrate.hpp"
@@ -249,4 +250,40 @@ TEST_CASE("chaos indicators: bad input") {
   bad[2] = NAN;
   CHECK_THROWS_WITH_AS(npend::chaos_indicators(c, bad, o), doctest::Contains("not finite"),
                        std::invalid_argument);
+}
+
+TEST_CASE("map cells on taylor: each the chaos indicator of its start, refusals named") {
+  // The map runs taylor's indicators cell by cell (the lanes have no Taylor steps): each cell
+  // is chaos_indicators' value at t_end, whatever the cells beside it.
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  const std::vector<double> starts{0.3, 0.3, 0, 0, 1.5, 1.5, 0, 0, 2.0, -1.0, 0, 0};
+  npend::map_cell_options o;
+  o.quantity = npend::map_quantity::megno;
+  o.t_end = 20;
+  o.stepping.stepper = npend::stepper_kind::taylor;
+  o.stepping.abs_tol = o.stepping.rel_tol = 1e-11;
+  const std::vector<double> cells = npend::map_cells(c, starts, o);
+  REQUIRE(cells.size() == 3);
+  for (std::size_t k = 0; k < 3; ++k) {
+    npend::chaos_indicator_options io;
+    io.t_end = 20;
+    io.stepper = npend::stepper_kind::taylor;
+    io.tolerance = 1e-11;
+    const std::vector<double> x0(starts.begin() + static_cast<std::ptrdiff_t>(4 * k),
+                                 starts.begin() + static_cast<std::ptrdiff_t>(4 * k + 4));
+    CHECK(cells[k] == npend::chaos_indicators(c, x0, io).last.mean_megno);
+  }
+  o.quantity = npend::map_quantity::flip;
+  CHECK_THROWS_WITH_AS(npend::map_cells(c, starts, o),
+                       "flip: taylor maps only the chaos indicators (fli, megno, sali, gali)",
+                       std::invalid_argument);
+  o.quantity = npend::map_quantity::fli;
+  o.stepping.abs_tol = 1e-9;
+  CHECK_THROWS_WITH_AS(npend::map_cells(c, starts, o),
+                       doctest::Contains("taylor takes one tolerance"), std::invalid_argument);
+  o.stepping.abs_tol = o.stepping.rel_tol = 1e-4;
+  CHECK_THROWS_WITH_AS(npend::map_cells(c, starts, o),
+                       doctest::Contains("the taylor tolerance must lie in (0, 1e-6]"),
+                       std::invalid_argument);
+  CHECK(npend::map_stepper_names() == "rk4, dopri5, gauss4, gauss6, taylor");
 }

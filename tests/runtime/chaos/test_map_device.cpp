@@ -207,7 +207,7 @@ TEST_CASE("gpu maps: the device names, and what the GPU maps refuse by name") {
       doctest::Contains("rk4 or dopri5, not gauss6"), std::invalid_argument);
   CHECK_THROWS_WITH_AS(
       npend::check_cuda_map(c, options(map_quantity::megno, npend::stepper_kind::dopri5, 10)),
-      doctest::Contains("rk4 only"), std::invalid_argument);
+      doctest::Contains("integrate with one of rk4, taylor, not dopri5"), std::invalid_argument);
   auto custom = npend::chain_parameters::uniform(2);
   custom.make_uniform_rods();
   custom.pivot.type = npend::pivot_motion::kind::custom;

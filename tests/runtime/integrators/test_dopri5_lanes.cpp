@@ -241,7 +241,7 @@ TEST_CASE("dopri5 maps: what a map refuses") {
   mo.stepping.stepper = npend::stepper_kind::rosenbrock4;
   CHECK_THROWS_WITH_AS(
       npend::map_cell(c, x0, mo),
-      "flip: maps integrate with one of rk4, dopri5, gauss4, gauss6, not rosenbrock4",
+      "flip: maps integrate with one of rk4, dopri5, gauss4, gauss6, taylor, not rosenbrock4",
       std::invalid_argument);
   mo.stepping = dopri5_at(0);
   CHECK_THROWS_WITH_AS(npend::map_cell(c, x0, mo),
@@ -252,7 +252,7 @@ TEST_CASE("dopri5 maps: what a map refuses") {
   mo.stepping = dopri5_at(1e-9);
   mo.quantity = npend::map_quantity::megno;
   CHECK_THROWS_WITH_AS(npend::map_cell(c, x0, mo),
-                       "megno: the chaos indicators integrate with rk4 only, not dopri5",
+                       "megno: the chaos indicators integrate with one of rk4, taylor, not dopri5",
                        std::invalid_argument);
   // A blown-up start gives NaN, not an exception or a hang.
   mo.quantity = npend::map_quantity::flip;

@@ -82,6 +82,11 @@ void check_flip_options(const flip_options& o) {
         fmt::format("flip: need 0 < dt <= t_end, got dt = {}, t_end = {}", o.dt, o.t_end));
   check_cell_steps(o.t_end, o.dt);
   o.stepping.validate("flip");
+  // A stepper the flip code has no path for must not fall through to rk4's.
+  if (!map_takes_stepper(map_quantity::flip, o.stepping.stepper))
+    throw std::invalid_argument(
+        fmt::format("flip: {} maps only the chaos indicators (fli, megno, sali, gali)",
+                    stepper_name(o.stepping.stepper)));
 }
 
 // A run control that passes on only the stop requests: a map's cells run on many threads at
@@ -224,14 +229,23 @@ bool flip_energy_holds(const chain& c, double h0, std::span<const double> x1, do
 
 }  // namespace detail
 
-bool is_map_stepper(stepper_kind stepper) { return serves(stepper, stepper_use::map); }
+bool is_map_stepper(stepper_kind stepper) {
+  return serves(stepper, stepper_use::map) || serves(stepper, stepper_use::indicators);
+}
+
+std::string map_stepper_names() {
+  std::string out;
+  for (const stepper_kind kind : all_stepper_kinds())
+    if (is_map_stepper(kind))
+      out += fmt::format("{}{}", out.empty() ? "" : ", ", stepper_name(kind));
+  return out;
+}
 
 void map_stepping::validate(std::string_view what) const {
   if (!is_map_stepper(stepper))
     throw std::invalid_argument(fmt::format("{}: maps integrate with one of {}, not {}", what,
-                                            stepper_names(stepper_use::map),
-                                            stepper_name(stepper)));
-  if (stepper != stepper_kind::dopri5) return;
+                                            map_stepper_names(), stepper_name(stepper)));
+  if (stepper != stepper_kind::dopri5 && stepper != stepper_kind::taylor) return;
   const auto check = [&](double tol, std::string_view name) {
     if (!(tol >= 0) || !std::isfinite(tol))
       throw std::invalid_argument(
@@ -242,6 +256,15 @@ void map_stepping::validate(std::string_view what) const {
   if (abs_tol == 0 && rel_tol == 0)
     throw std::invalid_argument(
         fmt::format("{}: abs_tol and rel_tol are both 0; at least one must be positive", what));
+  // chaos_indicators' Taylor steps take one tolerance for both.
+  if (stepper != stepper_kind::taylor) return;
+  if (abs_tol != rel_tol)
+    throw std::invalid_argument(fmt::format(
+        "{}: taylor takes one tolerance: abs_tol and rel_tol must be equal, got {} and {}", what,
+        abs_tol, rel_tol));
+  if (!(rel_tol <= 1e-6))
+    throw std::invalid_argument(
+        fmt::format("{}: the taylor tolerance must lie in (0, 1e-6], got {}", what, rel_tol));
 }
 
 double flip_time(const chain& c, std::span<const double> x0, const flip_options& o) {
@@ -384,7 +407,8 @@ bool is_indicator(map_quantity quantity) {
 }  // namespace
 
 bool map_takes_stepper(map_quantity quantity, stepper_kind stepper) {
-  return is_map_stepper(stepper) && (stepper == stepper_kind::rk4 || !is_indicator(quantity));
+  return is_indicator(quantity) ? serves(stepper, stepper_use::indicators)
+                                : serves(stepper, stepper_use::map);
 }
 
 namespace {
@@ -395,6 +419,8 @@ double indicator_cell(const chain& c, std::span<const double> x0, const map_cell
   io.t_end = o.t_end;
   io.dt = o.dt;
   io.vectors = indicator_vectors(c, o);
+  io.stepper = o.stepping.stepper;
+  io.tolerance = o.stepping.rel_tol;
   io.control = o.control;
   const chaos_indicator_result r = chaos_indicators(c, x0, io);
   return r.stopped ? std::numeric_limits<double>::quiet_NaN() : indicator_value(o.quantity, r.last);
@@ -469,10 +495,15 @@ void map_cell_options::validate(const chain& c) const {
                                             map_quantity_name(quantity), dt, t_end));
   check_cell_steps(t_end, dt);
   stepping.validate(map_quantity_name(quantity));
-  if (!map_takes_stepper(quantity, stepping.stepper))
+  if (!map_takes_stepper(quantity, stepping.stepper)) {
+    if (is_indicator(quantity))
+      throw std::invalid_argument(fmt::format(
+          "{}: the chaos indicators integrate with one of {}, not {}", map_quantity_name(quantity),
+          stepper_names(stepper_use::indicators), stepper_name(stepping.stepper)));
     throw std::invalid_argument(
-        fmt::format("{}: the chaos indicators integrate with rk4 only, not {}",
+        fmt::format("{}: {} maps only the chaos indicators (fli, megno, sali, gali)",
                     map_quantity_name(quantity), stepper_name(stepping.stepper)));
+  }
   if (quantity == map_quantity::flip) {
     energy_forbids_flip(c, std::vector<double>(static_cast<std::size_t>(c.state_size()), 0.0),
                         flip_link);
@@ -543,7 +574,8 @@ std::vector<double> map_cells(const chain& c, std::span<const double> starts,
     check_starts("");
     lanes.lyapunov(c, starts, lo, out);
   } else if (is_indicator(options.quantity)) {
-    if (!on_lanes)
+    // The lanes have no Taylor steps: taylor's maps go cell by cell.
+    if (!on_lanes || options.stepping.stepper == stepper_kind::taylor)
       return cell_by_cell(
           starts, m, [&](std::span<const double> x0) { return indicator_cell(c, x0, options); },
           options.control);

@@ -47,7 +47,8 @@ nlohmann::json identity_of(const chain& c, const map_run_description& d) {
   // when rk4 was the maps' only stepper, so that their folders still resume and merge.
   if (cell.stepping.stepper != stepper_kind::rk4)
     identity["stepper"] = stepper_name(cell.stepping.stepper);
-  if (cell.stepping.stepper == stepper_kind::dopri5) {
+  if (cell.stepping.stepper == stepper_kind::dopri5 ||
+      cell.stepping.stepper == stepper_kind::taylor) {
     identity["abs_tol"] = cell.stepping.abs_tol;
     identity["rel_tol"] = cell.stepping.rel_tol;
   }

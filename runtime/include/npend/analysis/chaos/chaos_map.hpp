@@ -4,6 +4,7 @@
 #pragma once
 
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -24,16 +25,18 @@ namespace npend {
 /// chain is never ruled out (false). Throws std::invalid_argument for an arm not 0..n.
 bool energy_forbids_flip(const chain& c, std::span<const double> x0, int link = 0);
 
-/// How the cells of a map are integrated: rk4 at a fixed step dt (the default), or dopri5
+/// How the cells of a map are integrated: rk4 at a fixed step dt (the default), dopri5
 /// (Dormand–Prince 5(4), adaptive, under abs_tol and rel_tol, first trial step dt), as
-/// npend::integrate runs them.
+/// npend::integrate runs them, gauss4 and gauss6; or, for the chaos indicators only, taylor
+/// (chaos_indicators on Taylor's method at the one tolerance abs_tol = rel_tol, cell by cell).
 struct map_stepping {
   stepper_kind stepper = stepper_kind::rk4;
-  double abs_tol = 1e-10;  ///< dopri5 only
-  double rel_tol = 1e-10;  ///< dopri5 only
+  double abs_tol = 1e-10;  ///< dopri5 and taylor only
+  double rel_tol = 1e-10;  ///< dopri5 and taylor only
 
-  /// Throws std::invalid_argument ("<what>: …") for a stepper other than rk4 and dopri5,
-  /// or (dopri5) tolerances that are negative, not finite, or both zero.
+  /// Throws std::invalid_argument ("<what>: …") for a stepper that is not a map's
+  /// (is_map_stepper), or (dopri5, taylor) tolerances that are negative, not finite, or both
+  /// zero, or (taylor) not equal.
   void validate(std::string_view what) const;
 };
 
@@ -126,17 +129,21 @@ std::string_view map_quantity_name(map_quantity quantity);
 /// The quantity called `name`; throws std::invalid_argument naming the valid names.
 map_quantity parse_map_quantity(std::string_view name);
 
-/// Whether a map integrates with `stepper` at all: rk4, dopri5, gauss4 or gauss6.
+/// Whether a map integrates with `stepper` at all: rk4, dopri5, gauss4, gauss6 (the batch
+/// lanes' steppers) or taylor (the chaos indicators only).
 bool is_map_stepper(stepper_kind stepper);
-/// Whether a map of `quantity` integrates with `stepper`: rk4 every quantity; the other map
-/// steppers flip, lyapunov and state (the chaos indicators are rk4's, as chaos_indicators).
+/// The names of the steppers is_map_stepper takes, joined by ", " (for messages).
+std::string map_stepper_names();
+/// Whether a map of `quantity` integrates with `stepper`: flip, lyapunov and state with the
+/// lanes' steppers (rk4, dopri5, gauss4, gauss6); the chaos indicators with chaos_indicators'
+/// (rk4, taylor).
 bool map_takes_stepper(map_quantity quantity, stepper_kind stepper);
 
 struct map_cell_options {
   map_quantity quantity = map_quantity::flip;
   double t_end = 100;  ///< s
   double dt = 0.01;    ///< rk4's step (s); dopri5's first trial step
-  /// rk4 or dopri5; the chaos indicators (fli, megno, sali, gali) take rk4 only, as
+  /// As map_takes_stepper: the chaos indicators (fli, megno, sali, gali) take rk4 and taylor, as
   /// chaos_indicators does.
   map_stepping stepping = {};
   int flip_link = 0;  ///< flip: 0 any arm, k ≥ 1 arm k
