@@ -13,6 +13,7 @@
 #include "chain_options.hpp"
 #include "command.hpp"
 #include "input_parsing.hpp"
+#include "integrator_options.hpp"
 #include "npend/analysis/orbits/unstable_orbits.hpp"
 #include "series_output.hpp"
 #include "start_options.hpp"
@@ -26,6 +27,7 @@ struct upo_command_options {
   cli::chain_options chain;
   cli::start_options start;
   std::string period_max, period_min, time, dt, tolerance, candidates, max_orbits;
+  std::string stepper, tol;  // how the shootings integrate (gauss6 or taylor at tol)
   bool json = false;
   std::string out;
 };
@@ -65,6 +67,8 @@ unstable_orbit_search_options make_search(const upo_command_options& o) {
   if (!o.max_orbits.empty())
     opts.max_orbits =
         static_cast<int>(cli::parse_whole_number(o.max_orbits, "--max-orbits", 1, 1e6));
+  opts.shooting.stepper = cli::parse_monodromy_integrator(o.stepper, false, o.tol, "the shooting",
+                                                          opts.shooting.integration_tolerance);
   return opts;
 }
 
@@ -134,14 +138,21 @@ void write_upo_files(series_output& files, const chain& c, const unstable_orbit_
        .panels = {panel}});
 }
 
+// How the shootings integrate, for the text output.
+std::string shooting_text(const unstable_orbit_search_options& opts) {
+  if (opts.shooting.stepper == stepper_kind::taylor)
+    return fmt::format("taylor at tolerance {:g}", opts.shooting.integration_tolerance);
+  return fmt::format("Gauss-Legendre steps of at most {:g} s", opts.shooting_dt);
+}
+
 void print_results(const chain& c, const unstable_orbit_search_result& r,
                    const unstable_orbit_search_options& opts) {
   fmt::print(
       "Periodic orbits of the {}-link chain at E = {:.10g} J with {:g} <= T <= {:g} s: the close\n"
       "returns (within {:g} of each coordinate's range) of a {:g} s trajectory on the section\n"
-      "phi1 = 0 (upwards), refined by multiple shooting (closure <= {:g}).\n",
+      "phi1 = 0 (upwards), refined by multiple shooting (closure <= {:g}; {}).\n",
       c.links(), r.energy, opts.period_min, opts.period_max, opts.return_tolerance,
-      opts.search_time, opts.shooting.tolerance);
+      opts.search_time, opts.shooting.tolerance, shooting_text(opts));
   fmt::print(
       "{} crossings, {} candidates ({} rotating), {} shot, {} converged: {} repeats of a shorter "
       "orbit, {} found before (or a symmetry image), {} outside the period range\n",
@@ -202,6 +213,7 @@ int run_upo(const upo_command_options& o) {
       {"period_max", opts.period_max},
       {"search_time", opts.search_time},
       {"return_tolerance", opts.return_tolerance},
+      {"stepper", stepper_name(opts.shooting.stepper)},
       {"crossings", r.crossings},
       {"candidates", r.candidates},
       {"rotating", r.rotating},
@@ -214,6 +226,8 @@ int run_upo(const upo_command_options& o) {
        std::isfinite(r.lyapunov_exponent) ? nlohmann::json(r.lyapunov_exponent) : nlohmann::json()},
       {"lyapunov_time", r.lyapunov_time},
       {"orbits", orbits}});
+  if (opts.shooting.stepper == stepper_kind::taylor)
+    j["integration_tolerance"] = opts.shooting.integration_tolerance;
   files.add_to(j);
   std::cout << j.dump(2) << "\n";
   return 0;
@@ -241,6 +255,14 @@ void add_upo_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--tolerance", o->tolerance,
                   "A close return: every coordinate within this fraction of its range over the "
                   "section points (default 0.1)");
+  cmd->add_option("--stepper", o->stepper,
+                  fmt::format("How each shooting crosses the period, {} (default gauss6, steps of "
+                              "at most 0.002 s; taylor: adaptive steps on the Taylor series of "
+                              "the variational equations, at --tol)",
+                              stepper_names(stepper_use::monodromy)));
+  cmd->add_option("--tol", o->tol,
+                  "--stepper taylor: its absolute and relative tolerance (default 1e-14; at most "
+                  "1e-6)");
   cmd->add_option("--candidates", o->candidates,
                   "Shoot at most this many candidates (default 100)");
   cmd->add_option("--max-orbits", o->max_orbits,

@@ -62,6 +62,43 @@ TEST_CASE("npend upo: the double pendulum's orbits at 30 J close again under rkf
   CHECK(unstable);
 }
 
+TEST_CASE("npend upo --stepper taylor: gauss6's orbits, closed by rkf78, the run named") {
+  const std::string search =
+      "upo --links 2 --energy 30 --period-max 3 --time 300 --candidates 10 --json";
+  const auto g = run_npend(search);
+  const auto t = run_npend(search + " --stepper taylor --tol 1e-13");
+  REQUIRE(g.exit_code == 0);
+  REQUIRE(t.exit_code == 0);
+  const auto jg = nlohmann::json::parse(g.out), jt = nlohmann::json::parse(t.out);
+  CHECK(jg["stepper"] == "gauss6");
+  CHECK_FALSE(jg.contains("integration_tolerance"));
+  CHECK(jt["stepper"] == "taylor");
+  CHECK(jt["integration_tolerance"].get<double>() == 1e-13);
+  REQUIRE(jt["orbits"].size() >= 2);
+  REQUIRE(jt["orbits"].size() == jg["orbits"].size());
+  const npend::chain c(npend::chain_parameters::uniform(2));
+  for (std::size_t k = 0; k < jt["orbits"].size(); ++k) {
+    const auto& orbit = jt["orbits"][k];
+    const double period = orbit["period"].get<double>();
+    CAPTURE(period);
+    CHECK(period == doctest::Approx(jg["orbits"][k]["period"].get<double>()).epsilon(1e-9));
+    const auto x0 = orbit["x0"].get<std::vector<double>>();
+    const auto winding = orbit["winding"].get<std::vector<int>>();
+    npend::integration_options run;
+    run.stepper = npend::stepper_kind::rkf78;
+    run.t_end = run.dt = period;
+    run.abs_tol = run.rel_tol = 1e-14;
+    const auto back = npend::integrate(c, x0, run);
+    for (std::size_t i = 0; i < x0.size(); ++i)
+      CHECK(std::fabs(back.state[i] - x0[i] - (i < 2 ? 2 * std::numbers::pi * winding[i] : 0.0)) <=
+            1e-9);
+  }
+  CHECK(is_input_error(run_npend("upo --links 2 --energy 30 --period-max 3 --stepper rk4"),
+                       "--stepper: the shooting integrates with gauss6, taylor, not rk4"));
+  CHECK(is_input_error(run_npend("upo --links 2 --energy 30 --period-max 3 --tol 1e-12"),
+                       "--tol: only with --stepper taylor"));
+}
+
 TEST_CASE("npend upo: the table, and --out writes one row per orbit") {
   const auto dir = std::filesystem::path(npend::test::temporary_directory("cli-upo"));
   const auto r =
