@@ -34,6 +34,20 @@ void integrator_options::add_stepper_options(CLI::App& command, std::string_view
                                  note, taylor_max_order));
 }
 
+void add_monodromy_options(CLI::App& command, std::string& stepper, std::string& tol,
+                           std::string_view what, std::string_view gauss6_steps, double default_tol,
+                           std::string_view tol_note) {
+  command.add_option("--stepper", stepper,
+                     fmt::format("{} crosses the period: {} (default gauss6, {}; taylor: adaptive "
+                                 "steps on the Taylor series of the variational equations, at "
+                                 "--tol)",
+                                 what, stepper_names(stepper_use::monodromy), gauss6_steps));
+  command.add_option("--tol", tol,
+                     fmt::format("With --stepper taylor: its absolute and relative tolerance "
+                                 "(default {:g}; at most 1e-6){}",
+                                 default_tol, tol_note));
+}
+
 stepper_kind parse_monodromy_integrator(const std::string& stepper_text, bool steps_given,
                                         const std::string& tol_text, std::string_view what,
                                         double& tolerance) {

@@ -48,8 +48,15 @@ void check_step_count(double t_end, double dt, std::string_view options,
 /// stepper other than taylor.
 void parse_taylor_order(const std::string& text, stepper_kind stepper, int& order);
 
+/// --stepper and --tol of a command that carries a monodromy matrix over a period: `what`
+/// crosses the period ("How the shooting"), gauss6 stepping as `gauss6_steps` says ("--steps
+/// per period"), taylor at --tol (default `default_tol`; `tol_note` adds what else it does).
+void add_monodromy_options(CLI::App& command, std::string& stepper, std::string& tol,
+                           std::string_view what, std::string_view gauss6_steps, double default_tol,
+                           std::string_view tol_note = "");
+
 /// The integrator of a command that carries a monodromy matrix over a period (npend floquet,
-/// npend orbit on a driven pivot): --stepper as typed (empty: gauss6), one of
+/// npend orbit, orbits and upo): --stepper as typed (empty: gauss6), one of
 /// stepper_use::monodromy, for `what` ("Floquet analysis"); whether --steps was given (it sets
 /// gauss6's steps); --tol as typed (taylor's tolerance; empty: `tolerance` keeps its default).
 /// Throws input_error naming the option: an unknown stepper or one without a monodromy, --tol

@@ -262,14 +262,9 @@ void add_floquet_command(CLI::App& app, command_list& commands) {
       "--steps", o->steps,
       "Gauss-Legendre (order 6) steps per drive period (default: 400); a second run at half of "
       "them gives the error estimate the verdict weighs");
-  cmd->add_option("--stepper", o->stepper,
-                  fmt::format("How the monodromy matrix crosses the period: {} (default: gauss6, "
-                              "--steps fixed steps; taylor: adaptive steps on the Taylor series "
-                              "of the variational equations, at --tol)",
-                              stepper_names(stepper_use::monodromy)));
-  cmd->add_option("--tol", o->tol,
-                  "With --stepper taylor: its absolute and relative tolerance (default: 1e-13; at "
-                  "most 1e-6); a second run at 100 times it gives the error estimate");
+  cli::add_monodromy_options(*cmd, o->stepper, o->tol, "How the monodromy matrix",
+                             "--steps fixed steps", 1e-13,
+                             "; a second run at 100 times it gives the error estimate");
   cmd->add_option("--scan", o->scan,
                   "OMEGA_FROM:OMEGA_TO:COUNT: scan the drive frequency (rad/s) at the --pivot "
                   "amplitude and list where the start is stable");

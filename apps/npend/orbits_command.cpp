@@ -870,14 +870,8 @@ void add_orbits_command(CLI::App& app, command_list& commands) {
                   "The largest angle of the first orbit of each branch in rad (default 0.01)");
   cmd->add_option("--steps", o->steps,
                   "Gauss-Legendre steps per period of each orbit (default 400)");
-  cmd->add_option("--stepper", o->stepper,
-                  fmt::format("How each shooting crosses the period, {} (default gauss6, --steps "
-                              "per period; taylor: adaptive steps on the Taylor series of the "
-                              "variational equations, at --tol)",
-                              stepper_names(stepper_use::monodromy)));
-  cmd->add_option("--tol", o->tol,
-                  "--stepper taylor: its absolute and relative tolerance (default 1e-14; at most "
-                  "1e-6)");
+  cli::add_monodromy_options(*cmd, o->stepper, o->tol, "How each shooting", "--steps per period",
+                             1e-14);
   cmd->add_option("--max-points", o->max_points,
                   "At most this many orbits per branch (default 200)");
   cmd->add_option("--segments", o->segments,
@@ -925,14 +919,8 @@ void add_orbit_command(CLI::App& app, command_list& commands) {
                   "(default 400)");
   cmd->add_option("--periods", o->periods,
                   "Driven pivot: the forced orbit's period in drive periods (default 1)");
-  cmd->add_option("--stepper", o->stepper,
-                  fmt::format("How the shooting crosses the period, {} (default gauss6, --steps "
-                              "per period; taylor: adaptive steps on the Taylor series of the "
-                              "variational equations, at --tol)",
-                              stepper_names(stepper_use::monodromy)));
-  cmd->add_option("--tol", o->tol,
-                  "--stepper taylor: its absolute and relative tolerance (default 1e-14; at most "
-                  "1e-6)");
+  cli::add_monodromy_options(*cmd, o->stepper, o->tol, "How the shooting",
+                             "--steps per period or drive period", 1e-14);
   cmd->add_option("--continue-to", o->continue_to,
                   "Continue the orbit's family by pseudo-arclength up or down to this energy "
                   "(J); on a driven pivot, the forced orbit in the drive frequency from the "

@@ -255,14 +255,8 @@ void add_upo_command(CLI::App& app, command_list& commands) {
   cmd->add_option("--tolerance", o->tolerance,
                   "A close return: every coordinate within this fraction of its range over the "
                   "section points (default 0.1)");
-  cmd->add_option("--stepper", o->stepper,
-                  fmt::format("How each shooting crosses the period, {} (default gauss6, steps of "
-                              "at most 0.002 s; taylor: adaptive steps on the Taylor series of "
-                              "the variational equations, at --tol)",
-                              stepper_names(stepper_use::monodromy)));
-  cmd->add_option("--tol", o->tol,
-                  "--stepper taylor: its absolute and relative tolerance (default 1e-14; at most "
-                  "1e-6)");
+  cli::add_monodromy_options(*cmd, o->stepper, o->tol, "How each shooting",
+                             "steps of at most 0.002 s", 1e-14);
   cmd->add_option("--candidates", o->candidates,
                   "Shoot at most this many candidates (default 100)");
   cmd->add_option("--max-orbits", o->max_orbits,
