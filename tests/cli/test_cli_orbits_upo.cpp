@@ -20,6 +20,24 @@
 using npend::test::is_input_error;
 using npend::test::run_npend;
 
+namespace {
+
+// The double pendulum's orbit from x0, integrated again over its period by rkf78 at 1e-14,
+// comes back to its start (each angle 2π·winding on) within 1e-9.
+void check_closes_under_rkf78(const npend::chain& c, const std::vector<double>& x0,
+                              const std::vector<int>& winding, double period) {
+  npend::integration_options run;
+  run.stepper = npend::stepper_kind::rkf78;
+  run.t_end = run.dt = period;
+  run.abs_tol = run.rel_tol = 1e-14;
+  const auto back = npend::integrate(c, x0, run);
+  for (std::size_t i = 0; i < x0.size(); ++i)
+    CHECK(std::fabs(back.state[i] - x0[i] - (i < 2 ? 2 * std::numbers::pi * winding[i] : 0.0)) <=
+          1e-9);
+}
+
+}  // namespace
+
 TEST_CASE("npend upo: the double pendulum's orbits at 30 J close again under rkf78") {
   const auto r =
       run_npend("upo --links 2 --energy 30 --period-max 4.5 --time 300 --candidates 10 --json");
@@ -41,14 +59,7 @@ TEST_CASE("npend upo: the double pendulum's orbits at 30 J close again under rkf
     const auto x0 = orbit["x0"].get<std::vector<double>>();
     const auto winding = orbit["winding"].get<std::vector<int>>();
     CHECK(c.hamiltonian(x0) == doctest::Approx(30.0).epsilon(1e-10));
-    npend::integration_options run;
-    run.stepper = npend::stepper_kind::rkf78;
-    run.t_end = run.dt = period;
-    run.abs_tol = run.rel_tol = 1e-14;
-    const auto back = npend::integrate(c, x0, run);
-    for (std::size_t i = 0; i < x0.size(); ++i)
-      CHECK(std::fabs(back.state[i] - x0[i] - (i < 2 ? 2 * std::numbers::pi * winding[i] : 0.0)) <=
-            1e-9);
+    check_closes_under_rkf78(c, x0, winding, period);
     // One non-trivial pair μ, 1/μ.
     REQUIRE(orbit["multipliers"].size() == 2);
     const auto& m = orbit["multipliers"];
@@ -84,14 +95,7 @@ TEST_CASE("npend upo --stepper taylor: gauss6's orbits, closed by rkf78, the run
     CHECK(period == doctest::Approx(jg["orbits"][k]["period"].get<double>()).epsilon(1e-9));
     const auto x0 = orbit["x0"].get<std::vector<double>>();
     const auto winding = orbit["winding"].get<std::vector<int>>();
-    npend::integration_options run;
-    run.stepper = npend::stepper_kind::rkf78;
-    run.t_end = run.dt = period;
-    run.abs_tol = run.rel_tol = 1e-14;
-    const auto back = npend::integrate(c, x0, run);
-    for (std::size_t i = 0; i < x0.size(); ++i)
-      CHECK(std::fabs(back.state[i] - x0[i] - (i < 2 ? 2 * std::numbers::pi * winding[i] : 0.0)) <=
-            1e-9);
+    check_closes_under_rkf78(c, x0, winding, period);
   }
   CHECK(is_input_error(run_npend("upo --links 2 --energy 30 --period-max 3 --stepper rk4"),
                        "--stepper: the shooting integrates with gauss6, taylor, not rk4"));
